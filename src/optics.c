@@ -1,0 +1,553 @@
+/* optics.c - effective emissivity (Eq 7, 12), effective reflectivity and
+ * BRDF (Eq 13, 14, 20) and the energy balance (Eq 21).
+ *
+ * Emissivity as an average.  With the D normalisation of Eq 10 the Smith
+ * factor 1/(1 + Lambda) cancels between numerator and denominator of Eq 7,
+ * which becomes the average of 1 - rho(psi) over the facets seen from v,
+ * weighted by their projected area:
+ *     eps = E_w[1 - rho(psi)],  w(gamma) = P(gamma) (cos th - gamma_X sin th)+.
+ * (Indeed int P g over the seen facets is 1 + Lambda - m_X tan th
+ * = D (1 + Lambda).)  So eps is in [0, 1] by construction, and every rule
+ * below is self-normalised: the same nodes integrate the weight, which
+ * removes the quadrature error of the weight itself.
+ *
+ * In the standardised variable t = (gamma_X - m_X)/s_X the weight is
+ * (z - t)+ phi(t) (times s_X sin th), z = (cot th - m_X)/s_X, so one rule fits
+ * every view from nadir (z -> inf, a plain Gaussian) to grazing views of a
+ * tilted facet (z -> -inf, a Gamma(2)-shaped sliver of width 1/|z| below z).
+ * Given gamma_X, gamma_Y is Gaussian with the conditional mean and variance
+ * of the projected covariance.
+ *
+ * Reflectance as an average.  For a fixed observation v, the map from the
+ * facet slope gamma to the mirror incidence w_i is one to one, with
+ * d w_i = |J|^-1 d gamma (Eq 14d).  Hence
+ *     int rho~(w_i; v) dw_i = E_w[rho(psi) (1 + L_o)/(1 + L_o + L_i) 1{w_i up}],
+ * an integral over the slope PDF that resolves a glint of any width. */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_integration.h>
+
+#include "seabake.h"
+
+/* Gauss-Legendre nodes across the visible-slope weight, and Gauss-Hermite
+ * nodes across the conditional gamma_Y of the default rule.  Chosen so the
+ * auto rule stays within 1e-6 of the adaptive reference over the property
+ * sweep of tests/test_optics.c (measured worst case quoted there). */
+enum { SEA_GL_NODES = 64, SEA_GH_NODES = 8 };
+/* Gauss-Legendre nodes of the reflectance's inner (gamma_Y) integral: a
+ * smooth integrand over the exact mirror-up window, vanishing linearly at
+ * its ends, for which 128 nodes reach round-off. */
+enum { SEA_GL_INNER_NODES = 128 };
+/* The standard normal weight is cut at |t| = 10: phi(10) = 7.7e-23. */
+static const double SEA_T_CUT = 10.0;
+/* A slope standard deviation below this is a delta distribution: the
+ * rules could not resolve a narrower one in double precision. */
+static const double SEA_S_DELTA = 1e-13;
+/* Regularisation of the slope covariance in the 2-D PDF of Eq 13, so that a
+ * flat sea (C = 0) gives a finite, very tall glint instead of 0/0. */
+static const double SEA_COV_REG = 1e-18;
+/* Adaptive reference: tolerances and workspace size.  GSL may stop with
+ * GSL_EROUND when round-off keeps it from the requested tolerance (the
+ * reflectance integrand has kinks where the mirror-up region meets the
+ * +-10 sigma window); such a result is accepted when its own error estimate
+ * is below SEA_REF_ACCEPT (relative) or SEA_REF_ABS_TOL, which still bounds
+ * an energy total to 1e-5, a hundredth of the 1e-3 effects it is used to see. */
+static const double SEA_REF_REL_TOL = 1e-10;
+static const double SEA_REF_INNER_REL_TOL = 1e-10;
+static const double SEA_REF_ABS_TOL = 1e-14;
+static const double SEA_REF_ACCEPT = 1e-5;
+static const double SEA_REF_INNER_ABS_ACCEPT = 1e-10;
+enum { SEA_REF_LIMIT = 256 };
+/* Zenith angles below this are nadir (see shadow.c). */
+static const double SEA_NADIR_THETA = 1e-12;
+
+struct sea_optics {
+    gsl_integration_glfixed_table *gl;
+    gsl_integration_glfixed_table *gl_inner;
+    double gh_x[SEA_GH_NODES]; /* probabilists' Hermite nodes */
+    double gh_w[SEA_GH_NODES]; /* normalised weights (sum 1) */
+};
+
+sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
+{
+    *out = NULL;
+    sea_optics *p = calloc(1, sizeof *p);
+    if (p == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    p->gl = gsl_integration_glfixed_table_alloc(SEA_GL_NODES);
+    p->gl_inner = gsl_integration_glfixed_table_alloc(SEA_GL_INNER_NODES);
+    gsl_integration_fixed_workspace *gh =
+        gsl_integration_fixed_alloc(gsl_integration_fixed_hermite, SEA_GH_NODES, 0.0, 0.5, 0.0,
+                                    0.0);
+    if (p->gl == NULL || p->gl_inner == NULL || gh == NULL) {
+        gsl_integration_fixed_free(gh);
+        sea_optics_free(p);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory (quadrature tables)");
+    }
+    const double *x = gsl_integration_fixed_nodes(gh);
+    const double *w = gsl_integration_fixed_weights(gh);
+    double sum = 0.0;
+    for (int i = 0; i < SEA_GH_NODES; i++)
+        sum += w[i];
+    for (int i = 0; i < SEA_GH_NODES; i++) {
+        p->gh_x[i] = x[i];
+        p->gh_w[i] = w[i] / sum;
+    }
+    gsl_integration_fixed_free(gh);
+    *out = p;
+    return SEA_OK;
+}
+
+void sea_optics_free(sea_optics *p)
+{
+    if (p == NULL)
+        return;
+    if (p->gl != NULL)
+        gsl_integration_glfixed_table_free(p->gl);
+    if (p->gl_inner != NULL)
+        gsl_integration_glfixed_table_free(p->gl_inner);
+    free(p);
+}
+
+int sea_emis_method_from_name(const char *name)
+{
+    if (strcmp(name, "auto") == 0)
+        return SEA_EMIS_AUTO;
+    if (strcmp(name, "fast") == 0)
+        return SEA_EMIS_FAST;
+    if (strcmp(name, "full") == 0)
+        return SEA_EMIS_FULL;
+    return -1;
+}
+
+const char *sea_emis_method_name(sea_emis_method m)
+{
+    switch (m) {
+    case SEA_EMIS_AUTO: return "auto";
+    case SEA_EMIS_FAST: return "fast";
+    case SEA_EMIS_FULL: return "full";
+    }
+    return "?";
+}
+
+/* ------------------------------------------------------- the view frame */
+
+/* Slope statistics in the frame of the view azimuth (Eq 6, 8) and the
+ * standardised visibility limit. */
+typedef struct {
+    double cos_th, sin_th, phi;
+    double m_X, m_Y;      /* mean */
+    double s_X;           /* std of gamma_X */
+    double b_YX;          /* regression of gamma_Y on t: C_XY / s_X */
+    double s_Y_given_X;   /* conditional std of gamma_Y */
+    double c_XX, c_YY, c_XY;
+    double z;             /* (cot th - m_X)/s_X; +inf at nadir */
+    double t_lo, t_hi;    /* where the weight lives */
+    int delta;            /* s_X below SEA_S_DELTA */
+} view_frame;
+
+static void view_frame_init(const sea_slope_stats *st, sea_dir v, view_frame *f)
+{
+    const double c = cos(v.phi), s = sin(v.phi);
+    const sea_cov2 *C = &st->cov;
+    f->cos_th = cos(v.theta);
+    f->sin_th = sin(v.theta);
+    f->phi = v.phi;
+    f->m_X = st->mean.x * c + st->mean.y * s;
+    f->m_Y = -st->mean.x * s + st->mean.y * c;
+    f->c_XX = fmax(C->xx * c * c + 2.0 * C->xy * s * c + C->yy * s * s, 0.0);
+    f->c_YY = fmax(C->xx * s * s - 2.0 * C->xy * s * c + C->yy * c * c, 0.0);
+    f->c_XY = (C->yy - C->xx) * s * c + C->xy * (c * c - s * s);
+    f->s_X = sqrt(f->c_XX);
+    f->delta = f->s_X < SEA_S_DELTA;
+    if (f->delta) {
+        f->b_YX = 0.0;
+        f->s_Y_given_X = sqrt(f->c_YY);
+    } else {
+        f->b_YX = f->c_XY / f->s_X;
+        f->s_Y_given_X = sqrt(fmax(f->c_YY - f->b_YX * f->b_YX, 0.0));
+    }
+    if (v.theta < SEA_NADIR_THETA || f->delta) {
+        f->z = INFINITY;
+    } else {
+        f->z = (f->cos_th / f->sin_th - f->m_X) / f->s_X;
+    }
+    /* Upper end: the visibility limit z, or the Gaussian cut.  Lower end: the
+     * Gaussian cut, or for z < 0 the point where (z - t) phi(t) has fallen by
+     * e^-50 from the edge: with t = z - u, log decay |z| u + u^2/2 = 50. */
+    f->t_hi = fmin(f->z, SEA_T_CUT);
+    const double az = fabs(f->z);
+    f->t_lo = isinf(f->z) ? -SEA_T_CUT : fmin(-SEA_T_CUT, f->z - (sqrt(az * az + 100.0) - az));
+}
+
+/* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant. */
+static double view_weight(const view_frame *f, double t)
+{
+    const double gX = f->m_X + f->s_X * t;
+    const double g = f->cos_th - gX * f->sin_th;
+    return g > 0.0 ? g * exp(-0.5 * t * t) : 0.0;
+}
+
+/* A facet quantity averaged over the seen facets: fn(gX, gY, cos psi, ctx). */
+typedef double (*facet_fn)(const view_frame *f, double gX, double gY, double cos_psi,
+                           void *ctx);
+
+static double cos_psi_of(const view_frame *f, double gX, double gY)
+{
+    return (f->cos_th - gX * f->sin_th) / sqrt(1.0 + gX * gX + gY * gY);
+}
+
+/* Eq 12 (fast) or Eq 7 (auto) with fixed product rules.  fast replaces
+ * gamma_Y by m_Y in psi (Eq 11); auto averages over the conditional gamma_Y
+ * with Gauss-Hermite nodes. */
+static double expect_fixed(const sea_optics *p, const view_frame *f, int use_gh, facet_fn fn,
+                           void *ctx)
+{
+    if (f->delta) {
+        if (f->cos_th - f->m_X * f->sin_th <= 0.0)
+            return 0.0; /* every facet turned away: the limit of a sliver at grazing */
+        const double gX = f->m_X;
+        if (!use_gh)
+            return fn(f, gX, f->m_Y, cos_psi_of(f, gX, f->m_Y), ctx);
+        double acc = 0.0;
+        for (int j = 0; j < SEA_GH_NODES; j++) {
+            const double gY = f->m_Y + f->s_Y_given_X * p->gh_x[j];
+            acc += p->gh_w[j] * fn(f, gX, gY, cos_psi_of(f, gX, gY), ctx);
+        }
+        return acc;
+    }
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < SEA_GL_NODES; i++) {
+        double t, wi;
+        gsl_integration_glfixed_point(f->t_lo, f->t_hi, (size_t)i, &t, &wi, p->gl);
+        const double w = wi * view_weight(f, t);
+        if (w <= 0.0)
+            continue;
+        const double gX = f->m_X + f->s_X * t;
+        double val;
+        if (!use_gh) {
+            val = fn(f, gX, f->m_Y, cos_psi_of(f, gX, f->m_Y), ctx);
+        } else {
+            const double mY = f->m_Y + f->b_YX * t;
+            val = 0.0;
+            for (int j = 0; j < SEA_GH_NODES; j++) {
+                const double gY = mY + f->s_Y_given_X * p->gh_x[j];
+                val += p->gh_w[j] * fn(f, gX, gY, cos_psi_of(f, gX, gY), ctx);
+            }
+        }
+        num += w * val;
+        den += w;
+    }
+    /* den == 0 only when every node lies on turned-away facets, i.e. the
+     * sliver limit handled above; keep the result finite regardless. */
+    return den > 0.0 ? num / den : 0.0;
+}
+
+/* ------------------------------------------ adaptive reference (Eq 7) */
+
+typedef struct {
+    const view_frame *f;
+    facet_fn fn;
+    void *ctx;
+    int mirror_up;     /* integrate only where the mirror ray leaves upwards */
+    const gsl_integration_glfixed_table *gl_inner; /* inner rule when mirror_up */
+    gsl_integration_workspace *ws_in;
+    double t;          /* current outer node */
+    int status;        /* first GSL failure */
+} ref_args;
+
+/* The mirror ray of the view direction on facet (gX, gY) (view frame)
+ * points up iff 2 (cos th - gX sin th)/(1 + gX^2 + gY^2) > cos th, i.e.
+ * gY^2 < R(gX) = 1 - 2 gX tan th - gX^2, so for gX strictly between
+ * -tan th -+ sec th.  Integrating over that region exactly avoids the kink
+ * the integrand has on its boundary. */
+static double mirror_up_R(const view_frame *f, double gX)
+{
+    return 1.0 - 2.0 * gX * f->sin_th / f->cos_th - gX * gX;
+}
+
+/* GSL status, with a round-off stop of small estimated error counted as success. */
+static int ref_status(int rc, double result, double abserr, double rel, double abs_floor)
+{
+    if (rc == GSL_EROUND && abserr <= rel * fabs(result) + abs_floor)
+        return GSL_SUCCESS;
+    return rc;
+}
+
+static double ref_inner(double u, void *params)
+{
+    ref_args *a = params;
+    const view_frame *f = a->f;
+    const double gX = f->delta ? f->m_X : f->m_X + f->s_X * a->t;
+    const double gY = f->m_Y + f->b_YX * a->t + f->s_Y_given_X * u;
+    return exp(-0.5 * u * u) * a->fn(f, gX, gY, cos_psi_of(f, gX, gY), a->ctx);
+}
+
+/* Normalised average of fn over gamma_Y given the outer node t. */
+static double ref_inner_mean(ref_args *a, double t)
+{
+    a->t = t;
+    if (a->f->s_Y_given_X < SEA_S_DELTA) {
+        const double gX = a->f->delta ? a->f->m_X : a->f->m_X + a->f->s_X * t;
+        const double gY = a->f->m_Y + a->f->b_YX * t;
+        if (a->mirror_up && !(gY * gY < mirror_up_R(a->f, gX)))
+            return 0.0;
+        return a->fn(a->f, gX, gY, cos_psi_of(a->f, gX, gY), a->ctx);
+    }
+    double u_lo = -SEA_T_CUT, u_hi = SEA_T_CUT;
+    if (a->mirror_up) {
+        const double gX = a->f->delta ? a->f->m_X : a->f->m_X + a->f->s_X * t;
+        const double R = mirror_up_R(a->f, gX);
+        if (!(R > 0.0))
+            return 0.0;
+        const double mY = a->f->m_Y + a->f->b_YX * t, sY = a->f->s_Y_given_X;
+        u_lo = fmax(u_lo, (-sqrt(R) - mY) / sY);
+        u_hi = fmin(u_hi, (sqrt(R) - mY) / sY);
+        if (!(u_lo < u_hi))
+            return 0.0;
+    }
+    if (a->mirror_up) {
+        double acc = 0.0;
+        for (size_t k = 0; k < SEA_GL_INNER_NODES; k++) {
+            double u, wk;
+            gsl_integration_glfixed_point(u_lo, u_hi, k, &u, &wk, a->gl_inner);
+            acc += wk * ref_inner(u, a);
+        }
+        return acc / sqrt(2.0 * M_PI);
+    }
+    gsl_function F = { ref_inner, a };
+    double r, e;
+    int rc = gsl_integration_qag(&F, u_lo, u_hi, SEA_REF_ABS_TOL,
+                                 SEA_REF_INNER_REL_TOL, SEA_REF_LIMIT, GSL_INTEG_GAUSS21,
+                                 a->ws_in, &r, &e);
+    /* The inner average multiplies an outer weight of order one. */
+    rc = ref_status(rc, r, e, SEA_REF_ACCEPT, SEA_REF_INNER_ABS_ACCEPT);
+    if (rc != GSL_SUCCESS && a->status == GSL_SUCCESS)
+        a->status = rc;
+    return r / sqrt(2.0 * M_PI);
+}
+
+static double ref_outer(double t, void *params)
+{
+    ref_args *a = params;
+    const double w = view_weight(a->f, t);
+    return w > 0.0 ? w * ref_inner_mean(a, t) : 0.0;
+}
+
+static double ref_outer_weight(double t, void *params)
+{
+    return view_weight(params, t);
+}
+
+static sea_status expect_reference(const sea_optics *p, const view_frame *f, facet_fn fn,
+                                   void *ctx, int mirror_up, double *out, sea_error *err)
+{
+    sea_status st = SEA_OK;
+    ref_args a = { f, fn, ctx, mirror_up, p->gl_inner, NULL, 0.0, GSL_SUCCESS };
+    gsl_integration_workspace *ws_out = gsl_integration_workspace_alloc(SEA_REF_LIMIT);
+    a.ws_in = gsl_integration_workspace_alloc(SEA_REF_LIMIT);
+    if (ws_out == NULL || a.ws_in == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory (quadrature workspace)");
+        goto done;
+    }
+    if (f->delta) {
+        *out = f->cos_th - f->m_X * f->sin_th > 0.0 ? ref_inner_mean(&a, 0.0) : 0.0;
+    } else {
+        gsl_function F = { ref_outer, &a };
+        gsl_function W = { ref_outer_weight, (void *)f };
+        double num = 0.0, den = 0.0, e;
+        double t_lo = f->t_lo, t_hi = f->t_hi;
+        if (mirror_up) { /* gX within -tan th -+ sec th */
+            const double tn = f->sin_th / f->cos_th, sc = 1.0 / f->cos_th;
+            t_lo = fmax(t_lo, (-tn - sc - f->m_X) / f->s_X);
+            t_hi = fmin(t_hi, (sc - tn - f->m_X) / f->s_X);
+        }
+        int rc = GSL_SUCCESS;
+        if (t_lo < t_hi) {
+            rc = gsl_integration_qag(&F, t_lo, t_hi, SEA_REF_ABS_TOL, SEA_REF_REL_TOL,
+                                     SEA_REF_LIMIT, GSL_INTEG_GAUSS21, ws_out, &num, &e);
+            rc = ref_status(rc, num, e, SEA_REF_ACCEPT, SEA_REF_ABS_TOL);
+        }
+        if (rc == GSL_SUCCESS) {
+            rc = gsl_integration_qag(&W, f->t_lo, f->t_hi, SEA_REF_ABS_TOL, SEA_REF_REL_TOL,
+                                     SEA_REF_LIMIT, GSL_INTEG_GAUSS21, ws_out, &den, &e);
+            rc = ref_status(rc, den, e, SEA_REF_ACCEPT, SEA_REF_ABS_TOL);
+        }
+        if (rc != GSL_SUCCESS && a.status == GSL_SUCCESS)
+            a.status = rc;
+        *out = den > 0.0 ? num / den : 0.0;
+    }
+    if (a.status != GSL_SUCCESS)
+        st = sea_fail(err, SEA_ERR_NUMERIC, "adaptive facet quadrature did not converge: %s",
+                      gsl_strerror(a.status));
+done:
+    gsl_integration_workspace_free(ws_out);
+    gsl_integration_workspace_free(a.ws_in);
+    return st;
+}
+
+static sea_status expect(const sea_optics *p, sea_emis_method method, const view_frame *f,
+                         facet_fn fn, void *ctx, double *out, sea_error *err)
+{
+    switch (method) {
+    case SEA_EMIS_FAST:
+        *out = expect_fixed(p, f, 0, fn, ctx);
+        return SEA_OK;
+    case SEA_EMIS_AUTO:
+        *out = expect_fixed(p, f, 1, fn, ctx);
+        return SEA_OK;
+    case SEA_EMIS_FULL:
+        return expect_reference(p, f, fn, ctx, 0, out, err);
+    }
+    return sea_fail(err, SEA_ERR_DOMAIN, "unknown emissivity method %d", (int)method);
+}
+
+/* ------------------------------------------------------------ emissivity */
+
+static double emissivity_fn(const view_frame *f, double gX, double gY, double cos_psi,
+                            void *ctx)
+{
+    (void)f, (void)gX, (void)gY;
+    return 1.0 - sea_fresnel_unpolarized(cos_psi, *(const double complex *)ctx);
+}
+
+static sea_status check_dir(sea_dir v, const char *what, sea_error *err)
+{
+    if (!(v.theta >= 0.0 && v.theta < M_PI_2) || !isfinite(v.phi))
+        return sea_fail(err, SEA_ERR_DOMAIN, "%s zenith %g deg is outside [0, 90) deg", what,
+                        v.theta * 180.0 / M_PI);
+    return SEA_OK;
+}
+
+sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double complex N,
+                          const sea_slope_stats *st, sea_dir v, double *out, sea_error *err)
+{
+    sea_status s;
+    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
+        return s;
+    view_frame f;
+    view_frame_init(st, v, &f);
+    double complex n = N;
+    return expect(p, method, &f, emissivity_fn, &n, out, err);
+}
+
+/* ---------------------------------------------------------- reflectivity */
+
+static void dir_vec(sea_dir d, double u[3])
+{
+    u[0] = sin(d.theta) * cos(d.phi);
+    u[1] = sin(d.theta) * sin(d.phi);
+    u[2] = cos(d.theta);
+}
+
+/* Bivariate normal density, covariance regularised by SEA_COV_REG. */
+static double slope_pdf(const sea_slope_stats *st, double gx, double gy)
+{
+    const double xx = st->cov.xx + SEA_COV_REG, yy = st->cov.yy + SEA_COV_REG;
+    const double xy = st->cov.xy;
+    const double det = fmax(xx * yy - xy * xy, SEA_COV_REG * SEA_COV_REG);
+    const double dx = gx - st->mean.x, dy = gy - st->mean.y;
+    const double q = (yy * dx * dx - 2.0 * xy * dx * dy + xx * dy * dy) / det;
+    return exp(-0.5 * q) / (2.0 * M_PI * sqrt(det));
+}
+
+/* Shadowing terms along one direction: Lambda, and the ratio g/D of Eq 13
+ * for a facet of slope gX along that azimuth (0 if the facet is hidden). */
+static double lambda_along(const sea_slope_stats *st, sea_dir d)
+{
+    double m, s;
+    sea_slope_project(st, d.phi, &m, &s);
+    return sea_shadow_lambda(d.theta, m, s);
+}
+
+double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs)
+{
+    double ui[3], uo[3];
+    dir_vec(inc, ui);
+    dir_vec(obs, uo);
+    const double cos_sum = ui[2] + uo[2];
+    const double cos_io = ui[0] * uo[0] + ui[1] * uo[1] + ui[2] * uo[2];
+    if (!(cos_sum > 0.0) || !(1.0 + cos_io > 0.0))
+        return 0.0; /* both on the horizon, or opposite: no mirror facet */
+    /* Eq 14a-b: slope of the facet whose normal bisects inc and obs. */
+    const double gx0 = -(uo[0] + ui[0]) / cos_sum;
+    const double gy0 = -(uo[1] + ui[1]) / cos_sum;
+    const double J = (1.0 + cos_io) / (cos_sum * cos_sum * cos_sum); /* Eq 14d */
+    const double cos_psi0 = sqrt(0.5 * (1.0 + cos_io));
+    /* g/D toward obs (Eq 9b, 10), written without tan theta_o:
+     * g/D = (cot - gX)(1 + L_o) / E[(cot - gamma_X)+]. */
+    double m_o, s_o, L_o = 0.0, g_over_D = 1.0;
+    sea_slope_project(st, obs.phi, &m_o, &s_o);
+    if (obs.theta >= SEA_NADIR_THETA) {
+        const double mu = 1.0 / tan(obs.theta);
+        const double gX = gx0 * cos(obs.phi) + gy0 * sin(obs.phi);
+        const double vis = sea_shadow_visible(mu, m_o, s_o);
+        if (!(gX < mu) || !(vis > 0.0))
+            return 0.0;
+        L_o = sea_shadow_lambda(obs.theta, m_o, s_o);
+        g_over_D = (mu - gX) * (1.0 + L_o) / vis;
+    }
+    const double L_i = lambda_along(st, inc);
+    const double S = 1.0 / (1.0 + L_o + L_i); /* Eq 14c */
+    const double r = sea_fresnel_unpolarized(cos_psi0, N) * slope_pdf(st, gx0, gy0) * g_over_D *
+                     S * J;
+    return isfinite(r) ? r : 0.0;
+}
+
+double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs)
+{
+    return sea_reflectivity(N, st, inc, obs) / cos(inc.theta);
+}
+
+/* ------------------------------------------------------------ energy */
+
+typedef struct {
+    double complex N;
+    const sea_slope_stats *st;
+    double L_o;
+} reflectance_ctx;
+
+/* rho(psi) (1 + L_o)/(1 + L_o + L_i) for the facet (gX, gY) in the view
+ * frame, 0 when the mirror ray goes below the horizon. */
+static double reflectance_fn(const view_frame *f, double gX, double gY, double cos_psi,
+                             void *vctx)
+{
+    const reflectance_ctx *c = vctx;
+    const double inv_norm = 1.0 / sqrt(1.0 + gX * gX + gY * gY);
+    /* u_i = 2 (n . u_o) n - u_o with u_o = (sin th, 0, cos th) in the view
+     * frame and n = (-gX, -gY, 1)/|.|. */
+    const double two_c = 2.0 * cos_psi * inv_norm;
+    const double ix = -two_c * gX - f->sin_th;
+    const double iy = -two_c * gY;
+    const double iz = two_c - f->cos_th;
+    if (!(iz > 0.0))
+        return 0.0;
+    const double theta_i = atan2(hypot(ix, iy), iz);
+    const sea_dir inc = { theta_i, f->phi + atan2(iy, ix) };
+    const double L_i = lambda_along(c->st, inc);
+    return sea_fresnel_unpolarized(cos_psi, c->N) * (1.0 + c->L_o) / (1.0 + c->L_o + L_i);
+}
+
+sea_status sea_energy_balance(const sea_optics *p, sea_emis_method method, double complex N,
+                              const sea_slope_stats *st, sea_dir v, sea_energy *out,
+                              sea_error *err)
+{
+    sea_status s;
+    if ((s = sea_emissivity(p, method, N, st, v, &out->emissivity, err)) != SEA_OK)
+        return s;
+    view_frame f;
+    view_frame_init(st, v, &f);
+    reflectance_ctx c = { N, st, lambda_along(st, v) };
+    /* The reflectance is integrated by the adaptive rule over the exact region
+     * where the mirror ray leaves upwards, whatever the emissivity method:
+     * an energy check needs that accuracy, and it is not a hot path. */
+    if ((s = expect_reference(p, &f, reflectance_fn, &c, 1, &out->reflectance, err)) != SEA_OK)
+        return s;
+    out->total = out->emissivity + out->reflectance;
+    return SEA_OK;
+}

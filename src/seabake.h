@@ -1,0 +1,273 @@
+/* seabake.h - public interface of libseabake, the physics of an infrared,
+ * wind-roughened sea surface at any resolution (Caillault et al. 2007,
+ * Applied Optics 46, 5471).  Formulas are restated in PHYSICS.md; the
+ * equation numbers (Eq N) below are the paper's.
+ *
+ * Conventions.  SI units and radians everywhere; units appear in names only
+ * at the edges.  Axes: x along the wind axis of the spectrum frame rotated by
+ * the wind direction (see sea_spectrum), z up.  A direction (theta, phi) is
+ * u = (sin theta cos phi, sin theta sin phi, cos theta) and points AWAY from
+ * the surface (towards the sensor for an observation, towards the source for
+ * an incidence).  Functions take theta in [0, pi/2); signed zenith angles of
+ * the paper are folded with sea_dir_fold() at the API boundary.  Slopes are
+ * gamma = (dz/dx, dz/dy).
+ *
+ * Ownership.  Every object returned through a pointer-to-pointer is owned by
+ * the caller and released with the matching _free(), which accepts NULL.
+ * Nothing here keeps a pointer to a caller's buffer after returning.  No
+ * function prints, exits or touches global state, with one exception:
+ * sea_init() switches off the GSL abort-on-error handler, once, before any
+ * thread is started.  Plans (sea_water, sea_optics) are read-only after
+ * creation and may be shared by any number of threads.
+ *
+ * Errors.  A function that is total on its documented domain returns its
+ * value.  Anything that can fail returns a sea_status and, when err is not
+ * NULL, a message naming what was wrong and the allowed range. */
+#ifndef SEABAKE_H
+#define SEABAKE_H
+
+#include <complex.h>
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ status */
+
+typedef enum {
+    SEA_OK = 0,
+    SEA_ERR_DOMAIN,   /* an argument outside its documented range */
+    SEA_ERR_PARSE,    /* malformed input text (table, list, number) */
+    SEA_ERR_IO,       /* a file could not be read or written */
+    SEA_ERR_NOMEM,    /* an allocation failed */
+    SEA_ERR_NUMERIC   /* a quadrature or root finder did not converge */
+} sea_status;
+
+enum { SEA_ERROR_MSG_MAX = 512 };
+
+typedef struct {
+    char msg[SEA_ERROR_MSG_MAX];
+} sea_error;
+
+/* Writes a printf-style message into err (if err is not NULL) and returns
+ * status, so that callers can write `return sea_fail(err, SEA_ERR_DOMAIN, ...)`. */
+sea_status sea_fail(sea_error *err, sea_status status, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+const char *sea_status_name(sea_status status);
+
+/* Library start-up: turns GSL's abort-on-error handler off (statuses are
+ * checked instead).  Call once from main() before starting threads. */
+void sea_init(void);
+
+/* -------------------------------------------------------------- geometry */
+
+typedef struct {
+    double x, y;
+} sea_vec2;
+
+/* Symmetric 2x2 slope covariance [[xx, xy], [xy, yy]]. */
+typedef struct {
+    double xx, yy, xy;
+} sea_cov2;
+
+/* Gaussian slope statistics of one facet: mean m and covariance C (Eq 5). */
+typedef struct {
+    sea_vec2 mean;
+    sea_cov2 cov;
+} sea_slope_stats;
+
+/* A direction above the surface, theta in [0, pi/2), phi any real. */
+typedef struct {
+    double theta, phi;
+} sea_dir;
+
+/* Folds a signed zenith angle (paper convention, theta in (-pi/2, pi/2)):
+ * (-theta, phi) is the direction (theta, phi + pi).  phi is returned in
+ * [0, 2 pi). */
+sea_dir sea_dir_fold(double theta_signed, double phi);
+
+/* Checks that stats are finite, the covariance positive semi-definite
+ * (xx >= 0, yy >= 0, xy^2 <= xx yy within 1e-12 relative) and |mean| finite. */
+sea_status sea_slope_stats_check(const sea_slope_stats *st, sea_error *err);
+
+/* Mean m_X and standard deviation s_X of the slope component along azimuth
+ * phi (Eq 6, 8): m_X = mx cos phi + my sin phi,
+ * s_X^2 = xx cos^2 + 2 xy sin cos + yy sin^2. */
+void sea_slope_project(const sea_slope_stats *st, double phi, double *m_X, double *s_X);
+
+/* ---------------------------------------------------- water, Fresnel, Planck */
+
+typedef enum {
+    SEA_WATER_HALE_QUERRY = 0, /* Hale & Querry 1973, 25 C, 2.4-15.5 um (default) */
+    SEA_WATER_SEGELSTEIN       /* Segelstein 1981, 2.41-15.6 um */
+} sea_water_table;
+
+/* Sea-water optical constants: a pure-water table n(lambda), k(lambda) plus
+ * the Pinkley & Williams (1976) sea-water correction scaled linearly with
+ * salinity (zero salinity: pure water).  Interpolation is linear in
+ * wavenumber between table rows. */
+typedef struct sea_water sea_water;
+
+/* salinity in g/kg, [0, 45].  With salinity > 0 the usable band is the
+ * intersection of the table and the correction (2.398-15.62 um). */
+sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **out,
+                           sea_error *err);
+/* A user table: CSV text with '#' comment lines, a header row naming the
+ * columns wavelength_um,n,k and at least two rows in strictly monotonic
+ * wavelength order. */
+sea_status sea_water_load(const char *path, double salinity, sea_water **out,
+                          sea_error *err);
+void sea_water_free(sea_water *w);
+/* Complex refractive index N = n + i k at wavelength (m).  Fails with
+ * SEA_ERR_DOMAIN outside the table, naming the range. */
+sea_status sea_water_index(const sea_water *w, double wavelength, double complex *N,
+                           sea_error *err);
+/* Usable wavelength range, metres. */
+void sea_water_range(const sea_water *w, double *wl_min, double *wl_max);
+/* One line naming the table, its publication and the salinity. */
+const char *sea_water_describe(const sea_water *w);
+/* Name of a built-in table ("hale-querry", "segelstein"); returns -1 when
+ * the name is not a built-in table. */
+int sea_water_table_from_name(const char *name);
+
+/* Unpolarised Fresnel reflectance of air -> water (complex index N, k >= 0)
+ * at local incidence psi, cos_psi in [0, 1]:
+ * w = sqrt(N^2 - sin^2 psi), r_s = (cos psi - w)/(cos psi + w),
+ * r_p = (N^2 cos psi - w)/(N^2 cos psi + w), rho = (|r_s|^2 + |r_p|^2)/2.
+ * rho(0 incidence) = ((n-1)^2 + k^2)/((n+1)^2 + k^2); rho(grazing) = 1. */
+double sea_fresnel_unpolarized(double cos_psi, double complex N);
+
+/* Planck spectral radiance, W m^-2 sr^-1 m^-1, wavelength in m, T in K (> 0). */
+double sea_planck_radiance(double wavelength, double temperature);
+/* Its inverse: brightness temperature (K) of a spectral radiance > 0. */
+double sea_planck_brightness_temperature(double wavelength, double radiance);
+
+/* ------------------------------------------------ Elfouhaily 1997 spectrum */
+
+/* Sea state and the derived constants of the Elfouhaily et al. (1997)
+ * directional spectrum, as restated in PHYSICS.md section 3. */
+typedef struct {
+    double wind_speed; /* U10, m/s */
+    double fetch;      /* m; INFINITY = fully developed */
+    double wind_dir;   /* rad: azimuth of the wind axis from the x axis */
+    /* derived by sea_spectrum_init */
+    double k0;        /* g / U10^2 */
+    double omega_c;   /* inverse wave age */
+    double k_p;       /* spectral peak, rad/m */
+    double c_p;       /* phase speed at the peak, m/s */
+    double u_star;    /* friction velocity, m/s */
+    double alpha_p;   /* long-wave (equilibrium range) parameter */
+    double alpha_m;   /* short-wave parameter, with the low-wind continuation */
+    double gamma;     /* JONSWAP peak enhancement */
+    double delta;     /* JONSWAP peak width */
+} sea_spectrum;
+
+/* Allowed ranges: wind_speed in [SEA_WIND_MIN, SEA_WIND_MAX] m/s, fetch in
+ * [SEA_FETCH_MIN, inf] m, wind_dir finite. */
+#define SEA_WIND_MIN 0.5
+#define SEA_WIND_MAX 40.0
+#define SEA_FETCH_MIN 1000.0
+sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch,
+                             double wind_dir, sea_error *err);
+
+/* Short-wave coefficient alpha_m(x), x = u_star / c_m.  Elfouhaily's 1997 formula,
+ * 1e-2 (1 + ln x) for x = u_star / c_m <= 1 and 1e-2 (1 + 3 ln x) above, turns
+ * negative for x < 1/e (U10 below about 2.7 m/s).  Below ln x = -3/4 it is
+ * continued by 1e-2 (1/4) exp(4 (ln x + 3/4)) = 1e-2 (e^3/4) x^4, which
+ * matches value and slope at the junction and stays positive; from ln x =
+ * -3/4 upwards the 1997 formula is used unchanged. */
+double sea_spectrum_alpha_m(double u_star_over_c_m);
+/* Curvature spectrum B(k) = k^3 S(k) = B_l + B_h (dimensionless), k > 0. */
+double sea_spectrum_curvature(const sea_spectrum *s, double k);
+/* Omnidirectional height spectrum S(k) = B(k)/k^3, m^3. */
+double sea_spectrum_omni(const sea_spectrum *s, double k);
+/* Spreading Delta(k) in [0, 1): Phi(k, phi) = (1 + Delta cos 2 phi) / (2 pi). */
+double sea_spectrum_spreading(const sea_spectrum *s, double k);
+/* Directional height spectrum Psi(k, phi) = S(k) Phi(k, phi - wind_dir) / k,
+ * m^4, phi the azimuth of the wave vector in the x, y frame. */
+double sea_spectrum_directional(const sea_spectrum *s, double k, double phi);
+/* Angular frequency with capillarity, omega = sqrt(g k (1 + (k/k_m)^2)). */
+double sea_spectrum_omega(double k);
+
+/* Relative accuracy to which slope variances are integrated. */
+#define SEA_SPECTRUM_REL_TOL 1e-8
+/* Slope covariance of the waves with |k| >= kc (Eq 15, 17) in the x, y frame:
+ * along the wind sigma_u^2 = int_kc^inf B(k)/k (1 + Delta/2)/2 dk, across it
+ * sigma_c^2 = int B/k (1 - Delta/2)/2 dk, then rotated by wind_dir.
+ * kc = 0 gives the low-resolution (total) covariance; kc = pi/L the part
+ * below a facet of size L.  kc >= 0, finite. */
+sea_status sea_spectrum_slope_cov(const sea_spectrum *s, double kc, sea_cov2 *out,
+                                  sea_error *err);
+
+/* ------------------------------------------------------- Smith shadowing */
+
+/* G(t) = phi(t) - t Q(t) = int_t^inf Q(u) du, with phi the standard normal
+ * density and Q its upper tail.  Positive, decreasing, G(t) - G(-t) = -t.
+ * Evaluated without cancellation for every t (continued fraction for t > 2). */
+double sea_shadow_G(double t);
+/* For a slope gamma ~ N(m, s^2) and a threshold mu = cot(theta):
+ * hidden  = E[(gamma - mu)+] = s G((mu - m)/s)   (facets turned away),
+ * visible = E[(mu - gamma)+] = s G((m - mu)/s),
+ * visible - hidden = mu - m.  s >= 0 (s = 0: the limits). */
+double sea_shadow_hidden(double mu, double m, double s);
+double sea_shadow_visible(double mu, double m, double s);
+/* Smith Lambda with a non-zero mean (Eq 9e): Lambda = tan(theta) * hidden.
+ * theta in [0, pi/2); 0 at nadir, finite, >= 0, increasing with theta. */
+double sea_shadow_lambda(double theta, double m, double s);
+/* Normalisation D of Eq 10: D = 1 - m tan(theta) / (1 + Lambda)
+ *                             = tan(theta) visible / (1 + Lambda).
+ * D >= 0; D = 1 for m = 0; D > 1 when the mean slope faces the viewer (m < 0). */
+double sea_shadow_D(double theta, double m, double s);
+
+/* ------------------------------------------- effective emissivity (Eq 7, 12) */
+
+typedef enum {
+    SEA_EMIS_AUTO = 0, /* Eq 7 with a product Gauss rule sized for 1e-6 (default) */
+    SEA_EMIS_FAST,     /* Eq 12: psi' with gamma_Y = m_Y, 1-D Gauss-Legendre */
+    SEA_EMIS_FULL      /* Eq 7 by nested adaptive GSL quadrature (reference) */
+} sea_emis_method;
+
+/* Parses "auto", "fast", "full"; returns -1 otherwise. */
+int sea_emis_method_from_name(const char *name);
+const char *sea_emis_method_name(sea_emis_method m);
+
+/* The quadrature plan: node tables built once, read by many threads. */
+typedef struct sea_optics sea_optics;
+sea_status sea_optics_alloc(sea_optics **out, sea_error *err);
+void sea_optics_free(sea_optics *p);
+
+/* Effective emissivity toward v (Eq 7 or Eq 12, normalised by D).  It is the
+ * average of 1 - rho(psi) over the facets seen from v, weighted by their
+ * projected area: a value in [0, 1].  N: complex index; st must satisfy
+ * sea_slope_stats_check.  Returns SEA_ERR_NUMERIC only if the adaptive
+ * reference quadrature fails to converge. */
+sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double complex N,
+                          const sea_slope_stats *st, sea_dir v, double *out,
+                          sea_error *err);
+
+/* ------------------------------------ effective reflectivity (Eq 13-14, 20) */
+
+/* Effective reflectivity rho~(inc; obs) of Eq 13 with the bistatic Smith
+ * shadowing of Eq 14c, per steradian of incidence: the radiance reflected
+ * toward obs is int rho~(w_i; obs) L(w_i) dw_i.  >= 0, finite. */
+double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
+/* BRDF f = rho~ / cos(theta_inc) (Eq 20), sr^-1. */
+double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
+
+/* Energy balance (Eq 21) with v in the observation slot:
+ * reflectance = int over the upper hemisphere of rho~(w_i; v) dw_i, computed
+ * in slope space (dw_i = d gamma / |J|, Eq 14d), so a glint of any width is
+ * resolved; total = emissivity + reflectance <= 1, the deficit being the
+ * energy that the single-scattering model sends back into the sea. */
+typedef struct {
+    double emissivity, reflectance, total;
+} sea_energy;
+sea_status sea_energy_balance(const sea_optics *p, sea_emis_method method, double complex N,
+                              const sea_slope_stats *st, sea_dir v, sea_energy *out,
+                              sea_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* SEABAKE_H */

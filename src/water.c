@@ -1,0 +1,435 @@
+/* water.c - optical constants of sea water and the Fresnel reflectance.
+ *
+ * A pure-water table (n, k against wavelength) plus the sea-water minus
+ * pure-water correction of Pinkley & Williams (1976), scaled linearly with
+ * salinity as the PARMIO ocean model does:
+ *   n_sea = n_pure + dn (S / 34.482),  k_sea = k_pure + dk (S / 34.482).
+ * Both tables are interpolated linearly in wavenumber, the variable in which
+ * the absorption bands are tabulated. */
+#include "config.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "seabake.h"
+#include "water_data.h"
+
+/* Salinity of the standard sea water that the correction table describes. */
+static const double SEA_CORRECTION_SALINITY = 34.482; /* g/kg */
+static const double SEA_SALINITY_MAX = 45.0;          /* g/kg, densest open ocean ~41 */
+/* User tables larger than this are refused rather than read into memory. */
+static const long SEA_TABLE_BYTES_MAX = 64L << 20;
+
+typedef struct {
+    size_t len;
+    double *nu; /* wavenumber, 1/m, strictly increasing */
+    double *a;  /* n (or dn) */
+    double *b;  /* k (or dk) */
+} sea_table;
+
+struct sea_water {
+    sea_table pure;
+    sea_table salt;       /* empty when salinity is 0 */
+    double salt_scale;    /* S / 34.482 */
+    double nu_min, nu_max;
+    char describe[256];
+};
+
+static void table_free(sea_table *t)
+{
+    free(t->nu);
+    free(t->a);
+    free(t->b);
+    memset(t, 0, sizeof *t);
+}
+
+static sea_status table_push(sea_table *t, size_t *cap, double nu, double a, double b)
+{
+    if (t->len == *cap) {
+        size_t ncap = *cap ? 2 * *cap : 128;
+        double *nnu = realloc(t->nu, ncap * sizeof *nnu);
+        if (nnu == NULL)
+            return SEA_ERR_NOMEM;
+        t->nu = nnu;
+        double *na = realloc(t->a, ncap * sizeof *na);
+        if (na == NULL)
+            return SEA_ERR_NOMEM;
+        t->a = na;
+        double *nb = realloc(t->b, ncap * sizeof *nb);
+        if (nb == NULL)
+            return SEA_ERR_NOMEM;
+        t->b = nb;
+        *cap = ncap;
+    }
+    t->nu[t->len] = nu;
+    t->a[t->len] = a;
+    t->b[t->len] = b;
+    t->len++;
+    return SEA_OK;
+}
+
+/* Splits one CSV line in place into at most max fields; returns the count. */
+static int split_fields(char *line, char **field, int max)
+{
+    int n = 0;
+    char *p = line;
+    while (n < max) {
+        while (*p == ' ' || *p == '\t')
+            p++;
+        field[n++] = p;
+        char *comma = strchr(p, ',');
+        if (comma == NULL)
+            break;
+        *comma = '\0';
+        p = comma + 1;
+    }
+    for (int i = 0; i < n; i++) { /* trim trailing blanks */
+        size_t l = strlen(field[i]);
+        while (l > 0 && (field[i][l - 1] == ' ' || field[i][l - 1] == '\t' ||
+                         field[i][l - 1] == '\r'))
+            field[i][--l] = '\0';
+    }
+    return n;
+}
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+enum { SEA_CSV_FIELDS_MAX = 16 };
+
+/* Parses CSV text whose header names the columns.  The x column is either
+ * "wavelength_um" or "wavenumber_cm1" (the first of col_x that is present);
+ * col_a and col_b name the two value columns.  Rows are stored by increasing
+ * wavenumber and must be strictly monotonic in the file.  source names the
+ * text in messages ("file.csv:12: ..."). */
+static sea_status table_parse(const char *text, const char *source, const char *col_a,
+                              const char *col_b, sea_table *out, sea_error *err)
+{
+    sea_status st = SEA_OK;
+    size_t cap = 0;
+    int ix = -1, ia = -1, ib = -1, x_is_wavenumber = 0, nfields = 0;
+    long lineno = 0;
+    char *copy = strdup(text);
+    if (copy == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", source);
+    memset(out, 0, sizeof *out);
+
+    for (char *line = copy, *next; line != NULL; line = next) {
+        next = strchr(line, '\n');
+        if (next != NULL)
+            *next++ = '\0';
+        lineno++;
+        char *p = line;
+        while (*p == ' ' || *p == '\t' || *p == '\r')
+            p++;
+        if (*p == '\0' || *p == '#')
+            continue;
+        char *field[SEA_CSV_FIELDS_MAX];
+        int n = split_fields(p, field, SEA_CSV_FIELDS_MAX);
+        if (ix < 0) { /* header row */
+            for (int i = 0; i < n; i++) {
+                if (strcmp(field[i], "wavelength_um") == 0 && ix < 0) {
+                    ix = i;
+                    x_is_wavenumber = 0;
+                } else if (strcmp(field[i], "wavenumber_cm1") == 0) {
+                    ix = i;
+                    x_is_wavenumber = 1;
+                } else if (strcmp(field[i], col_a) == 0) {
+                    ia = i;
+                } else if (strcmp(field[i], col_b) == 0) {
+                    ib = i;
+                }
+            }
+            if (ix < 0 || ia < 0 || ib < 0) {
+                st = sea_fail(err, SEA_ERR_PARSE,
+                              "%s:%ld: header must name the columns wavelength_um (or "
+                              "wavenumber_cm1), %s and %s",
+                              source, lineno, col_a, col_b);
+                goto fail;
+            }
+            nfields = n;
+            continue;
+        }
+        if (n != nfields) {
+            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %d fields, the header has %d",
+                          source, lineno, n, nfields);
+            goto fail;
+        }
+        double x, a, b;
+        if (parse_double(field[ix], &x) != 0 || x <= 0.0) {
+            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a positive number",
+                          source, lineno, x_is_wavenumber ? "wavenumber_cm1" : "wavelength_um",
+                          field[ix]);
+            goto fail;
+        }
+        if (parse_double(field[ia], &a) != 0) {
+            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a number", source,
+                          lineno, col_a, field[ia]);
+            goto fail;
+        }
+        if (parse_double(field[ib], &b) != 0) {
+            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a number", source,
+                          lineno, col_b, field[ib]);
+            goto fail;
+        }
+        double nu = x_is_wavenumber ? x * 100.0 : 1e6 / x; /* 1/m */
+        if (out->len > 0) {
+            double prev = out->nu[out->len - 1];
+            double first = out->nu[0];
+            int increasing = out->len > 1 ? out->nu[1] > first : nu > prev;
+            if (nu == prev || (nu > prev) != increasing) {
+                st = sea_fail(err, SEA_ERR_PARSE,
+                              "%s:%ld: rows must be strictly monotonic in wavelength", source,
+                              lineno);
+                goto fail;
+            }
+        }
+        if ((st = table_push(out, &cap, nu, a, b)) != SEA_OK) {
+            sea_fail(err, st, "%s: out of memory", source);
+            goto fail;
+        }
+    }
+    if (out->len < 2) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: a table needs at least two data rows (found %zu)",
+                      source, out->len);
+        goto fail;
+    }
+    if (out->nu[0] > out->nu[1]) { /* store by increasing wavenumber */
+        for (size_t i = 0, j = out->len - 1; i < j; i++, j--) {
+            double t;
+            t = out->nu[i], out->nu[i] = out->nu[j], out->nu[j] = t;
+            t = out->a[i], out->a[i] = out->a[j], out->a[j] = t;
+            t = out->b[i], out->b[i] = out->b[j], out->b[j] = t;
+        }
+    }
+    free(copy);
+    return SEA_OK;
+fail:
+    free(copy);
+    table_free(out);
+    return st;
+}
+
+/* Linear interpolation in wavenumber; nu must lie inside the table. */
+static void table_eval(const sea_table *t, double nu, double *a, double *b)
+{
+    size_t lo = 0, hi = t->len - 1;
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (t->nu[mid] <= nu)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    double w = (nu - t->nu[lo]) / (t->nu[hi] - t->nu[lo]);
+    *a = t->a[lo] + w * (t->a[hi] - t->a[lo]);
+    *b = t->b[lo] + w * (t->b[hi] - t->b[lo]);
+}
+
+static const char *builtin_text(const char *name)
+{
+    for (const sea_data_file *f = sea_data_files; f->name != NULL; f++)
+        if (strcmp(f->name, name) == 0)
+            return f->text;
+    return NULL;
+}
+
+static const struct {
+    const char *name, *file, *cite;
+} SEA_TABLES[] = {
+    [SEA_WATER_HALE_QUERRY] = { "hale-querry", "water_nk_hale_querry",
+                                "Hale & Querry 1973, Appl. Opt. 12, 555 (25 C)" },
+    [SEA_WATER_SEGELSTEIN] = { "segelstein", "water_nk_segelstein",
+                               "Segelstein 1981, M.S. thesis, UMKC" },
+};
+
+int sea_water_table_from_name(const char *name)
+{
+    for (size_t i = 0; i < sizeof SEA_TABLES / sizeof SEA_TABLES[0]; i++)
+        if (strcmp(name, SEA_TABLES[i].name) == 0)
+            return (int)i;
+    return -1;
+}
+
+/* Takes ownership of *pure; adds the salinity correction. */
+static sea_status water_finish(sea_table *pure, double salinity, const char *what,
+                               sea_water **out, sea_error *err)
+{
+    sea_status st;
+    sea_water *w = calloc(1, sizeof *w);
+    if (w == NULL) {
+        table_free(pure);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    }
+    w->pure = *pure;
+    memset(pure, 0, sizeof *pure);
+    w->nu_min = w->pure.nu[0];
+    w->nu_max = w->pure.nu[w->pure.len - 1];
+    if (salinity > 0.0) {
+        st = table_parse(builtin_text("seawater_correction"), "seawater_correction.csv",
+                         "n_salt_corr", "k_salt_corr", &w->salt, err);
+        if (st != SEA_OK)
+            goto fail;
+        w->salt_scale = salinity / SEA_CORRECTION_SALINITY;
+        w->nu_min = fmax(w->nu_min, w->salt.nu[0]);
+        w->nu_max = fmin(w->nu_max, w->salt.nu[w->salt.len - 1]);
+        if (w->nu_min >= w->nu_max) {
+            st = sea_fail(err, SEA_ERR_DOMAIN,
+                          "%s does not overlap the sea-water correction (2.40-15.62 um)", what);
+            goto fail;
+        }
+    }
+    snprintf(w->describe, sizeof w->describe,
+             "%s; sea-water correction Pinkley & Williams 1976 at salinity %g g/kg", what,
+             salinity);
+    *out = w;
+    return SEA_OK;
+fail:
+    sea_water_free(w);
+    return st;
+}
+
+static sea_status check_salinity(double salinity, sea_error *err)
+{
+    if (!(salinity >= 0.0 && salinity <= SEA_SALINITY_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN, "salinity %g g/kg is outside [0, %g] g/kg",
+                        salinity, SEA_SALINITY_MAX);
+    return SEA_OK;
+}
+
+sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **out,
+                           sea_error *err)
+{
+    sea_table pure;
+    sea_status st;
+    *out = NULL;
+    if ((unsigned)table >= sizeof SEA_TABLES / sizeof SEA_TABLES[0])
+        return sea_fail(err, SEA_ERR_DOMAIN, "unknown water table %d", (int)table);
+    if ((st = check_salinity(salinity, err)) != SEA_OK)
+        return st;
+    char source[64];
+    snprintf(source, sizeof source, "%s.csv", SEA_TABLES[table].file);
+    st = table_parse(builtin_text(SEA_TABLES[table].file), source, "n", "k", &pure, err);
+    if (st != SEA_OK)
+        return st;
+    return water_finish(&pure, salinity, SEA_TABLES[table].cite, out, err);
+}
+
+sea_status sea_water_load(const char *path, double salinity, sea_water **out, sea_error *err)
+{
+    sea_status st;
+    sea_table pure;
+    char *text = NULL;
+    *out = NULL;
+    if ((st = check_salinity(salinity, err)) != SEA_OK)
+        return st;
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return sea_fail(err, SEA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    long size = -1;
+    if (fseek(f, 0, SEEK_END) == 0)
+        size = ftell(f);
+    if (size < 0 || fseek(f, 0, SEEK_SET) != 0) {
+        st = sea_fail(err, SEA_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
+        goto done;
+    }
+    if (size > SEA_TABLE_BYTES_MAX) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: %ld bytes is larger than the %ld allowed", path,
+                      size, SEA_TABLE_BYTES_MAX);
+        goto done;
+    }
+    text = malloc((size_t)size + 1);
+    if (text == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
+        goto done;
+    }
+    if (fread(text, 1, (size_t)size, f) != (size_t)size) {
+        st = sea_fail(err, SEA_ERR_IO, "%s: read error", path);
+        goto done;
+    }
+    text[size] = '\0';
+    if (strlen(text) != (size_t)size) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: contains a NUL byte: not a CSV text file", path);
+        goto done;
+    }
+    if ((st = table_parse(text, path, "n", "k", &pure, err)) != SEA_OK)
+        goto done;
+    for (size_t i = 0; i < pure.len; i++) {
+        if (!(pure.a[i] > 0.0) || pure.b[i] < 0.0) {
+            st = sea_fail(err, SEA_ERR_DOMAIN,
+                          "%s: row %zu (%.6g um): need n > 0 and k >= 0 (n = %g, k = %g)", path,
+                          i + 1, 1e6 / pure.nu[i], pure.a[i], pure.b[i]);
+            table_free(&pure);
+            goto done;
+        }
+    }
+    st = water_finish(&pure, salinity, path, out, err);
+done:
+    free(text);
+    fclose(f);
+    return st;
+}
+
+void sea_water_free(sea_water *w)
+{
+    if (w == NULL)
+        return;
+    table_free(&w->pure);
+    table_free(&w->salt);
+    free(w);
+}
+
+void sea_water_range(const sea_water *w, double *wl_min, double *wl_max)
+{
+    *wl_min = 1.0 / w->nu_max;
+    *wl_max = 1.0 / w->nu_min;
+}
+
+const char *sea_water_describe(const sea_water *w)
+{
+    return w->describe;
+}
+
+sea_status sea_water_index(const sea_water *w, double wavelength, double complex *N,
+                           sea_error *err)
+{
+    double nu = 1.0 / wavelength;
+    if (!(wavelength > 0.0) || !(nu >= w->nu_min && nu <= w->nu_max))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "wavelength %.6g um is outside the water table (%.6g-%.6g um)",
+                        wavelength * 1e6, 1e6 / w->nu_max, 1e6 / w->nu_min);
+    double n, k;
+    table_eval(&w->pure, nu, &n, &k);
+    if (w->salt.len > 0) {
+        double dn, dk;
+        table_eval(&w->salt, nu, &dn, &dk);
+        n += dn * w->salt_scale;
+        k += dk * w->salt_scale;
+    }
+    *N = n + I * fmax(k, 0.0);
+    return SEA_OK;
+}
+
+double sea_fresnel_unpolarized(double cos_psi, double complex N)
+{
+    const double c = fmin(fmax(cos_psi, 0.0), 1.0);
+    const double sin2 = 1.0 - c * c;
+    const double complex N2 = N * N;
+    const double complex w = csqrt(N2 - sin2);
+    const double complex r_s = (c - w) / (c + w);
+    const double complex r_p = (N2 * c - w) / (N2 * c + w);
+    const double rs2 = creal(r_s) * creal(r_s) + cimag(r_s) * cimag(r_s);
+    const double rp2 = creal(r_p) * creal(r_p) + cimag(r_p) * cimag(r_p);
+    return 0.5 * (rs2 + rp2);
+}

@@ -1,0 +1,42 @@
+/* unit.h - shared helpers of the CUnit suites. */
+#ifndef SEA_TEST_UNIT_H
+#define SEA_TEST_UNIT_H
+
+#include <CUnit/CUnit.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "seabake.h"
+
+#define DEG (M_PI / 180.0)
+
+/* |a - b| <= tol * max(|b|, floor): a relative check that does not divide by 0. */
+#define ASSERT_REL(a, b, tol, floor_)                                                          \
+    do {                                                                                    \
+        double a_ = (a), b_ = (b);                                                          \
+        double d_ = fabs(a_ - b_), s_ = fmax(fabs(b_), (floor_));                           \
+        if (!(d_ <= (tol) * s_))                                                            \
+            fprintf(stderr, "  %s:%d: %s = %.17g, expected %.17g (rel %.3g > %.3g)\n",       \
+                    __FILE__, __LINE__, #a, a_, b_, d_ / s_, (double)(tol));                \
+        CU_ASSERT(d_ <= (tol) * s_);                                                        \
+    } while (0)
+
+#define ASSERT_ABS(a, b, tol)                                                               \
+    do {                                                                                    \
+        double a_ = (a), b_ = (b);                                                          \
+        if (!(fabs(a_ - b_) <= (tol)))                                                      \
+            fprintf(stderr, "  %s:%d: %s = %.17g, expected %.17g +- %.3g\n", __FILE__,      \
+                    __LINE__, #a, a_, b_, (double)(tol));                                   \
+        CU_ASSERT(fabs(a_ - b_) <= (tol));                                                  \
+    } while (0)
+
+/* Each suite file registers its suite. */
+int test_water_register(void);
+int test_spectrum_register(void);
+int test_shadow_register(void);
+int test_optics_register(void);
+
+/* Figures worth quoting are printed on stdout, prefixed "measured:". */
+#define MEASURED(...) (printf("measured: " __VA_ARGS__), fflush(stdout))
+
+#endif
