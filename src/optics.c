@@ -62,6 +62,9 @@ static const double SEA_REF_INNER_REL_TOL = 1e-10;
 static const double SEA_REF_ABS_TOL = 1e-14;
 static const double SEA_REF_ACCEPT = 1e-5;
 static const double SEA_REF_INNER_ABS_ACCEPT = 1e-10;
+/* ... and an outer numerator whose error is below this fraction of the
+ * weight integral, i.e. an error below 1e-6 on the average itself. */
+static const double SEA_REF_AVG_ACCEPT = 1e-6;
 enum { SEA_REF_LIMIT = 256 };
 /* Zenith angles below this are nadir (see shadow.c). */
 static const double SEA_NADIR_THETA = 1e-12;
@@ -367,19 +370,16 @@ static sea_status expect_reference(const sea_optics *p, const view_frame *f, fac
             t_lo = fmax(t_lo, (-tn - sc - f->m_X) / f->s_X);
             t_hi = fmin(t_hi, (sc - tn - f->m_X) / f->s_X);
         }
-        int rc = GSL_SUCCESS;
-        if (t_lo < t_hi) {
+        /* The weight integral first: it sets the scale of what an error in
+         * the numerator means for the average. */
+        int rc = gsl_integration_qag(&W, f->t_lo, f->t_hi, SEA_REF_ABS_TOL, SEA_REF_REL_TOL,
+                                     SEA_REF_LIMIT, GSL_INTEG_GAUSS21, ws_out, &den, &e);
+        rc = ref_status(rc, den, e, SEA_REF_ACCEPT, SEA_REF_ABS_TOL);
+        if (rc == GSL_SUCCESS && t_lo < t_hi) {
             rc = gsl_integration_qag(&F, t_lo, t_hi, SEA_REF_ABS_TOL, SEA_REF_REL_TOL,
                                      SEA_REF_LIMIT, GSL_INTEG_GAUSS21, ws_out, &num, &e);
-            rc = ref_status(rc, num, e, SEA_REF_ACCEPT, SEA_REF_ABS_TOL);
+            rc = ref_status(rc, num, e, SEA_REF_ACCEPT, SEA_REF_AVG_ACCEPT * den);
         }
-        if (rc == GSL_SUCCESS) {
-            rc = gsl_integration_qag(&W, f->t_lo, f->t_hi, SEA_REF_ABS_TOL, SEA_REF_REL_TOL,
-                                     SEA_REF_LIMIT, GSL_INTEG_GAUSS21, ws_out, &den, &e);
-            rc = ref_status(rc, den, e, SEA_REF_ACCEPT, SEA_REF_ABS_TOL);
-        }
-        if (rc != GSL_SUCCESS && a.status == GSL_SUCCESS)
-            a.status = rc;
         *out = den > 0.0 ? num / den : 0.0;
     }
     if (a.status != GSL_SUCCESS)

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "seabake.h"
 #include "water_data.h"
@@ -337,6 +338,11 @@ sea_status sea_water_load(const char *path, double salinity, sea_water **out, se
     FILE *f = fopen(path, "rb");
     if (f == NULL)
         return sea_fail(err, SEA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat sb;
+    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        st = sea_fail(err, SEA_ERR_IO, "%s: not a regular file", path);
+        goto done;
+    }
     long size = -1;
     if (fseek(f, 0, SEEK_END) == 0)
         size = ftell(f);
