@@ -1,0 +1,121 @@
+/* cli.h - the seabake program's command-line layer: option scanning, number
+ * and list parsing, the subcommands.  Nothing here is part of libseabake;
+ * this is the only code that sees argv, stdout, stderr or an exit code.
+ *
+ * Errors.  Every helper returns a sea_status and fills a sea_error whose
+ * message names the option, the offending text and the allowed range.
+ * Usage mistakes are reported as SEA_ERR_PARSE (malformed text, unknown
+ * option) or SEA_ERR_DOMAIN (missing, conflicting or out-of-range value);
+ * sea_cli_exit_code() turns any status into the program's exit code.
+ *
+ * Ownership.  Option values point into argv and live as long as it does.
+ * A sea_cli_list owns its values; release it with sea_cli_list_free(). */
+#ifndef SEABAKE_CLI_H
+#define SEABAKE_CLI_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include "seabake.h"
+
+/* ------------------------------------------------------------ exit codes */
+
+typedef enum {
+    SEA_CLI_EXIT_OK = 0,
+    SEA_CLI_EXIT_RUNTIME = 1, /* SEA_ERR_NUMERIC, SEA_ERR_NOMEM */
+    SEA_CLI_EXIT_USAGE = 2,   /* SEA_ERR_DOMAIN, SEA_ERR_PARSE */
+    SEA_CLI_EXIT_IO = 3       /* SEA_ERR_IO, including a failed write to stdout */
+} sea_cli_exit;
+
+sea_cli_exit sea_cli_exit_code(sea_status status);
+
+/* --------------------------------------------------------------- options */
+
+/* Every option takes a value, as "--name value" or "--name=value"; the
+ * value may begin with '-' (negative numbers).  A repeated option replaces
+ * the earlier value, unless it is SEA_CLI_OPT_ACCUMULATE, whose values are
+ * all kept in order.  "--help" and "-h" are understood by every subcommand. */
+enum { SEA_CLI_OPT_ACCUMULATE = 1u };
+
+typedef struct {
+    const char *name; /* without the leading "--" */
+    unsigned flags;
+} sea_cli_option;
+
+typedef struct {
+    const sea_cli_option *options;
+    size_t n_options;
+    int argc;
+    char **argv; /* the subcommand's arguments, not including its name */
+    bool help;   /* --help or -h was given */
+} sea_cli_args;
+
+/* Scans argv[0..argc) against the option table.  Fails with SEA_ERR_PARSE
+ * on an unknown option, a missing value or a stray positional argument. */
+sea_status sea_cli_args_parse(sea_cli_args *args, const sea_cli_option *options, size_t n_options,
+                              int argc, char **argv, sea_error *err);
+/* The last value given for option name, or NULL if it was not given. */
+const char *sea_cli_args_get(const sea_cli_args *args, const char *name);
+/* Number of times option name was given, and its i-th value (0-based). */
+size_t sea_cli_args_count(const sea_cli_args *args, const char *name);
+const char *sea_cli_args_nth(const sea_cli_args *args, const char *name, size_t i);
+
+/* ---------------------------------------------------------------- numbers */
+
+/* An interval of allowed values, printed in messages as e.g.
+ * "(-90, 90) degrees".  An infinite end is accepted as a value only when
+ * it is closed (fetch: [1000, inf]); NaN is never accepted. */
+typedef struct {
+    double lo, hi;
+    bool lo_open, hi_open;
+    const char *unit; /* "degrees", "m/s", "" ... */
+} sea_cli_range;
+
+/* Parses one decimal number (surrounding blanks allowed, nothing else after
+ * it) and checks it against range (NULL: any finite number). */
+sea_status sea_cli_parse_number(const char *opt, const char *text, const sea_cli_range *range,
+                                double *out, sea_error *err);
+
+/* Exactly n comma-separated numbers, the i-th checked against ranges[i];
+ * form names them in messages ("SXX,SYY,SXY"). */
+sea_status sea_cli_parse_tuple(const char *opt, const char *text, size_t n,
+                               const sea_cli_range *ranges, const char *form, double *out,
+                               sea_error *err);
+
+/* A LIST: "A:B:STEP" (A, A+STEP, ... up to B inclusive within
+ * SEA_CLI_LIST_END_TOL * STEP; STEP > 0, A <= B), "A,B,C" or one value;
+ * every value in range; at most SEA_CLI_LIST_MAX values. */
+#define SEA_CLI_LIST_MAX 100000
+#define SEA_CLI_LIST_END_TOL 1e-9
+typedef struct {
+    double *values;
+    size_t n;
+} sea_cli_list;
+
+sea_status sea_cli_parse_list(const char *opt, const char *text, const sea_cli_range *range,
+                              sea_cli_list *out, sea_error *err);
+void sea_cli_list_free(sea_cli_list *list);
+
+/* Degrees to radians, exact for multiples of 180 (so that theta = -30,
+ * phi = 0 and theta = 30, phi = 180 fold to the same direction). */
+double sea_cli_radians(double degrees);
+
+/* ------------------------------------------------------------ subcommands */
+
+typedef struct {
+    const char *name;
+    const char *summary; /* one line for the general usage */
+    const char *help;    /* full usage text of the subcommand */
+    const sea_cli_option *options;
+    size_t n_options;
+    /* Writes CSV to out.  A failed write is reported as SEA_ERR_IO. */
+    sea_status (*run)(const sea_cli_args *args, FILE *out, sea_error *err);
+} sea_cli_command;
+
+/* The subcommand called name, or NULL. */
+const sea_cli_command *sea_cli_command_find(const char *name);
+/* The general usage: synopsis, subcommands, exit codes. */
+void sea_cli_print_usage(FILE *f);
+
+#endif /* SEABAKE_CLI_H */

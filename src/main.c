@@ -1,0 +1,114 @@
+/* main.c - the seabake program: dispatches a subcommand, reports errors on
+ * stderr as one "seabake: error: ..." line and maps statuses to the exit
+ * codes of sea_cli_exit. */
+#ifdef HAVE_CONFIG_H
+#include <config.h>
+#endif
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+#ifndef PACKAGE_VERSION
+#define PACKAGE_VERSION "unknown"
+#endif
+
+/* Prints the error as exactly one line; usage errors point to the help. */
+static int report(sea_status status, const sea_error *err, const char *command)
+{
+    char msg[SEA_ERROR_MSG_MAX];
+    snprintf(msg, sizeof msg, "%s", err->msg[0] ? err->msg : sea_status_name(status));
+    for (char *c = msg; *c; ++c)
+        if (*c == '\n' || *c == '\r')
+            *c = ' ';
+    sea_cli_exit code = sea_cli_exit_code(status);
+    if (code == SEA_CLI_EXIT_USAGE)
+        fprintf(stderr, "seabake: error: %s (see 'seabake help%s%s')\n", msg, command ? " " : "",
+                command ? command : "");
+    else
+        fprintf(stderr, "seabake: error: %s\n", msg);
+    return (int)code;
+}
+
+/* A full disk or a closed pipe shows only when the buffer is flushed. */
+static int finish_output(int code)
+{
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        int saved = errno;
+        if (code == SEA_CLI_EXIT_OK) {
+            fprintf(stderr, "seabake: error: cannot write to standard output: %s\n",
+                    saved ? strerror(saved) : "write error");
+            return SEA_CLI_EXIT_IO;
+        }
+    }
+    return code;
+}
+
+static int help(int argc, char **argv)
+{
+    sea_error err = {{0}};
+    if (argc > 1) {
+        sea_fail(&err, SEA_ERR_PARSE, "help takes at most one subcommand, got '%s'", argv[1]);
+        return report(SEA_ERR_PARSE, &err, NULL);
+    }
+    if (argc == 0) {
+        sea_cli_print_usage(stdout);
+        return SEA_CLI_EXIT_OK;
+    }
+    const sea_cli_command *cmd = sea_cli_command_find(argv[0]);
+    if (!cmd) {
+        sea_fail(&err, SEA_ERR_PARSE, "unknown subcommand '%s'", argv[0]);
+        return report(SEA_ERR_PARSE, &err, NULL);
+    }
+    fputs(cmd->help, stdout);
+    return SEA_CLI_EXIT_OK;
+}
+
+static int run(int argc, char **argv)
+{
+    sea_error err = {{0}};
+    const char *name = argv[1];
+    if (strcmp(name, "help") == 0 || strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0)
+        return help(argc - 2, argv + 2);
+    if (strcmp(name, "--version") == 0) {
+        if (argc > 2) {
+            sea_fail(&err, SEA_ERR_PARSE, "--version takes no argument, got '%s'", argv[2]);
+            return report(SEA_ERR_PARSE, &err, NULL);
+        }
+        printf("seabake %s\n", PACKAGE_VERSION);
+        return SEA_CLI_EXIT_OK;
+    }
+    const sea_cli_command *cmd = sea_cli_command_find(name);
+    if (!cmd) {
+        sea_fail(&err, SEA_ERR_PARSE,
+                 name[0] == '-' ? "unknown option '%s' (a subcommand comes first)"
+                                : "unknown subcommand '%s'",
+                 name);
+        return report(SEA_ERR_PARSE, &err, NULL);
+    }
+    sea_cli_args args;
+    sea_status st =
+        sea_cli_args_parse(&args, cmd->options, cmd->n_options, argc - 2, argv + 2, &err);
+    if (st != SEA_OK)
+        return report(st, &err, cmd->name);
+    if (args.help) {
+        fputs(cmd->help, stdout);
+        return SEA_CLI_EXIT_OK;
+    }
+    st = cmd->run(&args, stdout, &err);
+    if (st != SEA_OK)
+        return report(st, &err, cmd->name);
+    return SEA_CLI_EXIT_OK;
+}
+
+int main(int argc, char **argv)
+{
+    sea_init();
+    if (argc < 2) {
+        sea_cli_print_usage(stderr);
+        return SEA_CLI_EXIT_USAGE;
+    }
+    return finish_output(run(argc, argv));
+}

@@ -1,0 +1,84 @@
+#!/bin/bash
+# man_examples.sh - runs every command of the EXAMPLES in seabake(1), so
+# that the manual cannot drift from the program, and checks that every
+# option the program knows is documented there.
+#
+# An example is a line starting with "seabake " inside an .EX/.EE block;
+# a line ending with a backslash continues on the next one.  The roff
+# escapes used in commands (\- \e \(dq \(aq \&) are undone first.
+# $(SHELL) may be a plain POSIX sh: these scripts need bash.
+[ -n "${BASH_VERSION:-}" ] || exec bash "$0" "$@"
+set -u
+TEST_NAME=man_examples
+. "$(dirname "$0")/lib.sh"
+
+: "${MANPAGE:?MANPAGE must name man/seabake.1}"
+
+if [ ! -r "$MANPAGE" ]; then
+    fail manpage.readable "cannot read $MANPAGE"
+    finish
+fi
+
+# One command per line, continuations joined, without the leading "seabake".
+awk '
+    /^\.EX/ { inex = 1; next }
+    /^\.EE/ { inex = 0; next }
+    !inex { next }
+    {
+        line = $0
+        gsub(/\\-/, "-", line)
+        gsub(/\\\(dq/, "\"", line)
+        gsub(/\\\(aq/, "\047", line)
+        gsub(/\\&/, "", line)
+        gsub(/\\e/, "\\", line)
+        if (cmd == "" && line !~ /^seabake /) next
+        cmd = cmd (cmd == "" ? "" : " ") line
+        if (cmd ~ /\\$/) { sub(/[ \t]*\\$/, "", cmd); next }
+        print substr(cmd, 9)
+        cmd = ""
+    }
+    END { if (cmd != "") print substr(cmd, 9) }
+' "$MANPAGE" >"$SB_TMP/examples"
+
+n_examples=$(grep -c '' "$SB_TMP/examples")
+if [ "$n_examples" -eq 0 ]; then
+    fail examples.present "no 'seabake ...' command in any .EX/.EE block of $MANPAGE"
+else
+    pass
+fi
+
+i=0
+while IFS= read -r example; do
+    i=$((i + 1))
+    # The manual's own quoting splits the words, as a shell user would.
+    eval "set -- $example"
+    sb_run "$@"
+    check_ok "example $i: seabake $example"
+    check_csv_shape "example $i csv: seabake $example"
+    check_no_match "example $i nan/inf: seabake $example" "$SB_OUT" "[Nn][Aa][Nn]|[Ii][Nn][Ff]"
+done <"$SB_TMP/examples"
+
+# Every option named in a subcommand's help is documented in the manual.
+for cmd in spectrum emissivity reflectivity energy; do
+    sb_run help "$cmd"
+    check_rc "help $cmd" 0
+    # Option definitions are the help lines that start with blanks and --.
+    for opt in $(printf '%s\n' "$SB_OUT" | sed -n 's/^ *\(--[a-z][a-z-]*\).*/\1/p' | sort -u); do
+        roff=$(printf '%s' "$opt" | sed 's/-/\\-/g')
+        if grep -qF -- "$roff" "$MANPAGE"; then
+            pass
+        else
+            fail "documented $cmd $opt" "$opt is not in $MANPAGE"
+        fi
+    done
+done
+
+# The page formats without warnings where a formatter is installed.
+if command -v groff >/dev/null 2>&1; then
+    warnings=$(groff -man -ww -z "$MANPAGE" 2>&1)
+    check_eq "groff warnings" "$warnings" ""
+else
+    echo "man_examples: groff not installed, formatting check skipped" >&2
+fi
+
+finish
