@@ -222,7 +222,7 @@ static sea_status opt_method(const sea_cli_args *args, sea_emis_method *out, sea
 static sea_status check_written(FILE *out, sea_error *err)
 {
     if (ferror(out))
-        return sea_fail(err, SEA_ERR_IO, "cannot write the output");
+        return sea_fail(err, SEA_ERR_IO, "cannot write to standard output");
     return SEA_OK;
 }
 
