@@ -24,7 +24,6 @@ static const double SEA_CLI_M_PER_UM = 1e-6;
 /* Relative slack on SXY^2 <= SXX*SYY, as in sea_slope_stats_check, so that
  * a covariance typed with exact decimals is not refused for rounding. */
 static const double SEA_CLI_COV_REL_TOL = 1e-12;
-#define SEA_CLI_SALINITY_MAX 45.0
 static const double SEA_CLI_SALINITY_DEFAULT = 35.0;
 
 static const sea_cli_range SEA_CLI_RANGE_WAVELENGTH = {0.0, INFINITY, true, true, "um"};
@@ -34,7 +33,7 @@ static const sea_cli_range SEA_CLI_RANGE_AZIMUTH = {-INFINITY, INFINITY, true, t
 static const sea_cli_range SEA_CLI_RANGE_THETA = {-90.0, 90.0, true, true, "degrees"};
 static const sea_cli_range SEA_CLI_RANGE_FACET = {0.0, SEA_CLI_FACET_MAX, false, false, "m"};
 static const sea_cli_range SEA_CLI_RANGE_SALINITY = {
-    0.0, SEA_CLI_SALINITY_MAX, false, false, "g/kg"};
+    0.0, SEA_SALINITY_MAX, false, false, "g/kg"};
 static const sea_cli_range SEA_CLI_RANGE_MEAN[2] = {
     {-SEA_CLI_MEAN_MAX, SEA_CLI_MEAN_MAX, false, false, ""},
     {-SEA_CLI_MEAN_MAX, SEA_CLI_MEAN_MAX, false, false, ""}};

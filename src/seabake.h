@@ -109,7 +109,9 @@ typedef enum {
  * wavenumber between table rows. */
 typedef struct sea_water sea_water;
 
-/* salinity in g/kg, [0, 45].  With salinity > 0 the usable band is the
+/* Allowed salinity, g/kg (the densest open ocean is about 41). */
+#define SEA_SALINITY_MAX 45.0
+/* salinity in g/kg, [0, SEA_SALINITY_MAX].  With salinity > 0 the usable band is the
  * intersection of the table and the correction (2.398-15.62 um). */
 sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **out,
                            sea_error *err);

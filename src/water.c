@@ -20,7 +20,6 @@
 
 /* Salinity of the standard sea water that the correction table describes. */
 static const double SEA_CORRECTION_SALINITY = 34.482; /* g/kg */
-static const double SEA_SALINITY_MAX = 45.0;          /* g/kg, densest open ocean ~41 */
 /* User tables larger than this are refused rather than read into memory. */
 static const long SEA_TABLE_BYTES_MAX = 64L << 20;
 
