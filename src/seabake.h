@@ -269,6 +269,133 @@ sea_status sea_energy_balance(const sea_optics *p, sea_emis_method method, doubl
                               const sea_slope_stats *st, sea_dir v, sea_energy *out,
                               sea_error *err);
 
+
+/* ------------------------------------------ large-scale waves (section 5) */
+
+/* Moments of the slopes of one facet, linearly filterable (LEAN mapping):
+ * averaging the moments of fine facets gives those of the coarse facet they
+ * tile.  mxx = mx^2 + C_xx, mxy = mx my + C_xy, myy = my^2 + C_yy; h is the
+ * mean height of the generated (large-scale) waves over the facet, m. */
+typedef struct {
+    double mx, my, mxx, mxy, myy, h;
+} sea_moments;
+
+/* Covariance C = M - m m^T of moments, made positive semi-definite against
+ * round-off (diagonal >= 0, |xy| <= sqrt(xx yy)). */
+sea_slope_stats sea_moments_stats(const sea_moments *mo);
+
+/* The two generators of one seeded realisation of the waves above a facet. */
+typedef enum {
+    SEA_WAVES_SINUSOIDS = 0, /* sum of sinusoids, any facet size and place */
+    SEA_WAVES_FFT            /* periodic patch, inverse real FFT on a constant step */
+} sea_waves_kind;
+
+typedef struct {
+    sea_waves_kind kind;
+    double finest;          /* finest facet size L0, m: no wave with |k| > pi/L0 */
+    unsigned long seed;     /* same seed, same sea */
+    double loop_period;     /* s; > 0: omega rounded to multiples of 2 pi/T; 0: none */
+    /* sum of sinusoids */
+    int bins_per_octave;    /* wavenumber bins per octave, 1..64 (default 8) */
+    int directions;         /* directions per bin, 5..1024 (default 32) */
+    /* FFT */
+    size_t fft_size;        /* points per side N, even, 2..16384: period N*L0 (default 1024) */
+} sea_waves_params;
+
+/* Defaults: sinusoids, finest 1 m, seed 1, no loop, 8 bins/octave, 32
+ * directions, FFT 1024 points. */
+void sea_waves_params_default(sea_waves_params *p);
+
+typedef struct sea_waves sea_waves;
+
+/* Draws the realisation for sea state s (copied).  Sinusoids: bins of
+ * constant width in ln k whose edges are pi 2^(j/B) rad/m (so a facet of
+ * 2^i m cuts exactly between bins), from the first edge <= k_p/4 up to
+ * pi/L0; each bin holds `directions` components spaced evenly in azimuth
+ * from a random offset, with a log-uniform random k inside the bin and a
+ * random phase.  A component's slope variance is the bin's share of the
+ * slope spectrum along its direction, so the generated covariance of a
+ * whole bin is exact.  Random numbers come from a stream per bin, keyed by
+ * (seed, j): plans with other finest sizes share the bins they have in
+ * common.  FFT: modes k = (2 pi/P)(i, j), 0 < |k| < pi/L0 (the Nyquist
+ * row and column hold none), amplitude from Psi at the mode times dk^2, random
+ * phase.  Both: deterministic amplitudes, random phases; each wave travels
+ * with a phase velocity that has a non-negative component along the wind. */
+sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
+                            sea_error *err);
+void sea_waves_free(sea_waves *w);
+
+/* The same waves as a sum-of-sinusoids plan (*out), e.g. an FFT plan's
+ * modes evaluated one by one: sampling it reproduces the FFT field to
+ * round-off, at the cost of a sum over every mode per cell. */
+sea_status sea_waves_to_sinusoids(const sea_waves *w, sea_waves **out, sea_error *err);
+
+/* One wave: h = amplitude cos(kx x + ky y - omega t + phase), omega signed. */
+typedef struct {
+    double kx, ky, amplitude, phase, omega;
+} sea_wave;
+
+size_t sea_waves_count(const sea_waves *w);
+/* Wave i < sea_waves_count(w), in a fixed order. */
+sea_wave sea_waves_get(const sea_waves *w, size_t i);
+const sea_waves_params *sea_waves_params_of(const sea_waves *w);
+const sea_spectrum *sea_waves_spectrum(const sea_waves *w);
+/* Patch period P = N L0 of an FFT plan, m; INFINITY for sinusoids. */
+double sea_waves_period(const sea_waves *w);
+/* Covariance of the slopes of the generated waves with |k| <= kc (their
+ * spatial average over a large area), in the x, y frame. */
+sea_cov2 sea_waves_generated_cov(const sea_waves *w, double kc);
+
+/* A lattice of cells of size `step`: cell (i, j) covers [i step, (i+1) step)
+ * x [j step, (j+1) step); a rectangle holds nx x ny cells from (i0, j0),
+ * stored row by row (x fastest). */
+typedef struct {
+    double step;
+    long i0, j0;
+    size_t nx, ny;
+} sea_rect;
+
+/* Height and slopes of the waves with |k| <= pi/step at the cell centres,
+ * time t.  Any of h, sx, sy may be NULL.  FFT plans need step = L0 2^m and a
+ * rectangle no wider than the period (so no tile repeats in the output). */
+sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, double *h,
+                            double *sx, double *sy, sea_error *err);
+
+/* Height and slope at one point of the waves with |k| <= kc. */
+void sea_waves_at(const sea_waves *w, double kc, double x, double y, double t, double *h,
+                  sea_vec2 *slope);
+
+/* How the large-scale slopes of a facet of size L are obtained (section 4). */
+typedef enum {
+    SEA_METHOD_VARIABLE_STEP = 0, /* slope at the centre, waves |k| <= pi/L; C = C_<L */
+    SEA_METHOD_VARIABLE_STEP_2N,  /* 2^n x 2^n sub-facets of L/2^n (Eq 19) */
+    SEA_METHOD_ONE_METER          /* sub-facets of the plan's finest size L0 */
+} sea_facet_method;
+
+/* Parses "variable-step", "variable-step-2n", "one-meter"; -1 otherwise. */
+int sea_facet_method_from_name(const char *name);
+const char *sea_facet_method_name(sea_facet_method m);
+/* Sub-facet subdivision exponent n of a method for facets of size L:
+ * variable-step 0, variable-step-2n n, one-meter log2(L/L0) (L/L0 must be a
+ * power of two). */
+sea_status sea_facet_method_n(const sea_waves *w, sea_facet_method m, int n, double L,
+                              int *out_n, sea_error *err);
+
+/* Moments of the facets of rectangle r (facets of size r->step = L) at time
+ * t, sub-facets of L/2^n >= L0 (n = 0: Variable Step).  Each facet gets the
+ * mean and raw second moments of its 2^n x 2^n sub-facet slopes plus the
+ * covariance C_<L/2^n of the waves shorter than a sub-facet.  Threads:
+ * OpenMP; the result is the same bit for bit for any thread count.
+ * out: nx * ny moments. */
+sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double t,
+                            sea_moments *out, sea_error *err);
+
+/* Bytes of physical memory, for refusing sizes that cannot fit. */
+size_t sea_memory_available(void);
+/* Checks count * size for overflow and against the physical memory;
+ * what names the array in the message. */
+sea_status sea_check_size(size_t count, size_t size, const char *what, sea_error *err);
+
 #ifdef __cplusplus
 }
 #endif

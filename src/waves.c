@@ -1,0 +1,890 @@
+/* waves.c - one seeded realisation of the large-scale waves (PHYSICS.md
+ * section 5) and the facet slope moments of the Variable Step, L/2^n and
+ * 1 Meter Step methods (section 4, Eq 16-19).
+ *
+ * A plan (sea_waves) holds the wave components; sampling evaluates the waves
+ * with |k| <= pi/step at cell centres of any lattice.  Two generators:
+ *
+ * - sum of sinusoids: components sorted by |k|, so the waves of a facet of
+ *   size L are a prefix of the list.  A lattice is evaluated in tiles; in a
+ *   tile each component is the product of a column factor a e^{i(kx x + p)}
+ *   and a row factor e^{i ky y}, each computed with sin/cos from the cell's
+ *   absolute index, so a cell's value does not depend on the tile, the
+ *   rectangle or the thread that computed it.
+ * - FFT: a periodic patch of N x N cells of the finest size L0 (period
+ *   P = N L0).  A lattice of step L0 2^m is one inverse real FFT of size
+ *   N/2^m holding the modes with |k| < pi/step, shifted to the cell centres.
+ *   Tiling is kept out of sight by refusing rectangles wider than P: the
+ *   caller sizes the patch to the area it needs (seabake slopes does).
+ */
+#define _GNU_SOURCE /* sincos */
+#include "config.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <fftw3.h>
+#include <gsl/gsl_integration.h>
+#include <gsl/gsl_rng.h>
+
+#include "seabake.h"
+
+/* The lowest bin edge lies at or below k_p/4: there L_PM = exp(-20), so the
+ * waves left out hold less than 1e-8 of the height and slope variance. */
+static const double SEA_WAVES_K_LOW_OVER_KP = 0.25;
+/* Cells per tile side when sampling sinusoids: the sin/cos of the row and
+ * column factors (TX + TY per component) are small beside the TX TY
+ * products. */
+enum { TILE_X = 256, TILE_Y = 64 };
+/* Gauss-Legendre order of the per-bin spectrum integrals: a bin spans
+ * ln 2 / B in ln k, over which B(k) is smooth; 16 points are exact to
+ * double precision. */
+enum { BIN_GL_ORDER = 16 };
+/* Largest sub-facet exponent: 2^20 sub-facets per side. */
+enum { SEA_N_MAX = 20 };
+
+typedef struct {
+    double kx, ky, k, amplitude, phase, omega;
+} component;
+
+struct sea_waves {
+    sea_waves_params p;
+    sea_spectrum s;
+    double k_max;      /* pi / L0 */
+    /* sinusoids: sorted by k */
+    size_t ncomp;
+    component *comp;
+    /* FFT: full plane of N x N modes, index (iy mod N) N + (ix mod N) */
+    size_t N;
+    double dk;
+    double *amp, *phs;
+    uint32_t *modes;   /* indices of the modes with amp > 0, for sea_waves_get */
+    size_t nmodes;
+};
+
+/* FFTW's planner is not thread-safe; execution is. */
+static pthread_mutex_t fftw_planner_lock = PTHREAD_MUTEX_INITIALIZER;
+
+void sea_waves_params_default(sea_waves_params *p)
+{
+    p->kind = SEA_WAVES_SINUSOIDS;
+    p->finest = 1.0;
+    p->seed = 1;
+    p->loop_period = 0.0;
+    p->bins_per_octave = 8;
+    p->directions = 32;
+    p->fft_size = 1024;
+}
+
+size_t sea_memory_available(void)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || page <= 0)
+        return SIZE_MAX;
+    if ((unsigned long)pages > SIZE_MAX / (unsigned long)page)
+        return SIZE_MAX;
+    return (size_t)pages * (size_t)page;
+}
+
+sea_status sea_check_size(size_t count, size_t size, const char *what, sea_error *err)
+{
+    const size_t avail = sea_memory_available();
+    if (size != 0 && count > SIZE_MAX / size)
+        return sea_fail(err, SEA_ERR_NOMEM, "%s: %zu x %zu bytes overflows the address space",
+                        what, count, size);
+    if (count * size > avail)
+        return sea_fail(err, SEA_ERR_NOMEM, "%s needs %.3g GiB; this machine has %.3g GiB", what,
+                        (double)count * (double)size / 1073741824.0,
+                        (double)avail / 1073741824.0);
+    return SEA_OK;
+}
+
+sea_slope_stats sea_moments_stats(const sea_moments *mo)
+{
+    sea_slope_stats st;
+    st.mean.x = mo->mx;
+    st.mean.y = mo->my;
+    st.cov.xx = fmax(mo->mxx - mo->mx * mo->mx, 0.0);
+    st.cov.yy = fmax(mo->myy - mo->my * mo->my, 0.0);
+    const double xy = mo->mxy - mo->mx * mo->my, lim = sqrt(st.cov.xx * st.cov.yy);
+    st.cov.xy = fmin(fmax(xy, -lim), lim);
+    return st;
+}
+
+/* splitmix64: decorrelates (seed, stream) into a generator seed. */
+static uint64_t mix64(uint64_t z)
+{
+    z += 0x9e3779b97f4a7c15ull;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+static unsigned long stream_seed(unsigned long seed, int64_t stream)
+{
+    return (unsigned long)(mix64((uint64_t)seed ^ mix64((uint64_t)stream)) & 0xffffffffu);
+}
+
+/* Signed angular frequency: |omega| from the dispersion relation, rounded to
+ * a multiple of 2 pi/T for a loop period T, with the sign that makes the
+ * phase velocity point downwind (non-negative projection on the wind). */
+static double wave_omega(const sea_waves_params *p, const sea_spectrum *s, double kx, double ky)
+{
+    const double k = hypot(kx, ky);
+    double om = sea_spectrum_omega(k);
+    if (p->loop_period > 0.0) {
+        const double w0 = 2.0 * M_PI / p->loop_period;
+        om = w0 * fmax(1.0, round(om / w0));
+    }
+    const double along = kx * cos(s->wind_dir) + ky * sin(s->wind_dir);
+    return along >= 0.0 ? om : -om;
+}
+
+static int compare_component(const void *a, const void *b)
+{
+    const component *x = a, *y = b;
+    return (x->k > y->k) - (x->k < y->k);
+}
+
+/* Slope-weighted integrals of one bin [k1, k2] in ln k:
+ * i0 = int B(k) dln k = int k^2 S dk, i2 = int B Delta dln k. */
+static void bin_integrals(const sea_spectrum *s, const gsl_integration_glfixed_table *gl,
+                          double k1, double k2, double *i0, double *i2)
+{
+    const double a = log(k1), b = log(k2);
+    *i0 = *i2 = 0.0;
+    for (size_t q = 0; q < gl->n; q++) {
+        double x, wq;
+        gsl_integration_glfixed_point(a, b, q, &x, &wq, gl);
+        const double k = exp(x), B = sea_spectrum_curvature(s, k);
+        *i0 += wq * B;
+        *i2 += wq * B * sea_spectrum_spreading(s, k);
+    }
+}
+
+static sea_status create_sinusoids(sea_waves *w, sea_error *err)
+{
+    const sea_waves_params *p = &w->p;
+    const double B = p->bins_per_octave;
+    /* Bin j = [pi 2^(j/B), pi 2^((j+1)/B)]. */
+    const double k_lo = w->s.k_p * SEA_WAVES_K_LOW_OVER_KP;
+    const long j_lo = (long)floor(B * log2(k_lo / M_PI));
+    const long j_hi = (long)ceil(B * log2(w->k_max / M_PI) - 1e-9) - 1;
+    if (j_hi < j_lo) {
+        w->ncomp = 0;
+        return SEA_OK;
+    }
+    const size_t nbins = (size_t)(j_hi - j_lo + 1), ndir = (size_t)p->directions;
+    sea_status st = sea_check_size(nbins * ndir, sizeof(component), "wave components", err);
+    if (st != SEA_OK)
+        return st;
+    w->comp = malloc(nbins * ndir * sizeof(component));
+    gsl_integration_glfixed_table *gl = gsl_integration_glfixed_table_alloc(BIN_GL_ORDER);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    if (w->comp == NULL || gl == NULL || rng == NULL) {
+        gsl_rng_free(rng);
+        gsl_integration_glfixed_table_free(gl);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu wave components",
+                        nbins * ndir);
+    }
+    const double dphi = 2.0 * M_PI / (double)ndir;
+    size_t n = 0;
+    for (long j = j_lo; j <= j_hi; j++) {
+        const double k1 = M_PI * exp2((double)j / B), k2 = M_PI * exp2((double)(j + 1) / B);
+        double i0, i2;
+        bin_integrals(&w->s, gl, k1, k2, &i0, &i2);
+        gsl_rng_set(rng, stream_seed(p->seed, j));
+        const double offset = dphi * gsl_rng_uniform(rng);
+        for (size_t d = 0; d < ndir; d++) {
+            const double u = gsl_rng_uniform(rng), phase = 2.0 * M_PI * gsl_rng_uniform(rng);
+            const double k = k1 * pow(k2 / k1, u);
+            if (k > w->k_max)
+                continue;
+            const double psi = offset + dphi * (double)d; /* from the wind axis */
+            /* Slope variance of this direction's share of the bin; summed
+             * over the evenly spaced directions it gives the bin's
+             * sigma_u^2 = i0/2 + i2/4 and sigma_c^2 = i0/2 - i2/4 exactly. */
+            const double var = fmax(i0 + i2 * cos(2.0 * psi), 0.0) * dphi / (2.0 * M_PI);
+            component *c = &w->comp[n++];
+            const double az = psi + w->s.wind_dir;
+            c->k = k;
+            c->kx = k * cos(az);
+            c->ky = k * sin(az);
+            c->amplitude = sqrt(2.0 * var) / k;
+            c->phase = phase;
+            c->omega = wave_omega(p, &w->s, c->kx, c->ky);
+        }
+    }
+    gsl_rng_free(rng);
+    gsl_integration_glfixed_table_free(gl);
+    w->ncomp = n;
+    /* Stable order for equal k (not expected with random k): qsort is not
+     * stable, but ties have equal k, so any order gives the same prefixes. */
+    qsort(w->comp, n, sizeof(component), compare_component);
+    return SEA_OK;
+}
+
+static size_t wrap_index(long i, size_t n)
+{
+    long r = i % (long)n;
+    return (size_t)(r < 0 ? r + (long)n : r);
+}
+
+static sea_status create_fft(sea_waves *w, sea_error *err)
+{
+    const size_t N = w->p.fft_size;
+    w->N = N;
+    w->dk = 2.0 * M_PI / ((double)N * w->p.finest);
+    sea_status st = sea_check_size(N * N, 2 * sizeof(double) + sizeof(uint32_t),
+                                   "FFT wave patch", err);
+    if (st != SEA_OK)
+        return st;
+    w->amp = malloc(N * N * sizeof(double));
+    w->phs = malloc(N * N * sizeof(double));
+    w->modes = malloc(N * N * sizeof(uint32_t));
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    if (w->amp == NULL || w->phs == NULL || w->modes == NULL || rng == NULL) {
+        gsl_rng_free(rng);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu FFT patch", N, N);
+    }
+    /* Phases in a fixed order (ky, then kx, from -N/2), one per cell. */
+    gsl_rng_set(rng, stream_seed(w->p.seed, INT64_MIN));
+    const long h = (long)N / 2;
+    for (long iy = -h; iy < h; iy++)
+        for (long ix = -h; ix < h; ix++)
+            w->phs[wrap_index(iy, N) * N + wrap_index(ix, N)] = 2.0 * M_PI * gsl_rng_uniform(rng);
+    gsl_rng_free(rng);
+    const double dk = w->dk, kmax = w->k_max;
+#pragma omp parallel for schedule(static)
+    for (long iy = -h; iy < h; iy++) {
+        for (long ix = -h; ix < h; ix++) {
+            const double kx = dk * (double)ix, ky = dk * (double)iy, k = hypot(kx, ky);
+            double a = 0.0;
+            if (k > 0.0 && k < kmax) {
+                /* Slope variance of the mode k^2 Psi dk^2 = a^2 k^2 / 2. */
+                const double psi = sea_spectrum_directional(&w->s, k, atan2(ky, kx));
+                a = sqrt(2.0 * psi * dk * dk);
+            }
+            w->amp[wrap_index(iy, N) * N + wrap_index(ix, N)] = a;
+        }
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < N * N; i++)
+        if (w->amp[i] > 0.0)
+            w->modes[n++] = (uint32_t)i;
+    w->nmodes = n;
+    return SEA_OK;
+}
+
+sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
+                            sea_error *err)
+{
+    *out = NULL;
+    if (p->kind != SEA_WAVES_SINUSOIDS && p->kind != SEA_WAVES_FFT)
+        return sea_fail(err, SEA_ERR_DOMAIN, "unknown wave generator %d", (int)p->kind);
+    if (!(p->finest > 0.0) || !isfinite(p->finest))
+        return sea_fail(err, SEA_ERR_DOMAIN, "finest facet size %g m must be > 0 and finite",
+                        p->finest);
+    if (!(p->loop_period >= 0.0) || !isfinite(p->loop_period))
+        return sea_fail(err, SEA_ERR_DOMAIN, "loop period %g s must be >= 0 and finite",
+                        p->loop_period);
+    if (p->kind == SEA_WAVES_SINUSOIDS) {
+        if (p->bins_per_octave < 1 || p->bins_per_octave > 64)
+            return sea_fail(err, SEA_ERR_DOMAIN, "bins per octave %d outside [1, 64]",
+                            p->bins_per_octave);
+        if (p->directions < 5 || p->directions > 1024)
+            return sea_fail(err, SEA_ERR_DOMAIN, "directions per bin %d outside [5, 1024]",
+                            p->directions);
+    } else if (p->fft_size < 2 || p->fft_size > 16384 || p->fft_size % 2 != 0) {
+        return sea_fail(err, SEA_ERR_DOMAIN, "FFT size %zu must be even, in [2, 16384]",
+                        p->fft_size);
+    }
+    sea_waves *w = calloc(1, sizeof *w);
+    if (w == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    w->p = *p;
+    w->s = *s;
+    w->k_max = M_PI / p->finest;
+    sea_status st = p->kind == SEA_WAVES_SINUSOIDS ? create_sinusoids(w, err) : create_fft(w, err);
+    if (st != SEA_OK) {
+        sea_waves_free(w);
+        return st;
+    }
+    *out = w;
+    return SEA_OK;
+}
+
+sea_status sea_waves_to_sinusoids(const sea_waves *w, sea_waves **out, sea_error *err)
+{
+    *out = NULL;
+    const size_t n = sea_waves_count(w);
+    sea_status st = sea_check_size(n, sizeof(component), "wave components", err);
+    if (st != SEA_OK)
+        return st;
+    sea_waves *c = calloc(1, sizeof *c);
+    component *list = malloc((n > 0 ? n : 1) * sizeof(component));
+    if (c == NULL || list == NULL) {
+        free(c);
+        free(list);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu wave components", n);
+    }
+    c->p = w->p;
+    c->p.kind = SEA_WAVES_SINUSOIDS;
+    c->s = w->s;
+    c->k_max = w->k_max;
+    for (size_t i = 0; i < n; i++) {
+        const sea_wave o = sea_waves_get(w, i);
+        list[i] = (component){ o.kx, o.ky, hypot(o.kx, o.ky), o.amplitude, o.phase, o.omega };
+    }
+    qsort(list, n, sizeof(component), compare_component);
+    c->comp = list;
+    c->ncomp = n;
+    *out = c;
+    return SEA_OK;
+}
+
+void sea_waves_free(sea_waves *w)
+{
+    if (w == NULL)
+        return;
+    free(w->comp);
+    free(w->amp);
+    free(w->phs);
+    free(w->modes);
+    free(w);
+}
+
+size_t sea_waves_count(const sea_waves *w)
+{
+    return w->p.kind == SEA_WAVES_SINUSOIDS ? w->ncomp : w->nmodes;
+}
+
+static void fft_mode_k(const sea_waves *w, size_t idx, double *kx, double *ky)
+{
+    const size_t N = w->N;
+    long ix = (long)(idx % N), iy = (long)(idx / N);
+    if (ix >= (long)N / 2)
+        ix -= (long)N;
+    if (iy >= (long)N / 2)
+        iy -= (long)N;
+    *kx = w->dk * (double)ix;
+    *ky = w->dk * (double)iy;
+}
+
+sea_wave sea_waves_get(const sea_waves *w, size_t i)
+{
+    sea_wave o;
+    if (w->p.kind == SEA_WAVES_SINUSOIDS) {
+        const component *c = &w->comp[i];
+        o.kx = c->kx;
+        o.ky = c->ky;
+        o.amplitude = c->amplitude;
+        o.phase = c->phase;
+        o.omega = c->omega;
+    } else {
+        const size_t idx = w->modes[i];
+        fft_mode_k(w, idx, &o.kx, &o.ky);
+        o.amplitude = w->amp[idx];
+        o.phase = w->phs[idx];
+        o.omega = wave_omega(&w->p, &w->s, o.kx, o.ky);
+    }
+    return o;
+}
+
+const sea_waves_params *sea_waves_params_of(const sea_waves *w)
+{
+    return &w->p;
+}
+
+const sea_spectrum *sea_waves_spectrum(const sea_waves *w)
+{
+    return &w->s;
+}
+
+double sea_waves_period(const sea_waves *w)
+{
+    return w->p.kind == SEA_WAVES_FFT ? (double)w->N * w->p.finest : INFINITY;
+}
+
+/* Number of sinusoids with k <= kc (a prefix of the sorted list). */
+static size_t prefix_count(const sea_waves *w, double kc)
+{
+    size_t lo = 0, hi = w->ncomp;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (w->comp[mid].k <= kc)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+sea_cov2 sea_waves_generated_cov(const sea_waves *w, double kc)
+{
+    sea_cov2 c = { 0.0, 0.0, 0.0 };
+    const size_t n = sea_waves_count(w);
+    for (size_t i = 0; i < n; i++) {
+        const sea_wave o = sea_waves_get(w, i);
+        const double k = hypot(o.kx, o.ky);
+        if (w->p.kind == SEA_WAVES_SINUSOIDS ? k > kc : k >= kc)
+            continue;
+        /* slope = -a k sin(.): variance a^2 k^2 / 2 along k. */
+        const double v = 0.5 * o.amplitude * o.amplitude;
+        c.xx += v * o.kx * o.kx;
+        c.yy += v * o.ky * o.ky;
+        c.xy += v * o.kx * o.ky;
+    }
+    return c;
+}
+
+void sea_waves_at(const sea_waves *w, double kc, double x, double y, double t, double *h,
+                  sea_vec2 *slope)
+{
+    double hh = 0.0, sx = 0.0, sy = 0.0;
+    const size_t n = sea_waves_count(w);
+    for (size_t i = 0; i < n; i++) {
+        const sea_wave o = sea_waves_get(w, i);
+        const double k = hypot(o.kx, o.ky);
+        if (w->p.kind == SEA_WAVES_SINUSOIDS ? k > kc : k >= kc) {
+            if (w->p.kind == SEA_WAVES_SINUSOIDS)
+                break; /* sorted */
+            continue;
+        }
+        double sn, cs;
+        sincos(o.kx * x + o.ky * y - o.omega * t + o.phase, &sn, &cs);
+        hh += o.amplitude * cs;
+        sx -= o.amplitude * o.kx * sn;
+        sy -= o.amplitude * o.ky * sn;
+    }
+    if (h != NULL)
+        *h = hh;
+    if (slope != NULL) {
+        slope->x = sx;
+        slope->y = sy;
+    }
+}
+
+/* ------------------------------------------------------------ sampling */
+
+/* Sums of the first nc sinusoids at the centres of cells [i0, i0+nx) x
+ * [j0, j0+ny) of size step (nx <= TILE_X, ny <= TILE_Y) into h, sx, sy
+ * (nx * ny each, overwritten).  col: 2 nx doubles, row: 2 ny doubles. */
+static void sinusoid_tile(const sea_waves *w, size_t nc, double step, long i0, long j0, size_t nx,
+                          size_t ny, double t, double *restrict h, double *restrict sx,
+                          double *restrict sy, double *restrict col, double *restrict row)
+{
+    const size_t np = nx * ny;
+    memset(h, 0, np * sizeof *h);
+    memset(sx, 0, np * sizeof *sx);
+    memset(sy, 0, np * sizeof *sy);
+    double *restrict cre = col, *restrict cim = col + nx;
+    double *restrict rre = row, *restrict rim = row + ny;
+    for (size_t c = 0; c < nc; c++) {
+        const component *o = &w->comp[c];
+        const double p0 = o->phase - o->omega * t, a = o->amplitude;
+        const double kx = o->kx, ky = o->ky;
+        for (size_t i = 0; i < nx; i++) {
+            const double x = ((double)(i0 + (long)i) + 0.5) * step;
+            double sn, cs;
+            sincos(kx * x + p0, &sn, &cs);
+            cre[i] = a * cs;
+            cim[i] = a * sn;
+        }
+        for (size_t j = 0; j < ny; j++) {
+            const double y = ((double)(j0 + (long)j) + 0.5) * step;
+            sincos(ky * y, &rim[j], &rre[j]);
+        }
+        for (size_t j = 0; j < ny; j++) {
+            const double rr = rre[j], ri = rim[j];
+            double *restrict hj = h + j * nx, *restrict xj = sx + j * nx, *restrict yj = sy + j * nx;
+#pragma omp simd
+            for (size_t i = 0; i < nx; i++) {
+                const double re = cre[i] * rr - cim[i] * ri;
+                const double im = cre[i] * ri + cim[i] * rr;
+                hj[i] += re;
+                xj[i] -= kx * im;
+                yj[i] -= ky * im;
+            }
+        }
+    }
+}
+
+/* Checks a lattice step against an FFT plan: step = L0 2^m; returns the
+ * level grid size M = N / 2^m through *M. */
+static sea_status fft_level(const sea_waves *w, double step, size_t *M, sea_error *err)
+{
+    const double r = step / w->p.finest;
+    const double m = round(log2(r));
+    if (!(m >= 0.0) || fabs(r - exp2(m)) > 1e-9 * r || exp2(m) > (double)w->N / 2.0)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "step %g m: an FFT plan samples steps %g m x 2^m up to %g m "
+                        "(half its period)",
+                        step, w->p.finest, w->p.finest * (double)w->N / 2.0);
+    *M = w->N >> (int)m;
+    return SEA_OK;
+}
+
+/* The whole level grid M x M of step `step` at time t: h, sx, sy (M*M each,
+ * row by row, cell (i, j) centred at ((i + 1/2) step, (j + 1/2) step)). */
+static sea_status fft_sample_level(const sea_waves *w, double step, size_t M, double t, double *h,
+                                   double *sx, double *sy, sea_error *err)
+{
+    const size_t N = w->N, mh = M / 2 + 1;
+    fftw_complex *in[3];
+    double *outs[3] = { h, sx, sy };
+    for (int f = 0; f < 3; f++)
+        in[f] = fftw_malloc(M * mh * sizeof(fftw_complex));
+    if (in[0] == NULL || in[1] == NULL || in[2] == NULL) {
+        for (int f = 0; f < 3; f++)
+            fftw_free(in[f]);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu FFT", M, M);
+    }
+    const double kc = M_PI / step, dk = w->dk;
+#pragma omp parallel for schedule(static)
+    for (size_t r = 0; r < M; r++) {
+        const long iy = r < M / 2 ? (long)r : (long)r - (long)M;
+        for (size_t c = 0; c < mh; c++) {
+            const long ix = (long)c;
+            const double kx = dk * (double)ix, ky = dk * (double)iy;
+            const double k = hypot(kx, ky);
+            double complex H = 0.0;
+            if (k > 0.0 && k < kc) {
+                /* h = sum over the plane of A cos(k.x - omega t + phase):
+                 * the coefficient at k gathers the wave k and its mirror -k. */
+                const size_t ip = wrap_index(iy, N) * N + wrap_index(ix, N);
+                const size_t im = wrap_index(-iy, N) * N + wrap_index(-ix, N);
+                const double om = wave_omega(&w->p, &w->s, kx, ky);
+                const double omm = wave_omega(&w->p, &w->s, -kx, -ky);
+                H = 0.5 * (w->amp[ip] * cexp(I * (w->phs[ip] - om * t)) +
+                           w->amp[im] * cexp(-I * (w->phs[im] - omm * t)));
+                H *= cexp(I * 0.5 * step * (kx + ky)); /* to the cell centres */
+            }
+            const size_t q = r * mh + c;
+            double complex *o0 = (double complex *)in[0], *o1 = (double complex *)in[1],
+                           *o2 = (double complex *)in[2];
+            o0[q] = H;
+            o1[q] = I * kx * H;
+            o2[q] = I * ky * H;
+        }
+    }
+    pthread_mutex_lock(&fftw_planner_lock);
+    fftw_plan plan = fftw_plan_dft_c2r_2d((int)M, (int)M, in[0], h, FFTW_ESTIMATE);
+    pthread_mutex_unlock(&fftw_planner_lock);
+    if (plan == NULL) {
+        for (int f = 0; f < 3; f++)
+            fftw_free(in[f]);
+        return sea_fail(err, SEA_ERR_NOMEM, "FFTW could not plan a %zu x %zu transform", M, M);
+    }
+    /* h, sx, sy come from the caller's malloc, which FFTW's new-array
+     * execute accepts only with its own alignment: go through a buffer. */
+    double *buf = fftw_malloc(M * M * sizeof(double));
+    if (buf == NULL) {
+        pthread_mutex_lock(&fftw_planner_lock);
+        fftw_destroy_plan(plan);
+        pthread_mutex_unlock(&fftw_planner_lock);
+        for (int f = 0; f < 3; f++)
+            fftw_free(in[f]);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu FFT", M, M);
+    }
+    for (int f = 0; f < 3; f++) {
+        if (outs[f] == NULL)
+            continue;
+        fftw_execute_dft_c2r(plan, in[f], buf);
+        memcpy(outs[f], buf, M * M * sizeof(double));
+    }
+    fftw_free(buf);
+    pthread_mutex_lock(&fftw_planner_lock);
+    fftw_destroy_plan(plan);
+    pthread_mutex_unlock(&fftw_planner_lock);
+    for (int f = 0; f < 3; f++)
+        fftw_free(in[f]);
+    return SEA_OK;
+}
+
+static sea_status check_rect(const sea_waves *w, const sea_rect *r, sea_error *err)
+{
+    if (!(r->step > 0.0) || !isfinite(r->step))
+        return sea_fail(err, SEA_ERR_DOMAIN, "step %g m must be > 0 and finite", r->step);
+    if (r->step < w->p.finest * (1.0 - 1e-12))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "step %g m is below the finest facet size %g m of the wave plan",
+                        r->step, w->p.finest);
+    if (r->nx == 0 || r->ny == 0)
+        return sea_fail(err, SEA_ERR_DOMAIN, "empty rectangle (%zu x %zu cells)", r->nx, r->ny);
+    const double lim = 9.0e15; /* cell indices stay exact in a double */
+    if (fabs((double)r->i0) + (double)r->nx > lim || fabs((double)r->j0) + (double)r->ny > lim)
+        return sea_fail(err, SEA_ERR_DOMAIN, "rectangle indices too large");
+    return SEA_OK;
+}
+
+sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, double *h,
+                            double *sx, double *sy, sea_error *err)
+{
+    sea_status st = check_rect(w, r, err);
+    if (st != SEA_OK)
+        return st;
+    if (!isfinite(t))
+        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    const size_t nx = r->nx, ny = r->ny;
+    if ((st = sea_check_size(nx, ny * sizeof(double) * 3, "sampled fields", err)) != SEA_OK)
+        return st;
+    if (w->p.kind == SEA_WAVES_FFT) {
+        size_t M;
+        if ((st = fft_level(w, r->step, &M, err)) != SEA_OK)
+            return st;
+        if (nx > M || ny > M)
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "rectangle %zu x %zu cells of %g m exceeds the FFT period %g m; "
+                            "plan a larger patch",
+                            nx, ny, r->step, sea_waves_period(w));
+        double *f = malloc(3 * M * M * sizeof(double));
+        if (f == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu grid", M, M);
+        if ((st = fft_sample_level(w, r->step, M, t, f, f + M * M, f + 2 * M * M, err)) !=
+            SEA_OK) {
+            free(f);
+            return st;
+        }
+        double *dst[3] = { h, sx, sy };
+        for (int q = 0; q < 3; q++) {
+            if (dst[q] == NULL)
+                continue;
+            const double *src = f + (size_t)q * M * M;
+            for (size_t j = 0; j < ny; j++) {
+                const size_t sj = wrap_index(r->j0 + (long)j, M);
+                for (size_t i = 0; i < nx; i++)
+                    dst[q][j * nx + i] = src[sj * M + wrap_index(r->i0 + (long)i, M)];
+            }
+        }
+        free(f);
+        return SEA_OK;
+    }
+    const size_t nc = prefix_count(w, M_PI / r->step);
+    const size_t tx = (nx + TILE_X - 1) / TILE_X, ty = (ny + TILE_Y - 1) / TILE_Y;
+    int fail = 0;
+#pragma omp parallel
+    {
+        double *buf = malloc((3 * TILE_X * TILE_Y + 2 * TILE_X + 2 * TILE_Y) * sizeof(double));
+        if (buf == NULL) {
+#pragma omp atomic write
+            fail = 1;
+        }
+#pragma omp for schedule(dynamic) collapse(2)
+        for (size_t b = 0; b < ty; b++) {
+            for (size_t a = 0; a < tx; a++) {
+                if (buf == NULL)
+                    continue;
+                const size_t ox = a * TILE_X, oy = b * TILE_Y;
+                const size_t wx = nx - ox < TILE_X ? nx - ox : TILE_X;
+                const size_t wy = ny - oy < TILE_Y ? ny - oy : TILE_Y;
+                double *th = buf, *tsx = buf + TILE_X * TILE_Y, *tsy = buf + 2 * TILE_X * TILE_Y;
+                sinusoid_tile(w, nc, r->step, r->i0 + (long)ox, r->j0 + (long)oy, wx, wy, t, th,
+                              tsx, tsy, buf + 3 * TILE_X * TILE_Y,
+                              buf + 3 * TILE_X * TILE_Y + 2 * TILE_X);
+                for (size_t j = 0; j < wy; j++) {
+                    const size_t d = (oy + j) * nx + ox;
+                    if (h != NULL)
+                        memcpy(h + d, th + j * wx, wx * sizeof(double));
+                    if (sx != NULL)
+                        memcpy(sx + d, tsx + j * wx, wx * sizeof(double));
+                    if (sy != NULL)
+                        memcpy(sy + d, tsy + j * wx, wx * sizeof(double));
+                }
+            }
+        }
+        free(buf);
+    }
+    if (fail)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for sampling tiles");
+    return SEA_OK;
+}
+
+/* ---------------------------------------------------------------- facets */
+
+int sea_facet_method_from_name(const char *name)
+{
+    if (strcmp(name, "variable-step") == 0)
+        return SEA_METHOD_VARIABLE_STEP;
+    if (strcmp(name, "variable-step-2n") == 0)
+        return SEA_METHOD_VARIABLE_STEP_2N;
+    if (strcmp(name, "one-meter") == 0)
+        return SEA_METHOD_ONE_METER;
+    return -1;
+}
+
+const char *sea_facet_method_name(sea_facet_method m)
+{
+    switch (m) {
+    case SEA_METHOD_VARIABLE_STEP: return "variable-step";
+    case SEA_METHOD_VARIABLE_STEP_2N: return "variable-step-2n";
+    case SEA_METHOD_ONE_METER: return "one-meter";
+    }
+    return "unknown";
+}
+
+sea_status sea_facet_method_n(const sea_waves *w, sea_facet_method m, int n, double L, int *out_n,
+                              sea_error *err)
+{
+    const double L0 = w->p.finest;
+    switch (m) {
+    case SEA_METHOD_VARIABLE_STEP:
+        *out_n = 0;
+        return SEA_OK;
+    case SEA_METHOD_VARIABLE_STEP_2N:
+        if (n < 0 || n > SEA_N_MAX)
+            return sea_fail(err, SEA_ERR_DOMAIN, "n = %d outside [0, %d]", n, SEA_N_MAX);
+        *out_n = n;
+        return SEA_OK;
+    case SEA_METHOD_ONE_METER: {
+        const double r = L / L0, e = round(log2(r));
+        if (!(e >= 0.0) || e > SEA_N_MAX || fabs(r - exp2(e)) > 1e-9 * r)
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "one-meter: facet size %g m must be the finest size %g m times "
+                            "2^n, n in [0, %d]",
+                            L, L0, SEA_N_MAX);
+        *out_n = (int)e;
+        return SEA_OK;
+    }
+    }
+    return sea_fail(err, SEA_ERR_DOMAIN, "unknown facet method %d", (int)m);
+}
+
+typedef struct {
+    double h, sx, sy, sxx, sxy, syy;
+} sums;
+
+static void add_point(sums *s, double h, double x, double y)
+{
+    s->h += h;
+    s->sx += x;
+    s->sy += y;
+    s->sxx += x * x;
+    s->sxy += x * y;
+    s->syy += y * y;
+}
+
+static sea_moments finish(const sums *s, double count, const sea_cov2 *sub)
+{
+    sea_moments m;
+    m.h = s->h / count;
+    m.mx = s->sx / count;
+    m.my = s->sy / count;
+    m.mxx = s->sxx / count + sub->xx;
+    m.mxy = s->sxy / count + sub->xy;
+    m.myy = s->syy / count + sub->yy;
+    return m;
+}
+
+sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double t,
+                            sea_moments *out, sea_error *err)
+{
+    sea_status st = check_rect(w, r, err);
+    if (st != SEA_OK)
+        return st;
+    if (n < 0 || n > SEA_N_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "n = %d outside [0, %d]", n, SEA_N_MAX);
+    if (!isfinite(t))
+        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    const size_t sub = (size_t)1 << n;
+    const double delta = r->step / (double)sub;
+    if (delta < w->p.finest * (1.0 - 1e-12))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "sub-facets of %g m / 2^%d = %g m are below the finest facet size %g m "
+                        "of the wave plan",
+                        r->step, n, delta, w->p.finest);
+    sea_cov2 csub;
+    if ((st = sea_spectrum_slope_cov(&w->s, M_PI / delta, &csub, err)) != SEA_OK)
+        return st;
+    const size_t nx = r->nx, ny = r->ny;
+    const double count = (double)sub * (double)sub;
+
+    if (w->p.kind == SEA_WAVES_FFT) {
+        size_t M;
+        if ((st = fft_level(w, delta, &M, err)) != SEA_OK)
+            return st;
+        if ((double)nx * (double)sub > (double)M || (double)ny * (double)sub > (double)M)
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "rectangle %zu x %zu facets of %g m exceeds the FFT period %g m; "
+                            "plan a larger patch",
+                            nx, ny, r->step, sea_waves_period(w));
+        if ((st = sea_check_size(M * M, 3 * sizeof(double), "FFT level grid", err)) != SEA_OK)
+            return st;
+        double *f = malloc(3 * M * M * sizeof(double));
+        if (f == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu grid", M, M);
+        if ((st = fft_sample_level(w, delta, M, t, f, f + M * M, f + 2 * M * M, err)) != SEA_OK) {
+            free(f);
+            return st;
+        }
+        const double *fh = f, *fx = f + M * M, *fy = f + 2 * M * M;
+#pragma omp parallel for schedule(static)
+        for (size_t j = 0; j < ny; j++) {
+            for (size_t i = 0; i < nx; i++) {
+                sums s = { 0 };
+                for (size_t b = 0; b < sub; b++) {
+                    const size_t row = wrap_index((r->j0 + (long)j) * (long)sub + (long)b, M) * M;
+                    for (size_t a = 0; a < sub; a++) {
+                        const size_t q = row + wrap_index((r->i0 + (long)i) * (long)sub + (long)a, M);
+                        add_point(&s, fh[q], fx[q], fy[q]);
+                    }
+                }
+                out[j * nx + i] = finish(&s, count, &csub);
+            }
+        }
+        free(f);
+        return SEA_OK;
+    }
+
+    /* Sinusoids: one facet row per task; its sub-cells are sampled in
+     * chunks of at most TILE_X x TILE_Y, summed into the row's facets in a
+     * fixed order (so the result does not depend on the thread count). */
+    const size_t nc = prefix_count(w, M_PI / delta);
+    const size_t cx = sub < TILE_X ? (TILE_X / sub) * sub : TILE_X;
+    const size_t cy = sub < TILE_Y ? sub : TILE_Y;
+    int fail = 0;
+#pragma omp parallel
+    {
+        double *buf = malloc((3 * TILE_X * TILE_Y + 2 * TILE_X + 2 * TILE_Y) * sizeof(double));
+        sums *acc = malloc(nx * sizeof(sums));
+        if (buf == NULL || acc == NULL) {
+#pragma omp atomic write
+            fail = 1;
+        }
+#pragma omp for schedule(dynamic)
+        for (size_t j = 0; j < ny; j++) {
+            if (buf == NULL || acc == NULL)
+                continue;
+            memset(acc, 0, nx * sizeof(sums));
+            const long sj0 = (r->j0 + (long)j) * (long)sub, si0 = r->i0 * (long)sub;
+            const size_t total_x = nx * sub;
+            for (size_t oy = 0; oy < sub; oy += cy) {
+                const size_t wy = sub - oy < cy ? sub - oy : cy;
+                for (size_t ox = 0; ox < total_x; ox += cx) {
+                    const size_t wx = total_x - ox < cx ? total_x - ox : cx;
+                    double *th = buf, *tsx = buf + TILE_X * TILE_Y,
+                           *tsy = buf + 2 * TILE_X * TILE_Y;
+                    sinusoid_tile(w, nc, delta, si0 + (long)ox, sj0 + (long)oy, wx, wy, t, th,
+                                  tsx, tsy, buf + 3 * TILE_X * TILE_Y,
+                                  buf + 3 * TILE_X * TILE_Y + 2 * TILE_X);
+                    for (size_t b = 0; b < wy; b++)
+                        for (size_t a = 0; a < wx; a++) {
+                            const size_t q = b * wx + a;
+                            add_point(&acc[(ox + a) / sub], th[q], tsx[q], tsy[q]);
+                        }
+                }
+            }
+            for (size_t i = 0; i < nx; i++)
+                out[j * nx + i] = finish(&acc[i], count, &csub);
+        }
+        free(buf);
+        free(acc);
+    }
+    if (fail)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for sampling tiles");
+    return SEA_OK;
+}
