@@ -327,7 +327,8 @@ void sea_waves_free(sea_waves *w);
 
 /* The same waves as a sum-of-sinusoids plan (*out), e.g. an FFT plan's
  * modes evaluated one by one: sampling it reproduces the FFT field to
- * round-off, at the cost of a sum over every mode per cell. */
+ * round-off, at the cost of a sum over every mode per cell (it keeps the
+ * FFT's cut |k| < pi/step). */
 sea_status sea_waves_to_sinusoids(const sea_waves *w, sea_waves **out, sea_error *err);
 
 /* One wave: h = amplitude cos(kx x + ky y - omega t + phase), omega signed. */
@@ -342,8 +343,9 @@ const sea_waves_params *sea_waves_params_of(const sea_waves *w);
 const sea_spectrum *sea_waves_spectrum(const sea_waves *w);
 /* Patch period P = N L0 of an FFT plan, m; INFINITY for sinusoids. */
 double sea_waves_period(const sea_waves *w);
-/* Covariance of the slopes of the generated waves with |k| <= kc (their
- * spatial average over a large area), in the x, y frame. */
+/* Covariance of the slopes of the generated waves with |k| <= kc (|k| < kc
+ * for an FFT plan, whose Nyquist modes hold nothing): their spatial average
+ * over a large area, in the x, y frame. */
 sea_cov2 sea_waves_generated_cov(const sea_waves *w, double kc);
 
 /* A lattice of cells of size `step`: cell (i, j) covers [i step, (i+1) step)

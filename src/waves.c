@@ -55,6 +55,7 @@ struct sea_waves {
     sea_waves_params p;
     sea_spectrum s;
     double k_max;      /* pi / L0 */
+    int strict;        /* cut at |k| < kc (FFT modes) rather than |k| <= kc */
     /* sinusoids: sorted by k */
     size_t ncomp;
     component *comp;
@@ -309,6 +310,7 @@ sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, se
     w->p = *p;
     w->s = *s;
     w->k_max = M_PI / p->finest;
+    w->strict = p->kind == SEA_WAVES_FFT;
     sea_status st = p->kind == SEA_WAVES_SINUSOIDS ? create_sinusoids(w, err) : create_fft(w, err);
     if (st != SEA_OK) {
         sea_waves_free(w);
@@ -336,6 +338,7 @@ sea_status sea_waves_to_sinusoids(const sea_waves *w, sea_waves **out, sea_error
     c->p.kind = SEA_WAVES_SINUSOIDS;
     c->s = w->s;
     c->k_max = w->k_max;
+    c->strict = w->strict;
     for (size_t i = 0; i < n; i++) {
         const sea_wave o = sea_waves_get(w, i);
         list[i] = (component){ o.kx, o.ky, hypot(o.kx, o.ky), o.amplitude, o.phase, o.omega };
@@ -416,7 +419,7 @@ static size_t prefix_count(const sea_waves *w, double kc)
     size_t lo = 0, hi = w->ncomp;
     while (lo < hi) {
         const size_t mid = lo + (hi - lo) / 2;
-        if (w->comp[mid].k <= kc)
+        if (w->strict ? w->comp[mid].k < kc : w->comp[mid].k <= kc)
             lo = mid + 1;
         else
             hi = mid;
@@ -431,7 +434,7 @@ sea_cov2 sea_waves_generated_cov(const sea_waves *w, double kc)
     for (size_t i = 0; i < n; i++) {
         const sea_wave o = sea_waves_get(w, i);
         const double k = hypot(o.kx, o.ky);
-        if (w->p.kind == SEA_WAVES_SINUSOIDS ? k > kc : k >= kc)
+        if (w->strict ? k >= kc : k > kc)
             continue;
         /* slope = -a k sin(.): variance a^2 k^2 / 2 along k. */
         const double v = 0.5 * o.amplitude * o.amplitude;
@@ -450,7 +453,7 @@ void sea_waves_at(const sea_waves *w, double kc, double x, double y, double t, d
     for (size_t i = 0; i < n; i++) {
         const sea_wave o = sea_waves_get(w, i);
         const double k = hypot(o.kx, o.ky);
-        if (w->p.kind == SEA_WAVES_SINUSOIDS ? k > kc : k >= kc) {
+        if (w->strict ? k >= kc : k > kc) {
             if (w->p.kind == SEA_WAVES_SINUSOIDS)
                 break; /* sorted */
             continue;
