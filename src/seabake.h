@@ -398,6 +398,60 @@ size_t sea_memory_available(void);
  * what names the array in the message. */
 sea_status sea_check_size(size_t count, size_t size, const char *what, sea_error *err);
 
+/* ---------------------------------------------------------------- sensor */
+
+/* The sea surface: a plane, or a sphere for views reaching the horizon. */
+typedef enum { SEA_EARTH_FLAT = 0, SEA_EARTH_SPHERICAL } sea_earth;
+
+/* Earth radius for spherical scenes, m. */
+#define SEA_EARTH_RADIUS 6371000.0
+
+/* A pinhole sensor above the sea.  World frame: x east, y north, z up, the
+ * mean sea surface at z = 0 (flat) or a sphere of SEA_EARTH_RADIUS through
+ * the sensor's nadir point (spherical).  Image pixel (u, v): u to the right,
+ * v down, continuous, (0, 0) the top-left corner, (width, height) the
+ * bottom-right; the focal length is (width/2) / tan(hfov/2) pixels. */
+typedef struct {
+    double pos[3];                /* sensor position, m */
+    double fwd[3], right[3], up[3]; /* camera axis and image axes, unit */
+    double focal;                 /* pixels */
+    int width, height;
+    sea_earth earth;
+} sea_camera;
+
+/* Camera looking along (look_zenith from nadir, look_azimuth).  Unrolled,
+ * the image's right axis is horizontal, 90 deg clockwise (seen from above)
+ * from the look azimuth, and its up axis is right x axis; at nadir the top
+ * of the image points toward look_azimuth.  roll turns the image axes about
+ * the camera axis: right' = right cos(roll) + up sin(roll).  Ranges:
+ * altitude (0, 1e6] m, look_zenith [0, 90) deg, hfov (0, 170] deg, width and
+ * height [1, 16384]. */
+sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
+                           double look_zenith, double look_azimuth, double roll, double hfov,
+                           int width, int height, sea_earth earth, sea_error *err);
+
+/* What the ray through image point (u, v) meets. */
+typedef struct {
+    int hit;          /* 1: the sea; 0: the sky */
+    double x, y;      /* sea point on the map, m (spherical: azimuthal
+                         equidistant from the nadir point) */
+    double range;     /* sensor to sea point, m */
+    sea_dir obs;      /* direction from the sea point to the sensor, local frame */
+    sea_dir ray;      /* direction of the ray in the world frame (sky pixels) */
+    double footprint; /* IRA projection size L = sqrt(area of the pixel's
+                         footprint), m; INFINITY if a pixel corner misses */
+    double normal[3]; /* local vertical at the sea point */
+} sea_pixel_geom;
+
+void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g);
+/* A world direction (unit vector) in the local frame of sea point g:
+ * zenith from g->normal, azimuth counter-clockwise from local east. */
+sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3]);
+/* Image point (u, v) where the world point p projects; returns 0 if p is
+ * behind the camera. */
+int sea_camera_project(const sea_camera *c, const double p[3], double *u, double *v);
+
+
 #ifdef __cplusplus
 }
 #endif

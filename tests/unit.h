@@ -36,6 +36,7 @@ int test_spectrum_register(void);
 int test_shadow_register(void);
 int test_optics_register(void);
 int test_waves_register(void);
+int test_sensor_register(void);
 
 /* Figures worth quoting are printed on stdout, prefixed "measured:". */
 #define MEASURED(...) (printf("measured: " __VA_ARGS__), fflush(stdout))

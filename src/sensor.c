@@ -1,0 +1,198 @@
+/* sensor.c - a pinhole sensor above a flat or spherical sea (PHYSICS.md
+ * section 9): pixel rays, where they meet the sea, the local observation
+ * direction and the IRA projection size L of each pixel.
+ *
+ * The footprint of a pixel is the quadrilateral its four corner rays cut on
+ * the sea; L is the square root of its area, so L follows range, pixel
+ * angle and local incidence together (L ~ range * pixel angle /
+ * sqrt(cos theta) on a flat sea), and it grows without bound toward the
+ * horizon. */
+#include "config.h"
+
+#include <math.h>
+
+#include "seabake.h"
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const double a[3], const double b[3], double o[3])
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static void normalize3(double a[3])
+{
+    const double n = sqrt(dot3(a, a));
+    a[0] /= n;
+    a[1] /= n;
+    a[2] /= n;
+}
+
+sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
+                           double look_zenith, double look_azimuth, double roll, double hfov,
+                           int width, int height, sea_earth earth, sea_error *err)
+{
+    if (!isfinite(x) || !isfinite(y))
+        return sea_fail(err, SEA_ERR_DOMAIN, "sensor position must be finite");
+    if (!(altitude > 0.0 && altitude <= 1e6))
+        return sea_fail(err, SEA_ERR_DOMAIN, "sensor altitude %g m outside (0, 1e6]", altitude);
+    if (!(look_zenith >= 0.0 && look_zenith < M_PI / 2.0))
+        return sea_fail(err, SEA_ERR_DOMAIN, "look zenith %g deg outside [0, 90)",
+                        look_zenith * 180.0 / M_PI);
+    if (!isfinite(look_azimuth) || !isfinite(roll))
+        return sea_fail(err, SEA_ERR_DOMAIN, "look azimuth and roll must be finite");
+    if (!(hfov > 0.0 && hfov <= 170.0 * M_PI / 180.0))
+        return sea_fail(err, SEA_ERR_DOMAIN, "horizontal field of view %g deg outside (0, 170]",
+                        hfov * 180.0 / M_PI);
+    if (width < 1 || width > 16384 || height < 1 || height > 16384)
+        return sea_fail(err, SEA_ERR_DOMAIN, "image size %d x %d outside [1, 16384]", width,
+                        height);
+    if (earth != SEA_EARTH_FLAT && earth != SEA_EARTH_SPHERICAL)
+        return sea_fail(err, SEA_ERR_DOMAIN, "unknown earth model %d", (int)earth);
+    c->pos[0] = x;
+    c->pos[1] = y;
+    c->pos[2] = altitude;
+    const double st = sin(look_zenith), ct = cos(look_zenith);
+    const double sp = sin(look_azimuth), cp = cos(look_azimuth);
+    c->fwd[0] = st * cp;
+    c->fwd[1] = st * sp;
+    c->fwd[2] = -ct;
+    /* Right is horizontal, 90 deg clockwise from the look azimuth; up =
+     * right x fwd, which at nadir points toward the look azimuth. */
+    double r[3] = { sp, -cp, 0.0 }, u[3];
+    cross3(r, c->fwd, u);
+    normalize3(u);
+    const double sr = sin(roll), cr = cos(roll);
+    for (int i = 0; i < 3; i++) {
+        c->right[i] = cr * r[i] + sr * u[i];
+        c->up[i] = cr * u[i] - sr * r[i];
+    }
+    c->focal = 0.5 * (double)width / tan(0.5 * hfov);
+    c->width = width;
+    c->height = height;
+    c->earth = earth;
+    return SEA_OK;
+}
+
+static void ray_dir(const sea_camera *c, double u, double v, double d[3])
+{
+    const double a = u - 0.5 * c->width, b = v - 0.5 * c->height;
+    for (int i = 0; i < 3; i++)
+        d[i] = c->focal * c->fwd[i] + a * c->right[i] - b * c->up[i];
+    normalize3(d);
+}
+
+/* Where ray d from the sensor meets the sea: point q (world), local normal
+ * n, map coordinates (x, y), range t.  Returns 0 if it misses. */
+static int intersect(const sea_camera *c, const double d[3], double q[3], double n[3],
+                     double *x, double *y, double *t)
+{
+    if (c->earth == SEA_EARTH_FLAT) {
+        if (!(d[2] < 0.0))
+            return 0;
+        *t = -c->pos[2] / d[2];
+        for (int i = 0; i < 3; i++)
+            q[i] = c->pos[i] + *t * d[i];
+        q[2] = 0.0;
+        n[0] = n[1] = 0.0;
+        n[2] = 1.0;
+        *x = q[0];
+        *y = q[1];
+        return isfinite(*t);
+    }
+    /* Sphere of radius R centred below the nadir point: |p + t d - C| = R
+     * with p - C = (0, 0, R + h).  t^2 + 2 b t + cc = 0, b = (R + h) d_z,
+     * cc = (R + h)^2 - R^2 = h (2R + h). */
+    const double R = SEA_EARTH_RADIUS, h = c->pos[2];
+    const double b = (R + h) * d[2], cc = h * (2.0 * R + h);
+    const double disc = b * b - cc;
+    if (!(disc >= 0.0) || b >= 0.0)
+        return 0;
+    /* nearer root, without cancellation: t = cc / (-b + sqrt(disc)) */
+    *t = cc / (-b + sqrt(disc));
+    const double pc[3] = { *t * d[0], *t * d[1], R + h + *t * d[2] }; /* from the centre */
+    for (int i = 0; i < 3; i++)
+        n[i] = pc[i] / R;
+    normalize3(n);
+    q[0] = c->pos[0] + pc[0];
+    q[1] = c->pos[1] + pc[1];
+    q[2] = pc[2] - R;
+    /* azimuthal equidistant map coordinates from the nadir point */
+    const double horiz = hypot(pc[0], pc[1]);
+    const double arc = R * atan2(horiz, pc[2]);
+    if (horiz > 0.0) {
+        *x = c->pos[0] + arc * pc[0] / horiz;
+        *y = c->pos[1] + arc * pc[1] / horiz;
+    } else {
+        *x = c->pos[0];
+        *y = c->pos[1];
+    }
+    return 1;
+}
+
+sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3])
+{
+    const double *n = g->normal;
+    /* local east: x projected on the tangent plane (n is never along x for
+     * the scenes a sensor sees: its tilt is at most a few degrees) */
+    double e[3] = { 1.0 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2] }, nn[3];
+    normalize3(e);
+    cross3(n, e, nn);
+    const double cz = fmax(-1.0, fmin(1.0, dot3(d, n)));
+    sea_dir o = { acos(cz), atan2(dot3(d, nn), dot3(d, e)) };
+    if (o.phi < 0.0)
+        o.phi += 2.0 * M_PI;
+    return o;
+}
+
+void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g)
+{
+    double d[3], q[3];
+    ray_dir(c, u, v, d);
+    g->hit = intersect(c, d, q, g->normal, &g->x, &g->y, &g->range);
+    const double cz = fmax(-1.0, fmin(1.0, d[2]));
+    g->ray.theta = acos(cz);
+    g->ray.phi = atan2(d[1], d[0]);
+    if (g->ray.phi < 0.0)
+        g->ray.phi += 2.0 * M_PI;
+    if (!g->hit) {
+        g->x = g->y = g->range = 0.0;
+        g->obs = (sea_dir){ 0.0, 0.0 };
+        g->footprint = INFINITY;
+        g->normal[0] = g->normal[1] = 0.0;
+        g->normal[2] = 1.0;
+        return;
+    }
+    const double back[3] = { -d[0], -d[1], -d[2] };
+    g->obs = sea_camera_local_dir(g, back);
+    /* footprint: the quadrilateral of the four corner rays, area = half the
+     * cross product of its diagonals, in map coordinates */
+    double px[4], py[4];
+    const double du[4] = { -0.5, 0.5, 0.5, -0.5 }, dv[4] = { -0.5, -0.5, 0.5, 0.5 };
+    for (int k = 0; k < 4; k++) {
+        double dk[3], qk[3], nk[3], tk;
+        ray_dir(c, u + du[k], v + dv[k], dk);
+        if (!intersect(c, dk, qk, nk, &px[k], &py[k], &tk)) {
+            g->footprint = INFINITY;
+            return;
+        }
+    }
+    const double ax = px[2] - px[0], ay = py[2] - py[0], bx = px[3] - px[1], by = py[3] - py[1];
+    g->footprint = sqrt(0.5 * fabs(ax * by - ay * bx));
+}
+
+int sea_camera_project(const sea_camera *c, const double p[3], double *u, double *v)
+{
+    const double d[3] = { p[0] - c->pos[0], p[1] - c->pos[1], p[2] - c->pos[2] };
+    const double z = dot3(d, c->fwd);
+    if (!(z > 0.0))
+        return 0;
+    *u = 0.5 * c->width + c->focal * dot3(d, c->right) / z;
+    *v = 0.5 * c->height - c->focal * dot3(d, c->up) / z;
+    return 1;
+}
