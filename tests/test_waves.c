@@ -109,8 +109,10 @@ static void test_spatial_statistics(void)
     sea_waves *w = plan(&s, SEA_WAVES_SINUSOIDS, 0, 1);
     const sea_cov2 lr = lr_cov(&s, 0.0);
     double prev = INFINITY;
+    const int quick = UNIT_QUICK;
+    const double side = quick ? 64.0 : 768.0;
     for (double L = 2.0; L <= 1024.0; L *= 4.0) {
-        const size_t n = L < 768.0 ? (size_t)(768.0 / L) : 4;
+        const size_t n = L < side ? (size_t)(side / L) : 4;
         sea_moments *mo = malloc(n * n * sizeof *mo);
         double *sx = malloc(n * n * sizeof *sx), *sy = malloc(n * n * sizeof *sy);
         CU_ASSERT_FATAL(mo != NULL && sx != NULL && sy != NULL);
@@ -128,6 +130,13 @@ static void test_spatial_statistics(void)
         sea_cov2 f;
         field_cov(sx, sy, n * n, &f);
         const sea_cov2 g = sea_waves_generated_cov(w, M_PI / L);
+        if (quick) {
+            CU_ASSERT(isfinite(f.xx) && isfinite(f.yy) && isfinite(sub.xx) && isfinite(sub.yy));
+            free(mo);
+            free(sx);
+            free(sy);
+            continue;
+        }
         if (L <= 8.0) {
             ASSERT_REL(f.xx, g.xx, 0.03, 0.0);
             ASSERT_REL(f.yy, g.yy, 0.03, 0.0);
@@ -197,8 +206,10 @@ static void test_fft_is_sum_of_its_modes(void)
 static void test_fft_and_sinusoids_agree(void)
 {
     sea_spectrum s = sea_state(10.0, 0.0);
-    sea_waves *wf = plan(&s, SEA_WAVES_FFT, 1024, 5), *ws = plan(&s, SEA_WAVES_SINUSOIDS, 0, 5);
-    const size_t n = 512;
+    const int quick = UNIT_QUICK;
+    sea_waves *wf = plan(&s, SEA_WAVES_FFT, quick ? 64 : 1024, 5),
+              *ws = plan(&s, SEA_WAVES_SINUSOIDS, 0, 5);
+    const size_t n = quick ? 32 : 512;
     const sea_rect r = { 2.0, 0, 0, n, n };
     double *f = malloc(4 * n * n * sizeof *f);
     CU_ASSERT_FATAL(f != NULL);
@@ -210,6 +221,13 @@ static void test_fft_and_sinusoids_agree(void)
     field_cov(f, f + n * n, n * n, &cf);
     field_cov(f + 2 * n * n, f + 3 * n * n, n * n, &cs);
     const sea_cov2 band = sea_waves_generated_cov(ws, M_PI / 2.0);
+    if (quick) {
+        CU_ASSERT(cf.xx > 0.0 && cs.xx > 0.0 && isfinite(cf.yy) && isfinite(cs.yy));
+        free(f);
+        sea_waves_free(wf);
+        sea_waves_free(ws);
+        return;
+    }
     ASSERT_REL(cf.xx, band.xx, 0.03, 0.0);
     ASSERT_REL(cf.yy, band.yy, 0.03, 0.0);
     ASSERT_REL(cs.xx, band.xx, 0.03, 0.0);

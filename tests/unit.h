@@ -37,6 +37,15 @@ int test_shadow_register(void);
 int test_optics_register(void);
 int test_waves_register(void);
 int test_sensor_register(void);
+int test_preview_register(void);
+int test_exr_register(void);
+
+/* SEA_UNIT_QUICK set (check-valgrind sets it): the statistical tests that
+ * need large areas run on small ones, to exercise the same code under a
+ * memory checker in minutes; their statistical tolerances are then not
+ * asserted (exactness, finiteness and bounds still are). */
+#include <stdlib.h>
+#define UNIT_QUICK (getenv("SEA_UNIT_QUICK") != NULL)
 
 /* Figures worth quoting are printed on stdout, prefixed "measured:". */
 #define MEASURED(...) (printf("measured: " __VA_ARGS__), fflush(stdout))
