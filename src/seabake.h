@@ -398,6 +398,7 @@ size_t sea_memory_available(void);
  * what names the array in the message. */
 sea_status sea_check_size(size_t count, size_t size, const char *what, sea_error *err);
 
+
 /* ---------------------------------------------------------------- sensor */
 
 /* The sea surface: a plane, or a sphere for views reaching the horizon. */
@@ -451,6 +452,151 @@ sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3]);
  * behind the camera. */
 int sea_camera_project(const sea_camera *c, const double p[3], double *u, double *v);
 
+/* ------------------------------------------------------- scenes (issue 4) */
+
+/* A scene file (INI, man/seabake-scene.5) after validation.  Angles are
+ * stored in radians, lengths in metres, wavelengths in metres, temperatures
+ * in kelvin; radiances are spectral (W m^-2 sr^-1 m^-1) and irradiances
+ * spectral (W m^-2 m^-1) so that band integrals come out in W m^-2 sr^-1. */
+
+enum { SEA_SCENE_PATH_MAX = 4096, SEA_SCENE_BAND_MAX = 4096 };
+
+typedef struct {
+    /* [sea] */
+    double wind_speed;        /* wind_speed, m/s, [SEA_WIND_MIN, SEA_WIND_MAX], required */
+    double wind_dir;          /* wind_direction, deg -> rad, azimuth the wind blows
+                                 toward (downwind), finite; 0 */
+    double fetch;             /* fetch, m, [SEA_FETCH_MIN, inf]; inf */
+    double temperature;       /* temperature, K, [271, 313]; 288 */
+    double salinity;          /* salinity, g/kg, [0, SEA_SALINITY_MAX]; 35 */
+    int water_table;          /* water = hale-querry | segelstein: a sea_water_table
+                                 (default hale-querry), -1 with a file; */
+    char water_file[SEA_SCENE_PATH_MAX]; /* ... or a CSV path, told apart by a '/' or
+                                            a '.' in the value (resolved against the
+                                            scene file's directory); "" if a table */
+    unsigned long seed;       /* seed, integer [0, 2^32 - 1]; 1 */
+    double time;              /* time, s, finite; 0 */
+    double loop_period;       /* loop_period, s, >= 0; 0 = none */
+    /* [sun] */
+    double sun_zenith;        /* zenith, deg [0, 180] -> rad; > 90 deg: below the
+                                 horizon; 40 (the paper's sun) */
+    double sun_azimuth;       /* azimuth, deg -> rad, direction toward the sun, finite;
+                                 180 (the paper's sun) */
+    double sun_irradiance;    /* irradiance, W m^-2 um^-1 [0, 1e5] -> W m^-2 m^-1 at the
+                                 surface, normal to the beam; < 0 when not given */
+    double sun_temperature;   /* temperature, K (0, 10000]; 5778 (used without irradiance) */
+    double sun_solid_angle;   /* solid_angle, sr (0, 0.01]; 6.8e-5 */
+    double sun_transmittance; /* transmittance, [0, 1]; 1 */
+    /* [sky] */
+    double sky_radiance;      /* radiance, W m^-2 sr^-1 um^-1 [0, 1e3] -> per m; < 0 when
+                                 not given */
+    double sky_temperature;   /* temperature, K (0, 400]; 250 (used without radiance) */
+    /* [sensor] */
+    double sensor_x, sensor_y; /* x, y, m, finite; 0 */
+    double altitude;           /* altitude, m, (0, 1e6], required */
+    double look_zenith;        /* look_zenith, deg [0, 90) -> rad: camera axis from
+                                  nadir; 0 */
+    double look_azimuth;       /* look_azimuth, deg -> rad: where the camera points,
+                                  finite; 180 (the paper's phi_obs = 0) */
+    double roll;               /* roll, deg -> rad, finite; 0 */
+    double hfov;               /* hfov, deg (0, 170] -> rad, full horizontal field of view */
+    int width, height;         /* width, height, pixels [1, 16384], required */
+    double wavelength;         /* wavelength, um -> m, within the water table; single
+                                  wavelength; < 0 with a band */
+    double band_min, band_max; /* band = A:B, um -> m, 0 < A < B, within the water table;
+                                  < 0 with a single wavelength.  Exactly one of
+                                  wavelength and band is required. */
+    char response_file[SEA_SCENE_PATH_MAX]; /* response = CSV (wavelength_um,response),
+                                  resolved like water, band only, positive somewhere in
+                                  the band, 0 outside its rows; "" = flat */
+    int band_samples;          /* samples, [1, SEA_SCENE_BAND_MAX], band only; 0 = chosen
+                                  by tolerance */
+    /* [model] */
+    int method;                /* method = variable-step | variable-step-2n | one-meter:
+                                  a sea_facet_method; variable-step (the paper's model) */
+    int n;                     /* n, [0, 20], with variable-step-2n; 1 */
+    double finest;             /* finest, m, (0, 1000]; 1 */
+    int grid;                  /* grid, clipmap level size in facets, even [16, 4096]; 256 */
+    int emissivity_method;     /* emissivity = auto | fast | full; auto */
+    sea_earth earth;           /* earth = flat | spherical; flat */
+    double tolerance;          /* tolerance, relative, (0, 0.1]; 1e-3 */
+} sea_scene;
+
+/* Defaults of every optional key; the required ones are marked unset
+ * (wind_speed, altitude, hfov NAN; width, height 0; wavelength, band -1). */
+void sea_scene_defaults(sea_scene *sc);
+/* Reads and validates a scene file.  Errors name the place and the rule:
+ * "FILE:LINE: [section] key: message (allowed: RANGE)" with SEA_ERR_PARSE
+ * (syntax, unknown section or key, duplicate key, not a number, unknown
+ * name) or SEA_ERR_DOMAIN (out of range, missing required key, conflicting
+ * keys, wavelength outside the water table); SEA_ERR_IO when the file, or
+ * a water table or response file it names, cannot be read.  A missing key
+ * is reported at its section's line, or as "FILE: ..." without the section.
+ * Lines are at most 198 characters (the inih build's limit).  sc is written
+ * only on success. */
+sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err);
+
+/* A spectral response curve: n >= 2 rows of strictly increasing wavelength
+ * (m) and response >= 0 (not all 0), from a CSV with '#' comments and a
+ * header naming wavelength_um,response.  Errors name FILE:LINE. */
+typedef struct {
+    size_t n;
+    double *wavelength, *value;
+} sea_response;
+sea_status sea_response_load(const char *path, sea_response *r, sea_error *err);
+void sea_response_free(sea_response *r);
+
+/* ------------------------------------------------- clipmaps and rendering */
+
+enum { SEA_CLIP_MAX_LEVELS = 24 };
+
+/* One clipmap level: a window of nx x ny facets of size L0 2^level whose
+ * lower-left facet is (i0, j0) (facet (i, j) covers [i L, (i+1) L) x
+ * [j L, (j+1) L)).  A low-resolution level holds no facets: its waves
+ * above the facet size carry less than the tolerance of the slope
+ * variance, so every facet has m = 0, C = C_LR. */
+typedef struct {
+    int level;
+    double facet;     /* m */
+    long i0, j0;
+    size_t nx, ny;
+    int low_res;
+    int sub_n;        /* sub-facet exponent of the method at this level */
+    double generated_share; /* share of the LR slope variance (trace) in waves >= facet */
+    size_t pixels;    /* pixels whose footprint chose this level */
+} sea_clip_level;
+
+typedef struct sea_render sea_render;
+
+/* Prepares a scene for rendering: camera, water, spectral samples, the
+ * per-pixel geometry and the clipmap levels the view needs (and no more),
+ * the wave plan.  Independent of time. */
+sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err);
+void sea_render_free(sea_render *r);
+size_t sea_render_levels(const sea_render *r, const sea_clip_level **levels);
+/* Spectral samples used for the band: wavelengths (m) and weights (m:
+ * quadrature weight times response), n of them. */
+size_t sea_render_samples(const sea_render *r, const double **wavelength, const double **weight);
+
+/* A rendered frame, width x height, row 0 at the top.  radiance: spectral
+ * W m^-2 sr^-1 um^-1 for one wavelength, in-band W m^-2 sr^-1 for a band;
+ * temperature: brightness temperature, K; level: facet size (m) of the
+ * clipmap level a pixel used, 0 for the sky; emissivity and reflectivity
+ * (rho~ sun -> sensor, sr^-1): response-weighted band means, 0 for the sky. */
+typedef struct {
+    int width, height;
+    float *radiance, *temperature, *level, *emissivity, *reflectivity;
+} sea_image;
+
+sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err);
+void sea_image_free(sea_image *img);
+
+/* Optional progress report: fraction done in [0, 1], from one thread. */
+typedef void (*sea_progress_fn)(void *ctx, double fraction);
+
+/* Renders the frame at time t (s; the scene's own time is sc->time). */
+sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
+                            sea_progress_fn progress, void *ctx, sea_error *err);
 
 #ifdef __cplusplus
 }

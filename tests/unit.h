@@ -36,7 +36,9 @@ int test_spectrum_register(void);
 int test_shadow_register(void);
 int test_optics_register(void);
 int test_waves_register(void);
+int test_scene_register(void);
 int test_sensor_register(void);
+int test_render_register(void);
 int test_preview_register(void);
 int test_exr_register(void);
 

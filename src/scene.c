@@ -1,0 +1,905 @@
+/* scene.c - the scene file (man/seabake-scene.5) and spectral response curves.
+ *
+ * A scene is INI text read with inih.  inih gives the handler no line number
+ * (the Debian build leaves INI_HANDLER_LINENO off), so the file is read into
+ * memory and handed to ini_parse_stream() one line at a time by our own
+ * reader, which counts the lines: inih calls the handler for a line before
+ * it asks for the next one, so the count is the line of the key.  The
+ * reader also checks section names (inih reports no section that holds no
+ * key), removes indentation (inih would take an indented line for the
+ * continuation of the previous value) and '#' comments after a value (inih
+ * only knows ';' there).
+ *
+ * Every key is described once in SEA_KEYS: its section, kind, range, unit
+ * and conversion to SI.  Messages are built from that table, so a range in
+ * an error message is the range that was checked. */
+#include "config.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "seabake.h"
+
+static const double SEA_DEG = M_PI / 180.0;  /* degrees -> radians */
+static const double SEA_UM = 1e-6;           /* micrometres -> metres */
+static const double SEA_PER_UM = 1e6;        /* per micrometre -> per metre */
+/* Scene files and response curves are small; larger files are refused
+ * before they are read into memory. */
+static const long SEA_SCENE_BYTES_MAX = 1L << 20;
+static const long SEA_RESPONSE_BYTES_MAX = 64L << 20;
+/* Raw values quoted in messages are cut to this many characters. */
+enum { SEA_QUOTE_MAX = 60 };
+
+/* ------------------------------------------------------------ text files */
+
+/* Reads a whole text file (no NUL bytes, at most max_bytes) into a
+ * NUL-terminated buffer owned by the caller. */
+static sea_status read_text(const char *path, long max_bytes, char **out, sea_error *err)
+{
+    sea_status st = SEA_OK;
+    char *text = NULL;
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return sea_fail(err, SEA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat sb;
+    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        st = sea_fail(err, SEA_ERR_IO, "%s: not a regular file", path);
+        goto done;
+    }
+    if (sb.st_size > max_bytes) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: %lld bytes is larger than the %ld allowed", path,
+                      (long long)sb.st_size, max_bytes);
+        goto done;
+    }
+    size_t size = (size_t)sb.st_size;
+    if ((text = malloc(size + 1)) == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
+        goto done;
+    }
+    if (fread(text, 1, size, f) != size) {
+        st = sea_fail(err, SEA_ERR_IO, "%s: read error", path);
+        goto done;
+    }
+    text[size] = '\0';
+    if (strlen(text) != size) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: contains a NUL byte: not a text file", path);
+        goto done;
+    }
+    *out = text;
+    text = NULL;
+done:
+    free(text);
+    fclose(f);
+    return st;
+}
+
+/* strtod over the whole string; NaN and values beyond double range are not
+ * numbers, infinities are (the range checks decide about them). */
+static int parse_real(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || isnan(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+/* ------------------------------------------------------ response curves */
+
+static sea_status response_push(sea_response *r, size_t *cap, double wavelength, double value)
+{
+    if (r->n == *cap) {
+        size_t ncap = *cap ? 2 * *cap : 64;
+        double *nw = realloc(r->wavelength, ncap * sizeof *nw);
+        if (nw == NULL)
+            return SEA_ERR_NOMEM;
+        r->wavelength = nw;
+        double *nv = realloc(r->value, ncap * sizeof *nv);
+        if (nv == NULL)
+            return SEA_ERR_NOMEM;
+        r->value = nv;
+        *cap = ncap;
+    }
+    r->wavelength[r->n] = wavelength;
+    r->value[r->n] = value;
+    r->n++;
+    return SEA_OK;
+}
+
+/* Trims blanks (and a CR) at both ends, in place. */
+static char *trim(char *s)
+{
+    while (*s != '\0' && isspace((unsigned char)*s))
+        s++;
+    size_t l = strlen(s);
+    while (l > 0 && isspace((unsigned char)s[l - 1]))
+        s[--l] = '\0';
+    return s;
+}
+
+sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
+{
+    sea_status st;
+    char *text = NULL;
+    size_t cap = 0;
+    long lineno = 0;
+    int header = 0, i_wl = 0, any_positive = 0;
+    memset(r, 0, sizeof *r);
+    if ((st = read_text(path, SEA_RESPONSE_BYTES_MAX, &text, err)) != SEA_OK)
+        return st;
+    for (char *line = text, *next; line != NULL; line = next) {
+        next = strchr(line, '\n');
+        if (next != NULL)
+            *next++ = '\0';
+        lineno++;
+        char *p = trim(line);
+        if (*p == '\0' || *p == '#')
+            continue;
+        char *comma = strchr(p, ',');
+        if (comma == NULL || strchr(comma + 1, ',') != NULL) {
+            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: need exactly two comma-separated fields",
+                          path, lineno);
+            goto fail;
+        }
+        *comma = '\0';
+        char *field[2] = { trim(p), trim(comma + 1) };
+        if (!header) {
+            if (strcmp(field[0], "wavelength_um") == 0 && strcmp(field[1], "response") == 0) {
+                i_wl = 0;
+            } else if (strcmp(field[0], "response") == 0 &&
+                       strcmp(field[1], "wavelength_um") == 0) {
+                i_wl = 1;
+            } else {
+                st = sea_fail(err, SEA_ERR_PARSE,
+                              "%s:%ld: the header must name the columns wavelength_um,response",
+                              path, lineno);
+                goto fail;
+            }
+            header = 1;
+            continue;
+        }
+        double wl_um, value;
+        if (parse_real(field[i_wl], &wl_um) != 0 || !isfinite(wl_um) || wl_um <= 0.0) {
+            st = sea_fail(err, SEA_ERR_PARSE,
+                          "%s:%ld: wavelength_um: '%.*s' is not a positive number", path, lineno,
+                          SEA_QUOTE_MAX, field[i_wl]);
+            goto fail;
+        }
+        if (parse_real(field[1 - i_wl], &value) != 0 || !isfinite(value)) {
+            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: response: '%.*s' is not a number", path,
+                          lineno, SEA_QUOTE_MAX, field[1 - i_wl]);
+            goto fail;
+        }
+        if (value < 0.0) {
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: response: %g is negative (allowed: >= 0)",
+                          path, lineno, value);
+            goto fail;
+        }
+        double wl = wl_um * SEA_UM;
+        if (r->n > 0 && !(wl > r->wavelength[r->n - 1])) {
+            st = sea_fail(err, SEA_ERR_PARSE,
+                          "%s:%ld: wavelength_um: %g does not increase (previous row %g)", path,
+                          lineno, wl_um, r->wavelength[r->n - 1] / SEA_UM);
+            goto fail;
+        }
+        if ((st = response_push(r, &cap, wl, value)) != SEA_OK) {
+            sea_fail(err, st, "%s: out of memory", path);
+            goto fail;
+        }
+        any_positive |= value > 0.0;
+    }
+    if (!header) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: no header row wavelength_um,response", path);
+        goto fail;
+    }
+    if (r->n < 2) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: a response needs at least two rows (found %zu)",
+                      path, r->n);
+        goto fail;
+    }
+    if (!any_positive) {
+        st = sea_fail(err, SEA_ERR_DOMAIN, "%s: the response is zero everywhere", path);
+        goto fail;
+    }
+    free(text);
+    return SEA_OK;
+fail:
+    free(text);
+    sea_response_free(r);
+    return st;
+}
+
+void sea_response_free(sea_response *r)
+{
+    if (r == NULL)
+        return;
+    free(r->wavelength);
+    free(r->value);
+    memset(r, 0, sizeof *r);
+}
+
+/* ---------------------------------------------------------- key table */
+
+typedef enum { SEC_SEA, SEC_SUN, SEC_SKY, SEC_SENSOR, SEC_MODEL, SEC_COUNT } sea_section;
+static const char *const SEA_SECTIONS[SEC_COUNT] = { "sea", "sun", "sky", "sensor", "model" };
+
+typedef enum {
+    KIND_REAL,   /* a number, range [lo, hi] (see flags), times scale */
+    KIND_INT,    /* an integer in [lo, hi] */
+    KIND_SEED,   /* an unsigned integer in [0, 2^32 - 1] */
+    KIND_CHOICE, /* a name from a fixed list */
+    KIND_WATER,  /* a table name or a CSV path */
+    KIND_BAND,   /* A:B in micrometres */
+    KIND_PATH    /* a CSV path */
+} key_kind;
+
+enum {
+    LO_OPEN = 1, /* (lo, ... instead of [lo, ... */
+    HI_OPEN = 2, /* ..., hi) instead of ..., hi] */
+    EVEN = 4,    /* an even integer */
+    REQUIRED = 8
+};
+
+typedef enum {
+    K_WIND_SPEED, K_WIND_DIRECTION, K_FETCH, K_SEA_TEMPERATURE, K_SALINITY, K_WATER, K_SEED,
+    K_TIME, K_LOOP_PERIOD,
+    K_SUN_ZENITH, K_SUN_AZIMUTH, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, K_SUN_SOLID_ANGLE,
+    K_SUN_TRANSMITTANCE,
+    K_SKY_RADIANCE, K_SKY_TEMPERATURE,
+    K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
+    K_WAVELENGTH, K_BAND, K_RESPONSE, K_SAMPLES,
+    K_METHOD, K_N, K_FINEST, K_GRID, K_EMISSIVITY, K_EARTH, K_TOLERANCE,
+    K_COUNT
+} key_id;
+
+static int earth_from_name(const char *name)
+{
+    if (strcmp(name, "flat") == 0)
+        return SEA_EARTH_FLAT;
+    if (strcmp(name, "spherical") == 0)
+        return SEA_EARTH_SPHERICAL;
+    return -1;
+}
+
+typedef struct {
+    sea_section section;
+    const char *name;
+    key_kind kind;
+    double lo, hi;
+    unsigned flags;
+    double scale;      /* KIND_REAL: factor to SI after the range check */
+    const char *unit;  /* as the user writes the value, for messages */
+    size_t offset;     /* of the double or int in sea_scene */
+    int (*from_name)(const char *name); /* KIND_CHOICE */
+    const char *names;                  /* KIND_CHOICE: the allowed names */
+} key_spec;
+
+#define INF INFINITY
+#define AT(field) offsetof(sea_scene, field)
+#define REAL(sec, name, lo, hi, flags, scale, unit, field)                                    \
+    { sec, name, KIND_REAL, lo, hi, flags, scale, unit, AT(field), NULL, NULL }
+#define INT(sec, name, lo, hi, flags, unit, field)                                            \
+    { sec, name, KIND_INT, lo, hi, flags, 1.0, unit, AT(field), NULL, NULL }
+#define CHOICE(sec, name, fn, names, field)                                                   \
+    { sec, name, KIND_CHOICE, 0, 0, 0, 1.0, "", AT(field), fn, names }
+
+/* Indexed by key_id.  "any finite" is (-inf, inf); ranges follow seabake.h. */
+static const key_spec SEA_KEYS[K_COUNT] = {
+    [K_WIND_SPEED] = REAL(SEC_SEA, "wind_speed", SEA_WIND_MIN, SEA_WIND_MAX, REQUIRED, 1.0,
+                          "m/s", wind_speed),
+    [K_WIND_DIRECTION] = REAL(SEC_SEA, "wind_direction", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG,
+                              "deg", wind_dir),
+    [K_FETCH] = REAL(SEC_SEA, "fetch", SEA_FETCH_MIN, INF, 0, 1.0, "m", fetch),
+    [K_SEA_TEMPERATURE] = REAL(SEC_SEA, "temperature", 271.0, 313.0, 0, 1.0, "K", temperature),
+    [K_SALINITY] = REAL(SEC_SEA, "salinity", 0.0, SEA_SALINITY_MAX, 0, 1.0, "g/kg", salinity),
+    [K_WATER] = { SEC_SEA, "water", KIND_WATER, 0, 0, 0, 1.0, "", AT(water_table), NULL, NULL },
+    [K_SEED] = { SEC_SEA, "seed", KIND_SEED, 0, 4294967295.0, 0, 1.0, "", AT(seed), NULL, NULL },
+    [K_TIME] = REAL(SEC_SEA, "time", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "s", time),
+    [K_LOOP_PERIOD] = REAL(SEC_SEA, "loop_period", 0.0, INF, HI_OPEN, 1.0, "s", loop_period),
+
+    [K_SUN_ZENITH] = REAL(SEC_SUN, "zenith", 0.0, 180.0, 0, SEA_DEG, "deg", sun_zenith),
+    [K_SUN_AZIMUTH] = REAL(SEC_SUN, "azimuth", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG, "deg",
+                           sun_azimuth),
+    [K_SUN_IRRADIANCE] = REAL(SEC_SUN, "irradiance", 0.0, 1e5, 0, SEA_PER_UM, "W m^-2 um^-1",
+                              sun_irradiance),
+    [K_SUN_TEMPERATURE] = REAL(SEC_SUN, "temperature", 0.0, 10000.0, LO_OPEN, 1.0, "K",
+                               sun_temperature),
+    [K_SUN_SOLID_ANGLE] = REAL(SEC_SUN, "solid_angle", 0.0, 0.01, LO_OPEN, 1.0, "sr",
+                               sun_solid_angle),
+    [K_SUN_TRANSMITTANCE] = REAL(SEC_SUN, "transmittance", 0.0, 1.0, 0, 1.0, "",
+                                 sun_transmittance),
+
+    [K_SKY_RADIANCE] = REAL(SEC_SKY, "radiance", 0.0, 1e3, 0, SEA_PER_UM,
+                            "W m^-2 sr^-1 um^-1", sky_radiance),
+    [K_SKY_TEMPERATURE] = REAL(SEC_SKY, "temperature", 0.0, 400.0, LO_OPEN, 1.0, "K",
+                               sky_temperature),
+
+    [K_X] = REAL(SEC_SENSOR, "x", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_x),
+    [K_Y] = REAL(SEC_SENSOR, "y", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_y),
+    [K_ALTITUDE] = REAL(SEC_SENSOR, "altitude", 0.0, 1e6, LO_OPEN | REQUIRED, 1.0, "m",
+                        altitude),
+    [K_LOOK_ZENITH] = REAL(SEC_SENSOR, "look_zenith", 0.0, 90.0, HI_OPEN, SEA_DEG, "deg",
+                           look_zenith),
+    [K_LOOK_AZIMUTH] = REAL(SEC_SENSOR, "look_azimuth", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG,
+                            "deg", look_azimuth),
+    [K_ROLL] = REAL(SEC_SENSOR, "roll", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG, "deg", roll),
+    [K_HFOV] = REAL(SEC_SENSOR, "hfov", 0.0, 170.0, LO_OPEN | REQUIRED, SEA_DEG, "deg", hfov),
+    [K_WIDTH] = INT(SEC_SENSOR, "width", 1, 16384, REQUIRED, "pixels", width),
+    [K_HEIGHT] = INT(SEC_SENSOR, "height", 1, 16384, REQUIRED, "pixels", height),
+    [K_WAVELENGTH] = REAL(SEC_SENSOR, "wavelength", 0.0, INF, LO_OPEN | HI_OPEN, SEA_UM, "um",
+                          wavelength),
+    [K_BAND] = { SEC_SENSOR, "band", KIND_BAND, 0, 0, 0, SEA_UM, "um", AT(band_min), NULL,
+                 NULL },
+    [K_RESPONSE] = { SEC_SENSOR, "response", KIND_PATH, 0, 0, 0, 1.0, "", AT(response_file),
+                     NULL, NULL },
+    [K_SAMPLES] = INT(SEC_SENSOR, "samples", 1, SEA_SCENE_BAND_MAX, 0, "", band_samples),
+
+    [K_METHOD] = CHOICE(SEC_MODEL, "method", sea_facet_method_from_name,
+                        "variable-step, variable-step-2n, one-meter", method),
+    [K_N] = INT(SEC_MODEL, "n", 0, 20, 0, "", n),
+    [K_FINEST] = REAL(SEC_MODEL, "finest", 0.0, 1000.0, LO_OPEN, 1.0, "m", finest),
+    [K_GRID] = INT(SEC_MODEL, "grid", 16, 4096, EVEN, "facets", grid),
+    [K_EMISSIVITY] = CHOICE(SEC_MODEL, "emissivity", sea_emis_method_from_name,
+                            "auto, fast, full", emissivity_method),
+    [K_EARTH] = CHOICE(SEC_MODEL, "earth", earth_from_name, "flat, spherical", earth),
+    [K_TOLERANCE] = REAL(SEC_MODEL, "tolerance", 0.0, 0.1, LO_OPEN, 1.0, "", tolerance),
+};
+
+#undef INF
+#undef AT
+#undef REAL
+#undef INT
+#undef CHOICE
+
+/* "1e+06" reads worse than "1000000" in a range. */
+static void format_bound(char *buf, size_t size, double v)
+{
+    if (isinf(v))
+        snprintf(buf, size, "%sinf", v < 0 ? "-" : "");
+    else
+        snprintf(buf, size, "%.10g", v);
+}
+
+/* The "allowed" part of a message for key k. */
+static void allowed_text(const key_spec *k, char *buf, size_t size)
+{
+    char lo[32], hi[32];
+    const char *unit_sep = k->unit[0] != '\0' ? " " : "";
+    switch (k->kind) {
+    case KIND_CHOICE:
+        snprintf(buf, size, "%s", k->names);
+        return;
+    case KIND_WATER:
+        snprintf(buf, size, "hale-querry, segelstein, or the path of a CSV file "
+                            "(wavelength_um,n,k) containing a '/' or a '.'");
+        return;
+    case KIND_BAND:
+        snprintf(buf, size, "A:B in um with 0 < A < B");
+        return;
+    case KIND_PATH:
+        snprintf(buf, size, "the path of a readable CSV file (wavelength_um,response), "
+                            "relative to the scene file's directory");
+        return;
+    case KIND_SEED:
+        snprintf(buf, size, "an integer in [0, 4294967295]");
+        return;
+    case KIND_INT:
+        format_bound(lo, sizeof lo, k->lo);
+        format_bound(hi, sizeof hi, k->hi);
+        snprintf(buf, size, "%s in [%s, %s]%s%s",
+                 (k->flags & EVEN) ? "an even integer" : "an integer", lo, hi, unit_sep, k->unit);
+        return;
+    case KIND_REAL:
+        if (isinf(k->lo) && isinf(k->hi)) {
+            snprintf(buf, size, "any finite value%s%s", k->unit[0] ? " in " : "", k->unit);
+            return;
+        }
+        format_bound(lo, sizeof lo, k->lo);
+        format_bound(hi, sizeof hi, k->hi);
+        snprintf(buf, size, "%c%s, %s%c%s%s", (k->flags & LO_OPEN) ? '(' : '[', lo, hi,
+                 (k->flags & HI_OPEN) ? ')' : ']', unit_sep, k->unit);
+        return;
+    }
+    snprintf(buf, size, "?");
+}
+
+static int in_range(const key_spec *k, double v)
+{
+    int lo_ok = (k->flags & LO_OPEN) ? v > k->lo : v >= k->lo;
+    int hi_ok = (k->flags & HI_OPEN) ? v < k->hi : v <= k->hi;
+    return lo_ok && hi_ok;
+}
+
+/* ------------------------------------------------------------- loader */
+
+typedef struct {
+    const char *path;      /* the scene file, as given */
+    const char *text;      /* its contents */
+    size_t len, pos;       /* reader position */
+    long lineno;           /* line last handed to inih */
+    long section_line[SEC_COUNT]; /* first [section] line, 0 if absent */
+    long key_line[K_COUNT];       /* line of each key, 0 if absent */
+    sea_scene sc;
+    sea_status status;     /* first error */
+    long err_line;
+    sea_error err;
+} loader;
+
+static void vrecord(loader *ld, sea_status st, long line, const char *fmt, va_list ap)
+    __attribute__((format(printf, 4, 0)));
+static void vrecord(loader *ld, sea_status st, long line, const char *fmt, va_list ap)
+{
+    if (ld->status != SEA_OK)
+        return;
+    char what[SEA_ERROR_MSG_MAX];
+    vsnprintf(what, sizeof what, fmt, ap);
+    if (line > 0)
+        sea_fail(&ld->err, st, "%s:%ld: %s", ld->path, line, what);
+    else
+        sea_fail(&ld->err, st, "%s: %s", ld->path, what);
+    ld->status = st;
+    ld->err_line = line;
+}
+
+/* Records the first error, "FILE:LINE: message"; returns 0 for inih. */
+static int fail_line(loader *ld, sea_status st, long line, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int fail_line(loader *ld, sea_status st, long line, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vrecord(ld, st, line, fmt, ap);
+    va_end(ap);
+    return 0;
+}
+
+/* Records "FILE:LINE: [section] key: message (allowed: RANGE)"; returns 0. */
+static int fail_key(loader *ld, sea_status st, long line, key_id id, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+static int fail_key(loader *ld, sea_status st, long line, key_id id, const char *fmt, ...)
+{
+    const key_spec *k = &SEA_KEYS[id];
+    char what[SEA_ERROR_MSG_MAX / 2], allowed[SEA_ERROR_MSG_MAX / 2];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    allowed_text(k, allowed, sizeof allowed);
+    return fail_line(ld, st, line, "[%s] %s: %s (allowed: %s)", SEA_SECTIONS[k->section],
+                     k->name, what, allowed);
+}
+
+static int section_index(const char *name)
+{
+    for (int s = 0; s < SEC_COUNT; s++)
+        if (strcmp(name, SEA_SECTIONS[s]) == 0)
+            return s;
+    return -1;
+}
+
+/* The keys of section sec, comma-separated. */
+static void section_keys(int sec, char *buf, size_t size)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int i = 0; i < K_COUNT && used < size; i++)
+        if ((int)SEA_KEYS[i].section == sec)
+            used += (size_t)snprintf(buf + used, size - used, "%s%s", used ? ", " : "",
+                                     SEA_KEYS[i].name);
+}
+
+/* inih's fgets-like reader over the file text: one line per call, counted,
+ * cleaned of indentation and '#' comments, section names checked. */
+static char *read_line(char *str, int num, void *stream)
+{
+    loader *ld = stream;
+    if (ld->status != SEA_OK || ld->pos >= ld->len)
+        return NULL;
+    const char *p = ld->text + ld->pos;
+    const char *nl = memchr(p, '\n', ld->len - ld->pos);
+    size_t n = nl != NULL ? (size_t)(nl - p) : ld->len - ld->pos; /* without '\n' */
+    ld->pos += n + (nl != NULL);
+    ld->lineno++;
+    /* inih needs room for the '\n' and the NUL, and takes a line that
+     * fills its buffer for one too long. */
+    const int max_line = num - 2;
+    if (n > (size_t)max_line) {
+        fail_line(ld, SEA_ERR_PARSE, ld->lineno,
+                  "line too long: %zu characters (allowed: at most %d)", n, max_line);
+        return NULL;
+    }
+    memcpy(str, p, n);
+    str[n] = '\0';
+    char *s = str;
+    if (ld->lineno == 1 && strncmp(s, "\xEF\xBB\xBF", 3) == 0) /* UTF-8 byte order mark */
+        s += 3;
+    while (*s != '\0' && isspace((unsigned char)*s))
+        s++;
+    if (*s != '\0' && *s != '#' && *s != ';') {
+        for (char *c = s + 1; *c != '\0'; c++)
+            if (*c == '#' && isspace((unsigned char)c[-1])) {
+                *c = '\0';
+                break;
+            }
+    }
+    if (*s == '[') {
+        char *close = strchr(s, ']');
+        if (close != NULL) {
+            char name[64];
+            size_t l = (size_t)(close - s - 1);
+            snprintf(name, sizeof name, "%.*s", (int)(l < sizeof name ? l : sizeof name - 1),
+                     s + 1);
+            int sec = section_index(name);
+            if (sec < 0) {
+                fail_line(ld, SEA_ERR_PARSE, ld->lineno,
+                          "[%.*s]: unknown section (allowed: sea, sun, sky, sensor, model)",
+                          SEA_QUOTE_MAX, name);
+                return NULL;
+            }
+            if (ld->section_line[sec] == 0)
+                ld->section_line[sec] = ld->lineno;
+        }
+    }
+    memmove(str, s, strlen(s) + 1);
+    size_t l = strlen(str);
+    str[l] = '\n';
+    str[l + 1] = '\0';
+    return str;
+}
+
+/* Resolves a path given in the scene against the scene file's directory. */
+static int resolve_path(loader *ld, key_id id, const char *value, char *out)
+{
+    const char *slash = strrchr(ld->path, '/');
+    int dir_len = (value[0] == '/' || slash == NULL) ? 0 : (int)(slash - ld->path + 1);
+    int len = snprintf(out, SEA_SCENE_PATH_MAX, "%.*s%s", dir_len, ld->path, value);
+    if (len < 0 || len >= SEA_SCENE_PATH_MAX)
+        return fail_key(ld, SEA_ERR_DOMAIN, ld->lineno, id,
+                        "the resolved path is longer than %d characters",
+                        SEA_SCENE_PATH_MAX - 1);
+    return 1;
+}
+
+static int set_value(loader *ld, key_id id, const char *value)
+{
+    const key_spec *k = &SEA_KEYS[id];
+    char *base = (char *)&ld->sc;
+    long line = ld->lineno;
+    switch (k->kind) {
+    case KIND_REAL: {
+        double v;
+        if (parse_real(value, &v) != 0)
+            return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not a number",
+                            SEA_QUOTE_MAX, value);
+        if (!in_range(k, v))
+            return fail_key(ld, SEA_ERR_DOMAIN, line, id, "%.*s is out of range", SEA_QUOTE_MAX,
+                            value);
+        *(double *)(base + k->offset) = v * k->scale;
+        return 1;
+    }
+    case KIND_INT: {
+        char *end;
+        errno = 0;
+        long v = strtol(value, &end, 10);
+        if (end == value || *end != '\0' || errno == ERANGE)
+            return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not an integer",
+                            SEA_QUOTE_MAX, value);
+        if (v < k->lo || v > k->hi || ((k->flags & EVEN) && v % 2 != 0))
+            return fail_key(ld, SEA_ERR_DOMAIN, line, id, "%ld is out of range", v);
+        *(int *)(base + k->offset) = (int)v;
+        return 1;
+    }
+    case KIND_SEED: {
+        char *end;
+        errno = 0;
+        /* strtoul would accept "-1" as ULONG_MAX. */
+        unsigned long long v = strtoull(value, &end, 10);
+        if (!isdigit((unsigned char)value[0]) || *end != '\0' || errno == ERANGE)
+            return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not an unsigned integer",
+                            SEA_QUOTE_MAX, value);
+        if (v > 4294967295ULL)
+            return fail_key(ld, SEA_ERR_DOMAIN, line, id, "%llu is out of range", v);
+        ld->sc.seed = (unsigned long)v;
+        return 1;
+    }
+    case KIND_CHOICE: {
+        int v = k->from_name(value);
+        if (v < 0)
+            return fail_key(ld, SEA_ERR_PARSE, line, id, "unknown name '%.*s'", SEA_QUOTE_MAX,
+                            value);
+        *(int *)(base + k->offset) = v;
+        return 1;
+    }
+    case KIND_WATER: {
+        /* Anything that looks like a file name is a file, so that a
+         * misspelt table name is reported as such. */
+        if (strchr(value, '/') == NULL && strchr(value, '.') == NULL) {
+            int t = sea_water_table_from_name(value);
+            if (t < 0)
+                return fail_key(ld, SEA_ERR_PARSE, line, id, "unknown table '%.*s'",
+                                SEA_QUOTE_MAX, value);
+            ld->sc.water_table = t;
+            ld->sc.water_file[0] = '\0';
+            return 1;
+        }
+        ld->sc.water_table = -1;
+        return resolve_path(ld, id, value, ld->sc.water_file);
+    }
+    case KIND_BAND: {
+        char buf[256];
+        snprintf(buf, sizeof buf, "%s", value);
+        char *colon = strchr(buf, ':');
+        double a, b;
+        if (colon == NULL)
+            return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not A:B", SEA_QUOTE_MAX,
+                            value);
+        *colon = '\0';
+        if (parse_real(trim(buf), &a) != 0 || parse_real(trim(colon + 1), &b) != 0)
+            return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not A:B (two numbers)",
+                            SEA_QUOTE_MAX, value);
+        if (!(a > 0.0 && a < b && isfinite(b)))
+            return fail_key(ld, SEA_ERR_DOMAIN, line, id, "%.*s is out of range", SEA_QUOTE_MAX,
+                            value);
+        ld->sc.band_min = a * SEA_UM;
+        ld->sc.band_max = b * SEA_UM;
+        return 1;
+    }
+    case KIND_PATH:
+        return resolve_path(ld, id, value, ld->sc.response_file);
+    }
+    return fail_key(ld, SEA_ERR_PARSE, line, id, "internal error: unknown kind");
+}
+
+static int on_key(void *user, const char *section, const char *name, const char *value)
+{
+    loader *ld = user;
+    long line = ld->lineno;
+    if (ld->status != SEA_OK)
+        return 0;
+    int sec = section_index(section);
+    if (sec < 0) /* the reader has refused every unknown section */
+        return fail_line(ld, SEA_ERR_PARSE, line,
+                         "%.*s: key outside any section (allowed: after a [sea], [sun], [sky], "
+                         "[sensor] or [model] line)",
+                         SEA_QUOTE_MAX, name);
+    int id = -1;
+    for (int i = 0; i < K_COUNT && id < 0; i++)
+        if ((int)SEA_KEYS[i].section == sec && strcmp(SEA_KEYS[i].name, name) == 0)
+            id = i;
+    if (id < 0) {
+        char keys[SEA_ERROR_MSG_MAX / 2];
+        section_keys(sec, keys, sizeof keys);
+        return fail_line(ld, SEA_ERR_PARSE, line, "[%s] %.*s: unknown key (allowed: %s)",
+                         SEA_SECTIONS[sec], SEA_QUOTE_MAX, name, keys);
+    }
+    if (ld->key_line[id] != 0)
+        return fail_line(ld, SEA_ERR_PARSE, line,
+                         "[%s] %s: duplicate key, first given on line %ld (allowed: once)",
+                         SEA_SECTIONS[sec], name, ld->key_line[id]);
+    ld->key_line[id] = line;
+    if (value[0] == '\0')
+        return fail_key(ld, SEA_ERR_PARSE, line, id, "empty value");
+    return set_value(ld, id, value);
+}
+
+/* The text of line number `line` (1-based), cut for a message. */
+static void quote_line(const char *text, long line, char *buf, size_t size)
+{
+    const char *p = text;
+    for (long i = 1; i < line && p != NULL; i++)
+        if ((p = strchr(p, '\n')) != NULL)
+            p++;
+    if (p == NULL)
+        p = "";
+    size_t n = strcspn(p, "\r\n");
+    if (n > SEA_QUOTE_MAX)
+        n = SEA_QUOTE_MAX;
+    snprintf(buf, size, "%.*s", (int)n, p);
+}
+
+/* Two keys that exclude each other: the error names the later one. */
+static void check_conflict(loader *ld, key_id a, key_id b, const char *rule)
+{
+    if (ld->key_line[a] == 0 || ld->key_line[b] == 0)
+        return;
+    key_id later = ld->key_line[a] > ld->key_line[b] ? a : b;
+    key_id other = later == a ? b : a;
+    fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[later],
+              "[%s] %s: conflicts with %s on line %ld (allowed: %s)",
+              SEA_SECTIONS[SEA_KEYS[later].section], SEA_KEYS[later].name,
+              SEA_KEYS[other].name, ld->key_line[other], rule);
+}
+
+static void check_required(loader *ld, key_id id)
+{
+    const key_spec *k = &SEA_KEYS[id];
+    if (ld->key_line[id] != 0)
+        return;
+    long line = ld->section_line[k->section];
+    if (line > 0)
+        fail_key(ld, SEA_ERR_DOMAIN, line, id, "missing required key");
+    else
+        fail_key(ld, SEA_ERR_DOMAIN, 0, id, "missing required key (no [%s] section)",
+                 SEA_SECTIONS[k->section]);
+}
+
+/* Cross-key rules, once every key is read. */
+static void check_scene(loader *ld)
+{
+    const sea_scene *sc = &ld->sc;
+    static const char SUN_RULE[] =
+        "irradiance alone, or any of temperature, solid_angle, transmittance";
+    check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, SUN_RULE);
+    check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_SOLID_ANGLE, SUN_RULE);
+    check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_TRANSMITTANCE, SUN_RULE);
+    check_conflict(ld, K_SKY_RADIANCE, K_SKY_TEMPERATURE, "radiance or temperature, not both");
+    check_conflict(ld, K_WAVELENGTH, K_BAND, "wavelength or band, not both");
+    if (ld->key_line[K_N] != 0 && sc->method != SEA_METHOD_VARIABLE_STEP_2N)
+        check_conflict(ld, K_N, K_METHOD, "n with method = variable-step-2n only");
+    if (ld->key_line[K_BAND] == 0) {
+        if (ld->key_line[K_RESPONSE] != 0)
+            fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_RESPONSE],
+                      "[sensor] response: needs a band (allowed: with band only)");
+        if (ld->key_line[K_SAMPLES] != 0)
+            fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SAMPLES],
+                      "[sensor] samples: needs a band (allowed: with band only)");
+    }
+    for (int i = 0; i < K_COUNT; i++)
+        if (SEA_KEYS[i].flags & REQUIRED)
+            check_required(ld, (key_id)i);
+    if (ld->key_line[K_WAVELENGTH] == 0 && ld->key_line[K_BAND] == 0) {
+        long line = ld->section_line[SEC_SENSOR];
+        fail_line(ld, SEA_ERR_DOMAIN, line,
+                  "[sensor] wavelength: missing: give wavelength or band "
+                  "(allowed: wavelength in um, or band = A:B in um)");
+    }
+}
+
+/* The wavelength or band against the water table, and the response curve. */
+static void check_files(loader *ld)
+{
+    sea_scene *sc = &ld->sc;
+    sea_water *w = NULL;
+    sea_error e;
+    sea_status st;
+    if (ld->status != SEA_OK)
+        return;
+    if (sc->water_file[0] != '\0')
+        st = sea_water_load(sc->water_file, sc->salinity, &w, &e);
+    else
+        st = sea_water_alloc((sea_water_table)sc->water_table, sc->salinity, &w, &e);
+    if (st != SEA_OK) {
+        long line = ld->key_line[K_WATER] ? ld->key_line[K_WATER] : ld->key_line[K_SALINITY];
+        fail_line(ld, st, line, "[sea] water: %s", e.msg);
+        return;
+    }
+    double wl_min, wl_max;
+    sea_water_range(w, &wl_min, &wl_max);
+    key_id id = ld->key_line[K_BAND] != 0 ? K_BAND : K_WAVELENGTH;
+    double lo = id == K_BAND ? sc->band_min : sc->wavelength;
+    double hi = id == K_BAND ? sc->band_max : sc->wavelength;
+    if (lo < wl_min || hi > wl_max) {
+        char given[64];
+        if (id == K_BAND)
+            snprintf(given, sizeof given, "%.6g:%.6g", lo / SEA_UM, hi / SEA_UM);
+        else
+            snprintf(given, sizeof given, "%.6g", lo / SEA_UM);
+        fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[id],
+                  "[sensor] %s: %s um is outside the water table (allowed: %.6g-%.6g um, %s)",
+                  SEA_KEYS[id].name, given, wl_min / SEA_UM, wl_max / SEA_UM,
+                  sea_water_describe(w));
+    }
+    sea_water_free(w);
+    if (ld->status != SEA_OK || sc->response_file[0] == '\0')
+        return;
+
+    sea_response r;
+    if ((st = sea_response_load(sc->response_file, &r, &e)) != SEA_OK) {
+        fail_line(ld, st, ld->key_line[K_RESPONSE], "[sensor] response: %s", e.msg);
+        return;
+    }
+    /* The curve is 0 outside its rows: it must be positive somewhere in the band. */
+    int positive = 0;
+    for (size_t i = 0; i + 1 < r.n && !positive; i++)
+        positive = r.wavelength[i + 1] > sc->band_min && r.wavelength[i] < sc->band_max &&
+                   (r.value[i] > 0.0 || r.value[i + 1] > 0.0);
+    if (!positive)
+        fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_RESPONSE],
+                  "[sensor] response: %s is zero over the band %.6g:%.6g um (allowed: a "
+                  "curve that is positive somewhere in the band)",
+                  sc->response_file, sc->band_min / SEA_UM, sc->band_max / SEA_UM);
+    sea_response_free(&r);
+}
+
+void sea_scene_defaults(sea_scene *sc)
+{
+    memset(sc, 0, sizeof *sc);
+    sc->wind_speed = NAN;
+    sc->wind_dir = 0.0;
+    sc->fetch = INFINITY;
+    sc->temperature = 288.0;
+    sc->salinity = 35.0;
+    sc->water_table = SEA_WATER_HALE_QUERRY;
+    sc->seed = 1;
+    sc->time = 0.0;
+    sc->loop_period = 0.0;
+    sc->sun_zenith = 40.0 * SEA_DEG;
+    sc->sun_azimuth = 180.0 * SEA_DEG;
+    sc->sun_irradiance = -1.0;
+    sc->sun_temperature = 5778.0;
+    sc->sun_solid_angle = 6.8e-5;
+    sc->sun_transmittance = 1.0;
+    sc->sky_radiance = -1.0;
+    sc->sky_temperature = 250.0;
+    sc->sensor_x = sc->sensor_y = 0.0;
+    sc->altitude = NAN;
+    sc->look_zenith = 0.0;
+    sc->look_azimuth = 180.0 * SEA_DEG;
+    sc->roll = 0.0;
+    sc->hfov = NAN;
+    sc->width = sc->height = 0;
+    sc->wavelength = -1.0;
+    sc->band_min = sc->band_max = -1.0;
+    sc->band_samples = 0;
+    sc->method = SEA_METHOD_VARIABLE_STEP;
+    sc->n = 1;
+    sc->finest = 1.0;
+    sc->grid = 256;
+    sc->emissivity_method = SEA_EMIS_AUTO;
+    sc->earth = SEA_EARTH_FLAT;
+    sc->tolerance = 1e-3;
+}
+
+sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err)
+{
+    char *text = NULL;
+    sea_status st = read_text(path, SEA_SCENE_BYTES_MAX, &text, err);
+    if (st != SEA_OK)
+        return st;
+    loader *ld = calloc(1, sizeof *ld);
+    if (ld == NULL) {
+        free(text);
+        return sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
+    }
+    ld->path = path;
+    ld->text = text;
+    ld->len = strlen(text);
+    sea_scene_defaults(&ld->sc);
+
+    int r = ini_parse_stream(read_line, ld, on_key, ld);
+    /* inih reports the first line it could not parse; our own errors come
+     * from the handler or the reader.  The earlier one wins. */
+    if (r > 0 && (ld->status == SEA_OK || r < ld->err_line)) {
+        char quoted[SEA_QUOTE_MAX + 1];
+        quote_line(text, r, quoted, sizeof quoted);
+        ld->status = SEA_OK;
+        fail_line(ld, SEA_ERR_PARSE, r,
+                  "syntax error: '%s' (allowed: [section], key = value, or a comment starting "
+                  "with ; or #)",
+                  quoted);
+    } else if (r < 0 && ld->status == SEA_OK) {
+        fail_line(ld, r == -2 ? SEA_ERR_NOMEM : SEA_ERR_IO, 0, "cannot be parsed (inih %d)", r);
+    }
+    check_scene(ld);
+    check_files(ld);
+
+    st = ld->status;
+    if (st == SEA_OK)
+        *sc = ld->sc;
+    else if (err != NULL)
+        *err = ld->err;
+    free(ld);
+    free(text);
+    return st;
+}

@@ -1,0 +1,251 @@
+/* test_render.c - radiance images (Eq 23) against closed forms and the
+ * geometry: Kirchhoff closure, the assembly of Eq 23 from its terms, the
+ * glint where the mirror rule puts it, clipmap levels, no seams,
+ * determinism and looping time. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "unit.h"
+
+static sea_scene base_scene(int size)
+{
+    sea_scene sc;
+    sea_scene_defaults(&sc);
+    sc.wind_speed = 10.0;
+    sc.wind_dir = 90.0 * DEG;
+    sc.altitude = 389.0;
+    sc.look_zenith = 0.0;
+    sc.look_azimuth = 90.0 * DEG;
+    sc.hfov = 40.0 * DEG;
+    sc.width = sc.height = size;
+    sc.wavelength = 4e-6;
+    sc.method = SEA_METHOD_VARIABLE_STEP;
+    sc.n = 0;
+    sc.emissivity_method = SEA_EMIS_FAST; /* the optics are tested elsewhere */
+    sc.sun_zenith = 0.0;
+    sc.sun_azimuth = 0.0;
+    return sc;
+}
+
+static void render(const sea_scene *sc, double t, sea_image *img)
+{
+    sea_render *r = NULL;
+    sea_error err;
+    sea_status st = sea_render_prepare(sc, &r, &err);
+    if (st != SEA_OK)
+        fprintf(stderr, "  prepare: %s\n", err.msg);
+    CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(img, sc->width, sc->height, &err), SEA_OK);
+    st = sea_render_frame(r, t, img, NULL, NULL, &err);
+    if (st != SEA_OK)
+        fprintf(stderr, "  frame: %s\n", err.msg);
+    CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
+    sea_render_free(r);
+}
+
+/* Kirchhoff: with the sun below the horizon and a sky at the sea's own
+ * temperature, emission and reflected sky add up to the blackbody,
+ * L = eps B + (1 - eps) B = B, whatever the facet: every sea pixel's
+ * brightness temperature is T_sea (1e-3 K: float storage of ~0.1 W m^-2
+ * sr^-1 um^-1 values, 1e-7 relative, is 1e-5 K). */
+static void test_kirchhoff_closure(void)
+{
+    sea_scene sc = base_scene(UNIT_QUICK ? 24 : 64);
+    sc.sun_zenith = 120.0 * DEG;
+    sc.sky_temperature = sc.temperature;
+    sc.look_zenith = 50.0 * DEG; /* sea and sky in view */
+    sc.hfov = 100.0 * DEG;
+    sea_image img;
+    render(&sc, 0.0, &img);
+    const size_t n = (size_t)sc.width * (size_t)sc.height;
+    size_t sea = 0;
+    for (size_t i = 0; i < n; i++) {
+        ASSERT_ABS(img.temperature[i], 288.0, 1e-3);
+        if (img.level[i] > 0.0f)
+            sea++;
+    }
+    CU_ASSERT(sea > n / 4 && sea < n); /* both sea and sky were seen */
+    sea_image_free(&img);
+}
+
+/* Eq 23 assembled from its terms: for every sea pixel the radiance is
+ * rho~ E_sun + (1 - eps) L_sky + eps B(T_sea) with the pixel's own eps and
+ * rho~ (stored as floats: 1e-6 relative). */
+static void test_eq23_terms(void)
+{
+    sea_scene sc = base_scene(UNIT_QUICK ? 24 : 48);
+    sc.sun_zenith = 30.0 * DEG;
+    sc.look_zenith = 30.0 * DEG;
+    sc.look_azimuth = 0.0;
+    sc.sun_azimuth = 0.0; /* the camera looks toward the sun: glint in view */
+    sea_image img;
+    render(&sc, 0.0, &img);
+    const double E = sc.sun_transmittance * sc.sun_solid_angle *
+                     sea_planck_radiance(4e-6, sc.sun_temperature);
+    const double Ls = sea_planck_radiance(4e-6, sc.sky_temperature);
+    const double B = sea_planck_radiance(4e-6, sc.temperature);
+    double rho_max = 0.0;
+    for (size_t i = 0; i < (size_t)sc.width * (size_t)sc.height; i++) {
+        if (img.level[i] == 0.0f)
+            continue;
+        const double e = img.emissivity[i], rho = img.reflectivity[i];
+        CU_ASSERT(e > 0.0 && e <= 1.0 && rho >= 0.0);
+        const double L = (rho * E + (1.0 - e) * Ls + e * B) * 1e-6;
+        ASSERT_REL(img.radiance[i], L, 2e-6, 0.0);
+        /* bounded by its physical terms */
+        CU_ASSERT(img.radiance[i] >= 1e-6 * fmin(Ls, B) * (1.0 - 1e-6));
+        rho_max = fmax(rho_max, rho);
+    }
+    CU_ASSERT(rho_max > 0.0);
+    sea_image_free(&img);
+}
+
+/* Centroid of the brightest reflectivity (above half its maximum). */
+static void glint_centroid(const sea_image *img, double *u, double *v)
+{
+    const size_t n = (size_t)img->width * (size_t)img->height;
+    float mx = 0.0f;
+    for (size_t i = 0; i < n; i++)
+        mx = fmaxf(mx, img->reflectivity[i]);
+    double su = 0.0, sv = 0.0, sw = 0.0;
+    for (size_t i = 0; i < n; i++)
+        if (img->reflectivity[i] > 0.5f * mx) {
+            const double w = img->reflectivity[i];
+            su += w * ((double)(i % (size_t)img->width) + 0.5);
+            sv += w * ((double)(i / (size_t)img->width) + 0.5);
+            sw += w;
+        }
+    *u = su / sw;
+    *v = sv / sw;
+}
+
+/* The glint follows the mirror rule: nadir sensor and zenith sun, centred;
+ * sun 15 deg off zenith toward the east, the glint moves east (to the
+ * right of a north-up image) to where the view zenith is 15 deg,
+ * u = W/2 + f tan 15.  The glitter of a 3 m/s sea (slope sigma 0.1) spreads
+ * the spot; 4 % of the width bounds the centroid's offset. */
+static void test_glint_position(void)
+{
+    const int N = UNIT_QUICK ? 40 : 100;
+    sea_scene sc = base_scene(N);
+    sc.wind_speed = 3.0;
+    sc.hfov = 70.0 * DEG;
+    sea_image img;
+    render(&sc, 0.0, &img);
+    double u, v;
+    glint_centroid(&img, &u, &v);
+    ASSERT_ABS(u, 0.5 * N, 0.04 * N);
+    ASSERT_ABS(v, 0.5 * N, 0.04 * N);
+    sea_image_free(&img);
+    sc.sun_zenith = 15.0 * DEG;
+    sc.sun_azimuth = 0.0;
+    render(&sc, 0.0, &img);
+    glint_centroid(&img, &u, &v);
+    const double f = 0.5 * N / tan(35.0 * DEG);
+    ASSERT_ABS(u, 0.5 * N + f * tan(15.0 * DEG), 0.04 * N);
+    ASSERT_ABS(v, 0.5 * N, 0.04 * N);
+    sea_image_free(&img);
+}
+
+/* Same scene and seed, same image, bit for bit; the loop period brings the
+ * sea back (1e-4 relative: float radiance of a sea whose phases return to
+ * 1e-12); another time, another sea. */
+static void test_determinism_and_time(void)
+{
+    sea_scene sc = base_scene(UNIT_QUICK ? 20 : 40);
+    sc.loop_period = 10.0;
+    sea_image a, b, c;
+    render(&sc, 1.0, &a);
+    render(&sc, 1.0, &b);
+    const size_t n = (size_t)sc.width * (size_t)sc.height;
+    CU_ASSERT(memcmp(a.radiance, b.radiance, n * sizeof(float)) == 0);
+    sea_image_free(&b);
+    render(&sc, 11.0, &b);
+    render(&sc, 3.5, &c);
+    double dloop = 0.0, dmid = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        dloop = fmax(dloop, fabs(a.radiance[i] - b.radiance[i]) / a.radiance[i]);
+        dmid = fmax(dmid, fabs(a.radiance[i] - c.radiance[i]) / a.radiance[i]);
+    }
+    CU_ASSERT(dloop < 1e-4);
+    CU_ASSERT(dmid > 1e-3);
+    sea_image_free(&a);
+    sea_image_free(&b);
+    sea_image_free(&c);
+}
+
+/* Levels: a nadir view whose footprints reach past the 1 m window reads
+ * 1 m in the centre and 2 m around it (the paper's Fig. 7 / 10a layout),
+ * and nothing else; across the boundary the radiance has no jump larger
+ * than the largest step between neighbours away from it. */
+static void test_levels_and_seams(void)
+{
+    if (UNIT_QUICK)
+        return; /* 1 m facets over 400 m: too slow under a memory checker */
+    sea_scene sc = base_scene(400);
+    sc.hfov = 50.0 * DEG; /* 363 m across: wider than the 1 m window (256 m) */
+    sc.grid = 256;
+    sea_image img;
+    render(&sc, 0.0, &img);
+    const size_t W = 400;
+    int has1 = 0, has2 = 0, other = 0;
+    for (size_t i = 0; i < W * W; i++) {
+        has1 |= img.level[i] == 1.0f;
+        has2 |= img.level[i] == 2.0f;
+        other |= img.level[i] != 1.0f && img.level[i] != 2.0f;
+    }
+    CU_ASSERT(has1 && has2 && !other);
+    CU_ASSERT(img.level[W * W / 2 + W / 2] == 1.0f);
+    CU_ASSERT(img.level[0] == 2.0f);
+    /* along the middle row: the steps at the level boundary against the
+     * steps elsewhere on the row */
+    const float *row = img.radiance + (W / 2) * W;
+    const float *lev = img.level + (W / 2) * W;
+    double step_boundary = 0.0, step_max = 0.0;
+    for (size_t i = 1; i < W; i++) {
+        const double d = fabs(row[i] - row[i - 1]);
+        if (lev[i] != lev[i - 1])
+            step_boundary = fmax(step_boundary, d);
+        else
+            step_max = fmax(step_max, d);
+    }
+    CU_ASSERT(step_boundary > 0.0 || step_max > 0.0);
+    CU_ASSERT(step_boundary <= step_max);
+    MEASURED("level boundary step %.3g vs largest step elsewhere on the row %.3g\n",
+             step_boundary, step_max);
+    sea_image_free(&img);
+}
+
+/* Low-resolution levels get no synthesis: a high view of a calm sea is
+ * all low-resolution, with no wave plan and no facets. */
+static void test_low_resolution_levels(void)
+{
+    sea_scene sc = base_scene(16);
+    sc.altitude = 20000.0;
+    sc.wind_speed = 3.0;
+    sea_render *r = NULL;
+    sea_error err;
+    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    CU_ASSERT(n >= 1);
+    for (size_t i = 0; i < n; i++) {
+        CU_ASSERT(lv[i].low_res);
+        CU_ASSERT(lv[i].nx == 0 && lv[i].ny == 0);
+        CU_ASSERT(lv[i].generated_share < sc.tolerance);
+    }
+    sea_render_free(r);
+}
+
+int test_render_register(void)
+{
+    CU_pSuite s = CU_add_suite("render", NULL, NULL);
+    if (s == NULL)
+        return 1;
+    return !CU_add_test(s, "Kirchhoff closure", test_kirchhoff_closure) ||
+           !CU_add_test(s, "Eq 23 from its terms", test_eq23_terms) ||
+           !CU_add_test(s, "glint position", test_glint_position) ||
+           !CU_add_test(s, "determinism and time", test_determinism_and_time) ||
+           !CU_add_test(s, "levels and seams", test_levels_and_seams) ||
+           !CU_add_test(s, "low-resolution levels", test_low_resolution_levels);
+}
