@@ -843,30 +843,33 @@ sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double
         return SEA_OK;
     }
 
-    /* Sinusoids: one facet row per task; its sub-cells are sampled in
-     * chunks of at most TILE_X x TILE_Y, summed into the row's facets in a
-     * fixed order (so the result does not depend on the thread count). */
+    /* Sinusoids: each task takes a band of facet rows (as many as fit in a
+     * tile's height, at least one); its sub-cells are sampled in tiles of
+     * at most TILE_X x TILE_Y and summed into the band's facets in a fixed
+     * order, so the result does not depend on the thread count. */
     const size_t nc = prefix_count(w, M_PI / delta);
+    const size_t band = sub < TILE_Y ? TILE_Y / sub : 1;
     const size_t cx = sub < TILE_X ? (TILE_X / sub) * sub : TILE_X;
-    const size_t cy = sub < TILE_Y ? sub : TILE_Y;
+    const size_t ntask = (ny + band - 1) / band;
     int fail = 0;
 #pragma omp parallel
     {
         double *buf = malloc((3 * TILE_X * TILE_Y + 2 * TILE_X + 2 * TILE_Y) * sizeof(double));
-        sums *acc = malloc(nx * sizeof(sums));
+        sums *acc = malloc(band * nx * sizeof(sums));
         if (buf == NULL || acc == NULL) {
 #pragma omp atomic write
             fail = 1;
         }
 #pragma omp for schedule(dynamic)
-        for (size_t j = 0; j < ny; j++) {
+        for (size_t task = 0; task < ntask; task++) {
             if (buf == NULL || acc == NULL)
                 continue;
-            memset(acc, 0, nx * sizeof(sums));
-            const long sj0 = (r->j0 + (long)j) * (long)sub, si0 = r->i0 * (long)sub;
-            const size_t total_x = nx * sub;
-            for (size_t oy = 0; oy < sub; oy += cy) {
-                const size_t wy = sub - oy < cy ? sub - oy : cy;
+            const size_t jf = task * band, rows = ny - jf < band ? ny - jf : band;
+            memset(acc, 0, rows * nx * sizeof(sums));
+            const long sj0 = (r->j0 + (long)jf) * (long)sub, si0 = r->i0 * (long)sub;
+            const size_t total_x = nx * sub, total_y = rows * sub;
+            for (size_t oy = 0; oy < total_y; oy += TILE_Y) {
+                const size_t wy = total_y - oy < TILE_Y ? total_y - oy : TILE_Y;
                 for (size_t ox = 0; ox < total_x; ox += cx) {
                     const size_t wx = total_x - ox < cx ? total_x - ox : cx;
                     double *th = buf, *tsx = buf + TILE_X * TILE_Y,
@@ -874,15 +877,18 @@ sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double
                     sinusoid_tile(w, nc, delta, si0 + (long)ox, sj0 + (long)oy, wx, wy, t, th,
                                   tsx, tsy, buf + 3 * TILE_X * TILE_Y,
                                   buf + 3 * TILE_X * TILE_Y + 2 * TILE_X);
-                    for (size_t b = 0; b < wy; b++)
+                    for (size_t b = 0; b < wy; b++) {
+                        sums *arow = acc + ((oy + b) / sub) * nx;
                         for (size_t a = 0; a < wx; a++) {
                             const size_t q = b * wx + a;
-                            add_point(&acc[(ox + a) / sub], th[q], tsx[q], tsy[q]);
+                            add_point(&arow[(ox + a) / sub], th[q], tsx[q], tsy[q]);
                         }
+                    }
                 }
             }
-            for (size_t i = 0; i < nx; i++)
-                out[j * nx + i] = finish(&acc[i], count, &csub);
+            for (size_t j = 0; j < rows; j++)
+                for (size_t i = 0; i < nx; i++)
+                    out[(jf + j) * nx + i] = finish(&acc[j * nx + i], count, &csub);
         }
         free(buf);
         free(acc);
