@@ -2,6 +2,7 @@
 #include "config.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <png.h>
 #include <setjmp.h>
@@ -100,8 +101,20 @@ sea_status sea_png_write_gray(const char *path, int width, int height, const flo
     char *tmp = malloc(len + 16);
     if (tmp == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    snprintf(tmp, len + 16, "%s.tmp.XXXXXX", path);
-    const int fd = mkstemp(tmp);
+    /* O_EXCL with a fresh suffix rather than mkstemp, whose 0600 mode would
+     * reach the renamed file: the preview gets the umask's permissions. */
+    static unsigned counter;
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
+        unsigned tag;
+#pragma omp atomic capture
+        tag = ++counter;
+        snprintf(tmp, len + 16, "%s.tmp.%06x", path,
+                 (unsigned)(((unsigned)getpid() * 2654435761u) ^ (tag * 40503u)) & 0xffffffu);
+        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST)
+            break;
+    }
     if (fd < 0) {
         sea_status st = sea_fail(err, SEA_ERR_IO, "%s: cannot create a temporary file: %s", path,
                                  strerror(errno));

@@ -13,6 +13,7 @@
 #ifndef SEABAKE_CLI_H
 #define SEABAKE_CLI_H
 
+#include <complex.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -32,14 +33,24 @@ sea_cli_exit sea_cli_exit_code(sea_status status);
 
 /* --------------------------------------------------------------- options */
 
-/* Every option takes a value, as "--name value" or "--name=value"; the
- * value may begin with '-' (negative numbers).  A repeated option replaces
- * the earlier value, unless it is SEA_CLI_OPT_ACCUMULATE, whose values are
- * all kept in order.  "--help" and "-h" are understood by every subcommand. */
-enum { SEA_CLI_OPT_ACCUMULATE = 1u };
+/* An option takes a value, as "--name value" or "--name=value"; the value
+ * may begin with '-' (negative numbers).  A SEA_CLI_OPT_FLAG option takes
+ * none ("--quiet").  A SEA_CLI_OPT_SHORT option is written with one dash
+ * ("-o FILE", "-o=FILE") and only so.  A repeated option replaces the
+ * earlier value, unless it is SEA_CLI_OPT_ACCUMULATE, whose values are all
+ * kept in order.  "--help" and "-h" are understood by every subcommand.
+ * A SEA_CLI_OPT_POSITIONAL option has no dashed form: its value is the one
+ * argument that is not an option ("seabake render SCENE.ini"); a table
+ * holds at most one, and a second bare argument is an error. */
+enum {
+    SEA_CLI_OPT_ACCUMULATE = 1u,
+    SEA_CLI_OPT_FLAG = 2u,
+    SEA_CLI_OPT_SHORT = 4u,
+    SEA_CLI_OPT_POSITIONAL = 8u
+};
 
 typedef struct {
-    const char *name; /* without the leading "--" */
+    const char *name; /* without the leading dashes */
     unsigned flags;
 } sea_cli_option;
 
@@ -52,10 +63,12 @@ typedef struct {
 } sea_cli_args;
 
 /* Scans argv[0..argc) against the option table.  Fails with SEA_ERR_PARSE
- * on an unknown option, a missing value or a stray positional argument. */
+ * on an unknown option, a missing value or a bare argument the table has
+ * no positional option for (or a second one). */
 sea_status sea_cli_args_parse(sea_cli_args *args, const sea_cli_option *options, size_t n_options,
                               int argc, char **argv, sea_error *err);
-/* The last value given for option name, or NULL if it was not given. */
+/* The last value given for option name, or NULL if it was not given (a
+ * flag that was given has a non-NULL value). */
 const char *sea_cli_args_get(const sea_cli_args *args, const char *name);
 /* Number of times option name was given, and its i-th value (0-based). */
 size_t sea_cli_args_count(const sea_cli_args *args, const char *name);
@@ -112,6 +125,24 @@ typedef struct {
     /* Writes CSV to out.  A failed write is reported as SEA_ERR_IO. */
     sea_status (*run)(const sea_cli_args *args, FILE *out, sea_error *err);
 } sea_cli_command;
+
+/* The subcommands of cli_waves.c (slopes, convergence, bench), listed by
+ * sea_cli_command_find and sea_cli_print_usage after those of cli_physics.c. */
+extern const sea_cli_command sea_cli_waves_commands[];
+extern const size_t sea_cli_waves_n_commands;
+
+/* The subcommand of cli_render.c (render), listed after those of
+ * cli_waves.c. */
+extern const sea_cli_command sea_cli_render_commands[];
+extern const size_t sea_cli_render_n_commands;
+
+/* The complex refractive index of the water at --wavelength (required, um)
+ * from --water (table name or CSV file, default hale-querry), --salinity
+ * (default 35 g/kg) and, if the subcommand has it, --index.  The same
+ * checks and messages as the emissivity subcommand; SEA_ERR_IO for an
+ * unreadable table. */
+sea_status sea_cli_water(const sea_cli_args *args, double *wavelength_um, double complex *N,
+                         sea_error *err);
 
 /* The subcommand called name, or NULL. */
 const sea_cli_command *sea_cli_command_find(const char *name);

@@ -3,6 +3,7 @@
  * text the user gave and what would have been accepted. */
 #include <errno.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -55,48 +56,76 @@ static sea_status scan_one(const sea_cli_args *a, int *i, long *opt, const char 
         ++*i;
         return SEA_OK;
     }
-    if (strncmp(tok, "--", 2) != 0 || tok[2] == '\0') {
+    /* "-o" names a SEA_CLI_OPT_SHORT option, "--name" any other. */
+    const bool single = tok[0] == '-' && tok[1] != '-' && tok[1] != '\0';
+    if (!single && (strncmp(tok, "--", 2) != 0 || tok[2] == '\0')) {
         if (tok[0] == '-' && tok[1] != '\0')
             return sea_fail(err, SEA_ERR_PARSE, "unknown option '%s'", tok);
+        /* A bare argument is the value of the positional option, if any. */
+        for (size_t k = 0; k < a->n_options; ++k) {
+            if (a->options[k].flags & SEA_CLI_OPT_POSITIONAL) {
+                *opt = (long)k;
+                *value = tok;
+                ++*i;
+                return SEA_OK;
+            }
+        }
         return sea_fail(err, SEA_ERR_PARSE,
                         "unexpected argument '%s' (every value follows its --option)", tok);
     }
-    const char *name = tok + 2;
+    const char *dash = single ? "-" : "--";
+    const char *name = tok + strlen(dash);
     const char *eq = strchr(name, '=');
     size_t len = eq ? (size_t)(eq - name) : strlen(name);
-    if (len == 4 && strncmp(name, "help", 4) == 0)
+    if (!single && len == 4 && strncmp(name, "help", 4) == 0)
         return sea_fail(err, SEA_ERR_PARSE, "--help takes no value");
     for (size_t k = 0; k < a->n_options; ++k) {
         const char *cand = a->options[k].name;
-        if (strlen(cand) != len || strncmp(cand, name, len) != 0)
+        const bool short_opt = (a->options[k].flags & SEA_CLI_OPT_SHORT) != 0;
+        if (a->options[k].flags & SEA_CLI_OPT_POSITIONAL)
+            continue; /* it has no dashed form */
+        if (strlen(cand) != len || strncmp(cand, name, len) != 0 || short_opt != single)
             continue;
         *opt = (long)k;
-        if (eq) {
+        if (a->options[k].flags & SEA_CLI_OPT_FLAG) {
+            if (eq)
+                return sea_fail(err, SEA_ERR_PARSE, "%s%s takes no value", dash, cand);
+            *value = tok; /* non-NULL: the flag was given */
+            ++*i;
+        } else if (eq) {
             *value = eq + 1;
             ++*i;
         } else {
             if (*i + 1 >= a->argc)
-                return sea_fail(err, SEA_ERR_PARSE, "--%s needs a value", cand);
+                return sea_fail(err, SEA_ERR_PARSE, "%s%s needs a value", dash, cand);
             *value = a->argv[*i + 1];
             *i += 2;
         }
         return SEA_OK;
     }
-    return sea_fail(err, SEA_ERR_PARSE, "unknown option '--%.*s'", (int)len, name);
+    return sea_fail(err, SEA_ERR_PARSE, "unknown option '%s%.*s'", dash, (int)len, name);
 }
 
 sea_status sea_cli_args_parse(sea_cli_args *args, const sea_cli_option *options, size_t n_options,
                               int argc, char **argv, sea_error *err)
 {
     *args = (sea_cli_args){options, n_options, argc, argv, false};
+    const char *positional = NULL;
     for (int i = 0; i < argc;) {
         long opt;
         const char *value;
         sea_status st = scan_one(args, &i, &opt, &value, err);
         if (st != SEA_OK)
             return st;
-        if (opt < 0)
+        if (opt < 0) {
             args->help = true;
+        } else if (options[opt].flags & SEA_CLI_OPT_POSITIONAL) {
+            if (positional)
+                return sea_fail(err, SEA_ERR_PARSE,
+                                "unexpected argument '%s' ('%s' was given first; one is taken)",
+                                value, positional);
+            positional = value;
+        }
     }
     return SEA_OK;
 }

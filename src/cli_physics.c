@@ -287,6 +287,18 @@ static sea_status water_index(const sea_cli_args *args, sea_cli_sea *sea, sea_er
     return SEA_OK;
 }
 
+sea_status sea_cli_water(const sea_cli_args *args, double *wavelength_um, double complex *N,
+                         sea_error *err)
+{
+    sea_cli_sea sea;
+    sea_status st = water_index(args, &sea, err);
+    if (st != SEA_OK)
+        return st;
+    *wavelength_um = sea.wavelength_um;
+    *N = sea.N;
+    return SEA_OK;
+}
+
 /* Sea state from --wind, --fetch, --wind-dir (--wind must be given). */
 static sea_status sea_state(const sea_cli_args *args, sea_spectrum *spec, double *wind,
                             double *fetch, sea_error *err)
@@ -663,6 +675,12 @@ const sea_cli_command *sea_cli_command_find(const char *name)
     for (size_t i = 0; i < SEA_CLI_COUNT(SEA_CLI_COMMANDS); ++i)
         if (strcmp(SEA_CLI_COMMANDS[i].name, name) == 0)
             return &SEA_CLI_COMMANDS[i];
+    for (size_t i = 0; i < sea_cli_waves_n_commands; ++i)
+        if (strcmp(sea_cli_waves_commands[i].name, name) == 0)
+            return &sea_cli_waves_commands[i];
+    for (size_t i = 0; i < sea_cli_render_n_commands; ++i)
+        if (strcmp(sea_cli_render_commands[i].name, name) == 0)
+            return &sea_cli_render_commands[i];
     return NULL;
 }
 
@@ -679,10 +697,18 @@ void sea_cli_print_usage(FILE *f)
           f);
     for (size_t i = 0; i < SEA_CLI_COUNT(SEA_CLI_COMMANDS); ++i)
         fprintf(f, "  %-13s %s\n", SEA_CLI_COMMANDS[i].name, SEA_CLI_COMMANDS[i].summary);
+    for (size_t i = 0; i < sea_cli_waves_n_commands; ++i)
+        fprintf(f, "  %-13s %s\n", sea_cli_waves_commands[i].name,
+                sea_cli_waves_commands[i].summary);
+    for (size_t i = 0; i < sea_cli_render_n_commands; ++i)
+        fprintf(f, "  %-13s %s\n", sea_cli_render_commands[i].name,
+                sea_cli_render_commands[i].summary);
     fputs("  help          this text, or the options of one subcommand\n"
           "\n"
-          "Each subcommand writes CSV on standard output: a header row, then one\n"
-          "row per case.  Exit status: 0 success, 1 numerical failure, 2 usage\n"
-          "error, 3 input/output error.  See seabake(1).\n",
+          "The physics subcommands and slopes write CSV on standard output: a\n"
+          "header row, then one row per case; convergence and bench print a table\n"
+          "and write their files into a directory; render writes EXR and PNG\n"
+          "images of a scene file (seabake-scene(5)).  Exit status: 0 success,\n"
+          "1 runtime failure, 2 usage error, 3 input/output error.  See seabake(1).\n",
           f);
 }

@@ -278,6 +278,43 @@ static double edge_weight(const sea_clip_level *lv, double x, double y, double *
     return fmin(1.0, edge / band);
 }
 
+static int compare_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median x and y of the ground points of the pixels that want level l
+ * (of those that read it, if none wants it). */
+static sea_status median_point(const sea_render *r, int l, double *mx, double *my,
+                               sea_error *err)
+{
+    double *v = malloc(2 * r->npix * sizeof(double));
+    if (v == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu pixels", r->npix);
+    size_t n = 0;
+    for (int pass = 0; pass < 2 && n == 0; pass++)
+        for (size_t q = 0; q < r->npix; q++) {
+            const pixel *p = &r->px[q];
+            if (!p->hit || (pass == 0 ? p->level != l : !(p->need & ((uint32_t)1 << l))))
+                continue;
+            v[n] = p->x;
+            v[r->npix + n] = p->y;
+            n++;
+        }
+    if (n == 0) {
+        free(v);
+        *mx = *my = 0.0;
+        return SEA_OK;
+    }
+    qsort(v, n, sizeof(double), compare_double);
+    qsort(v + r->npix, n, sizeof(double), compare_double);
+    *mx = v[n / 2];
+    *my = v[r->npix + n / 2];
+    free(v);
+    return SEA_OK;
+}
+
 /* ------------------------------------------------------------- prepare */
 
 static void to_moments(const sea_slope_stats *st, sea_moments *m)
@@ -377,6 +414,27 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
             r->first_lr = l;
     }
 
+    /* Every low-resolution level is the same surface (m = 0, C = C_LR):
+     * pixels that want any of them read the first one. */
+    for (size_t q = 0; q < r->npix; q++) {
+        pixel *p = &r->px[q];
+        if (!p->hit)
+            continue;
+        if (p->level >= r->first_lr) {
+            p->need &= ~((uint32_t)1 << p->level);
+            p->level = r->first_lr;
+            p->need |= (uint32_t)1 << r->first_lr;
+        }
+        if (p->neighbour >= r->first_lr) {
+            p->need &= ~((uint32_t)1 << p->neighbour);
+            p->neighbour = p->neighbour == p->level ? -1 : r->first_lr;
+            if (p->neighbour < 0)
+                p->alpha = 0.0;
+            else
+                p->need |= (uint32_t)1 << r->first_lr;
+        }
+    }
+
     /* Windows, finest first: the bounding box of the ground points that read
      * a level, capped at grid x grid facets around their centre.  Pixels
      * outside a window, or in its fading edge, read the next coarser level
@@ -414,13 +472,20 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
         const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
         long i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
         long j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
-        if ((size_t)(i_hi - i_lo + 1) > grid) {
-            i_lo = (i_lo + i_hi) / 2 - (long)grid / 2;
-            i_hi = i_lo + (long)grid - 1;
-        }
-        if ((size_t)(j_hi - j_lo + 1) > grid) {
-            j_lo = (j_lo + j_hi) / 2 - (long)grid / 2;
-            j_hi = j_lo + (long)grid - 1;
+        if ((size_t)(i_hi - i_lo + 1) > grid || (size_t)(j_hi - j_lo + 1) > grid) {
+            /* capped: centre on the median ground point of the pixels whose
+             * footprint chose this level (the bounding box also holds
+             * pixels pushed up from finer windows) */
+            double cxm = 0.0, cym = 0.0;
+            TRY(median_point(r, l, &cxm, &cym, err));
+            if ((size_t)(i_hi - i_lo + 1) > grid) {
+                i_lo = (long)floor(cxm / L) - (long)grid / 2;
+                i_hi = i_lo + (long)grid - 1;
+            }
+            if ((size_t)(j_hi - j_lo + 1) > grid) {
+                j_lo = (long)floor(cym / L) - (long)grid / 2;
+                j_hi = j_lo + (long)grid - 1;
+            }
         }
         lv->i0 = i_lo;
         lv->j0 = j_lo;

@@ -309,14 +309,15 @@ for args in help --help -h; do
     check_match "help.$args.usage" "$SB_OUT" "^Usage: seabake SUBCOMMAND"
     check_eq "help.$args.stderr" "$SB_ERR" ""
 done
-for cmd in spectrum emissivity reflectivity energy; do
+for cmd in spectrum emissivity reflectivity energy slopes convergence bench; do
     sb_run help "$cmd"
     check_rc "help.$cmd.rc" 0
     check_match "help.$cmd.usage" "$SB_OUT" "^Usage: seabake $cmd"
     usage=$SB_OUT
     sb_run "$cmd" --help
     check_eq "help.$cmd.--help" "$SB_OUT" "$usage"
-    sb_run "$cmd" --wind 10 -h
+    # -h wins over the other options, whatever they are.
+    if [ "$cmd" = bench ]; then sb_run "$cmd" --quick -h; else sb_run "$cmd" --wind 10 -h; fi
     check_eq "help.$cmd.-h" "$SB_OUT" "$usage"
 done
 sb_run --version
@@ -427,5 +428,545 @@ auto_e=$(csv_all emissivity | tr '\n' ' ')
 sb_run emissivity --wavelength 4 --cov 0.0361,0.0256,0 --mean 0.15,-0.15 --theta -60:60:20 --method fast
 fast_e=$(csv_all emissivity | tr '\n' ' ')
 check_close emissivity.fast_vs_auto "$fast_e" "$auto_e" 0.01
+
+
+# ================================================================ slopes
+
+SLOPES=(slopes --wind 10 --facet 4 --size 8,6 --quiet)
+sb_run "${SLOPES[@]}"
+check_ok slopes.ok
+check_eq slopes.header "$(csv_header)" "i,j,x_m,y_m,mx,my,mxx,mxy,myy,h"
+check_eq slopes.rows "$(csv_rows)" 48
+check_csv_shape slopes.shape
+# Centred on the origin, j outer and i inner; x_m, y_m are facet centres.
+check_eq slopes.first "$(csv_col i 1),$(csv_col j 1),$(csv_col x_m 1),$(csv_col y_m 1)" "-4,-3,-14,-10"
+check_eq slopes.second "$(csv_col i 2),$(csv_col j 2)" "-3,-3"
+check_eq slopes.last "$(csv_col i 48),$(csv_col j 48),$(csv_col x_m 48),$(csv_col y_m 48)" "3,2,14,10"
+# Raw moments hold the mean: M - m m^T is a covariance (PSD).
+bad=$(printf '%s\n' "$SB_OUT" | tail -n +2 | awk -F, '{
+    cxx = $7 - $5 * $5; cyy = $9 - $6 * $6; cxy = $8 - $5 * $6
+    if (cxx < 0 || cyy < 0 || cxy * cxy > cxx * cyy * (1 + 1e-6)) print }' | head -n 1)
+check_eq slopes.psd "$bad" ""
+slopes_ref=$SB_OUT
+
+# The same seed gives the same bytes; another seed another sea.
+sb_run "${SLOPES[@]}" --seed 1
+check_eq slopes.same_seed "$SB_OUT" "$slopes_ref"
+sb_run "${SLOPES[@]}" --seed 2
+check_ok slopes.seed2
+check slopes.other_seed [ "$SB_OUT" != "$slopes_ref" ]
+sb_run "${SLOPES[@]}" --seed 18446744073709551615
+check_ok slopes.seed_max
+
+# The thread count changes nothing, whatever the method and generator.
+for m in "--method variable-step" "--method variable-step-2n --n 2" "--method one-meter" \
+    "--generator fft" "--method variable-step-2n --n 1 --generator fft"; do
+    # shellcheck disable=SC2086
+    OMP_NUM_THREADS=1 sb_run slopes --wind 10 --facet 4 --size 16,12 --quiet $m
+    check_ok "slopes.threads1[$m]"
+    one=$SB_OUT
+    # shellcheck disable=SC2086
+    OMP_NUM_THREADS=2 sb_run slopes --wind 10 --facet 4 --size 16,12 --quiet $m
+    check_eq "slopes.threads2[$m]" "$SB_OUT" "$one"
+    # shellcheck disable=SC2086
+    OMP_NUM_THREADS=3 sb_run slopes --wind 10 --facet 4 --size 16,12 --quiet $m
+    check_eq "slopes.threads3[$m]" "$SB_OUT" "$one"
+done
+
+# Methods differ; one-meter at L = L0 is Variable Step on the FFT patch.
+sb_run slopes --wind 10 --facet 4 --size 8,6 --quiet --method variable-step-2n --n 2
+check_ok slopes.2n
+check slopes.2n_differs [ "$SB_OUT" != "$slopes_ref" ]
+sb_run slopes --wind 10 --facet 1 --size 8,6 --quiet --method one-meter
+one_meter=$SB_OUT
+sb_run slopes --wind 10 --facet 1 --size 8,6 --quiet --generator fft
+check_eq slopes.one_meter_is_fft_variable_step "$SB_OUT" "$one_meter"
+
+# Time moves the waves; a loop period brings them back.
+sb_run "${SLOPES[@]}" --time 3
+check slopes.time_moves [ "$SB_OUT" != "$slopes_ref" ]
+sb_run "${SLOPES[@]}" --loop-period 20
+loop0=$(csv_all mx)
+sb_run "${SLOPES[@]}" --loop-period 20 --time 20
+check_close slopes.loop_period "$(csv_all mx)" "$loop0" 1e-9
+sb_run "${SLOPES[@]}" --loop-period 20 --time 10
+check slopes.loop_half_differs [ "$(csv_all mx)" != "$loop0" ]
+
+# The summary line: one line on stderr, stdout unchanged.
+sb_run slopes --wind 10 --facet 4 --size 8,6
+check_rc slopes.summary_rc 0
+check_eq slopes.summary_stdout "$SB_OUT" "$slopes_ref"
+check_eq slopes.summary_lines "$(printf '%s\n' "$SB_ERR" | grep -c '')" 1
+check_match slopes.summary "$SB_ERR" \
+    "^slopes: 8 x 6 facets of 4 m, variable-step n=0 \(sinusoids\): mean slope .*; variance of facet means .*; mean sub-facet covariance .*/LR x [0-9.]+, y [0-9.]+$"
+# Generated plus sub-facet variance is the low-resolution variance on a
+# rectangle (512 m) much larger than the waves.
+for m in "--method variable-step" "--method variable-step-2n --n 2" "--method one-meter"; do
+    # shellcheck disable=SC2086
+    sb_run slopes --wind 10 --facet 8 --size 64,64 $m
+    ratio=$(printf '%s\n' "$SB_ERR" | sed -n 's|.*/LR x \([0-9.]*\), y \([0-9.]*\)$|\1 \2|p')
+    num_check "slopes.lr_ratio[$m]" 'x > 0.95 && x < 1.05 && y > 0.95 && y < 1.05' \
+        x="${ratio% *}" y="${ratio#* }"
+done
+
+# Files: CSV (the same bytes as stdout) and EXR, nothing left behind.
+sb_run "${SLOPES[@]}" -o "$SB_TMP/s.csv"
+check_rc slopes.csv_file_rc 0
+check_eq slopes.csv_file_stdout "$SB_OUT" ""
+check_eq slopes.csv_file_same "$(cat "$SB_TMP/s.csv")" "$slopes_ref"
+sb_run "${SLOPES[@]}" -o="$SB_TMP/s.CSV"
+check_eq slopes.csv_file_upper "$(cat "$SB_TMP/s.CSV")" "$slopes_ref"
+sb_run "${SLOPES[@]}" -o "$SB_TMP/s.exr"
+check_rc slopes.exr_rc 0
+check_eq slopes.exr_quiet "$SB_OUT$SB_ERR" ""
+check_eq slopes.exr_magic "$(od -An -tx1 -N4 "$SB_TMP/s.exr" 2>/dev/null | tr -d ' \n')" "762f3101"
+for a in method facet_m n wind wind_dir_deg fetch_m seed time_s origin generator; do
+    check "slopes.exr_attr.$a" grep -qa "seabake:$a" "$SB_TMP/s.exr"
+done
+for ch in mxx mxy myy; do
+    check "slopes.exr_channel.$ch" grep -qa "$ch" "$SB_TMP/s.exr"
+done
+# The lower-left corner of 8 x 6 facets of 4 m centred on the origin.
+check slopes.exr_origin grep -qa -- "-16,-12" "$SB_TMP/s.exr"
+if command -v exrheader >/dev/null 2>&1; then
+    check_match slopes.exrheader "$(exrheader "$SB_TMP/s.exr" 2>&1)" "\(0 0\) - \(7 5\)"
+fi
+check_eq slopes.no_temporary "$(find "$SB_TMP" -maxdepth 1 -name '*.tmp.*' | grep -c '')" 0
+
+# Every usage error: exit 2, the option named, and no file left behind.
+slopes_error() {
+    local name=$1 rc=$2 re=$3
+    shift 3
+    rm -f "$SB_TMP"/bad.*
+    sb_run slopes "$@" -o "$SB_TMP/bad.exr"
+    check_error "$name" "$rc" "$re"
+    check_eq "$name.no_file" "$(find "$SB_TMP" -maxdepth 1 -name 'bad.*' | grep -c '')" 0
+}
+slopes_error slopes.missing_wind 2 "missing --wind" --facet 4
+slopes_error slopes.missing_facet 2 "missing --facet" --wind 10
+slopes_error slopes.facet_below_finest 2 "--facet: 0.5 m is below --finest 1 m" \
+    --wind 10 --facet 0.5 --finest 1
+slopes_error slopes.facet_negative 2 "--facet: -1 is outside \(0, 1000000\] m" --wind 10 --facet -1
+slopes_error slopes.facet_zero 2 "--facet: 0 is outside" --wind 10 --facet 0
+slopes_error slopes.size_zero 2 "--size: 0 is outside \[1, 65536\] facets" \
+    --wind 10 --facet 4 --size 0,4
+slopes_error slopes.size_big 2 "--size: 65537 is outside" --wind 10 --facet 4 --size 4,65537
+slopes_error slopes.size_form 2 "--size: expected NX,NY" --wind 10 --facet 4 --size 4
+slopes_error slopes.size_integer 2 "--size: 2.5 is not an integer" --wind 10 --facet 4 --size 2.5,3
+slopes_error slopes.method 2 \
+    "--method: 'nonsense' is not one of variable-step, variable-step-2n, one-meter" \
+    --wind 10 --facet 4 --method nonsense
+slopes_error slopes.n_without_2n 2 "--n applies only to --method variable-step-2n, not variable-step" \
+    --wind 10 --facet 4 --n 2
+slopes_error slopes.n_with_one_meter 2 "--n applies only to --method variable-step-2n" \
+    --wind 10 --facet 4 --method one-meter --n 2
+slopes_error slopes.n_missing 2 "missing --n" --wind 10 --facet 4 --method variable-step-2n
+slopes_error slopes.n_25 2 "--n: 25 is outside \[0, 20\]" \
+    --wind 10 --facet 4 --method variable-step-2n --n 25
+slopes_error slopes.n_fraction 2 "--n: 1.5 is not an integer" \
+    --wind 10 --facet 4 --method variable-step-2n --n 1.5
+slopes_error slopes.n_too_fine 2 "--n: sub-facets of 4 m / 2\^3 = 0.5 m are below --finest 1 m" \
+    --wind 10 --facet 4 --method variable-step-2n --n 3
+slopes_error slopes.one_meter_not_pow2 2 "--facet: one-meter needs L = --finest 1 m times 2\^n" \
+    --wind 10 --facet 3 --method one-meter
+slopes_error slopes.fft_step 2 "--generator fft samples steps of --finest 1 m" \
+    --wind 10 --facet 3 --generator fft
+slopes_error slopes.fft_patch 2 "FFT patch of 32768 points per side .*limit of 16384" \
+    --wind 10 --facet 8 --size 4096,4096 --generator fft
+slopes_error slopes.generator 2 "--generator: 'bogus' is not one of sinusoids, fft" \
+    --wind 10 --facet 4 --generator bogus
+slopes_error slopes.seed_negative 2 "--seed: '-1' is not an unsigned integer" \
+    --wind 10 --facet 4 --seed -1
+slopes_error slopes.seed_overflow 2 "--seed: 18446744073709551616 is outside" \
+    --wind 10 --facet 4 --seed 18446744073709551616
+slopes_error slopes.loop_negative 2 "--loop-period: -1 is outside \[0, inf\) s" \
+    --wind 10 --facet 4 --loop-period -1
+slopes_error slopes.time_inf 2 "--time: inf is not a finite number" --wind 10 --facet 4 --time inf
+slopes_error slopes.finest_zero 2 "--finest: 0 is outside \(0, 1000000\] m" \
+    --wind 10 --facet 4 --finest 0
+slopes_error slopes.wind 2 "--wind: 41 is outside \[0.5, 40\] m/s" --wind 41 --facet 4
+slopes_error slopes.quiet_value 2 "--quiet takes no value" --wind 10 --facet 4 --quiet=1
+slopes_error slopes.double_dash_o 2 "unknown option '--o'" --wind 10 --facet 4 --o x.csv
+# A rectangle that cannot fit in memory is refused at once (SEA_ERR_NOMEM:
+# exit 1), naming the size it needs, before any work or file.
+slopes_error slopes.memory 1 "--size 65536,65536 needs [0-9.]+ GiB; this machine has" \
+    --wind 10 --facet 1024 --size 65536,65536 --method variable-step-2n --n 10
+sb_run slopes --wind 10 --facet 4 -o "$SB_TMP/bad.txt"
+check_error slopes.extension 2 "-o: '.*bad.txt' must end in .csv or .exr"
+sb_run slopes --wind 10 --facet 4 -o "$SB_TMP/no/such/dir/x.csv"
+check_error slopes.no_directory 3 "-o: cannot write into directory '.*no/such/dir'"
+sb_run slopes --wind 10 --facet 4 -o
+check_error slopes.o_value 2 "-o needs a value"
+check_eq slopes.errors_no_temporary "$(find "$SB_TMP" -maxdepth 1 -name '*.tmp.*' | grep -c '')" 0
+
+# =========================================================== convergence
+
+CONV=(convergence --wavelength 4 --wind 5,20 --theta 80 --facets 8 --quiet)
+sb_run "${CONV[@]}" -o "$SB_TMP/conv"
+if command -v gnuplot >/dev/null 2>&1; then
+    check_rc convergence.rc 0
+    check_eq convergence.stderr "$SB_ERR" ""
+    check_eq convergence.png_magic "$(od -An -tx1 -N8 "$SB_TMP/conv/convergence.png" 2>/dev/null |
+        tr -d ' \n')" "89504e470d0a1a0a"
+else
+    check_error convergence.no_gnuplot 1 "gnuplot not found: convergence.csv written, chart not drawn"
+fi
+conv_out=$SB_OUT
+check_match convergence.table "$conv_out" "^U10_m_s +x +L_m +facets"
+check_match convergence.line5 "$conv_out" \
+    "^U10 = 5 m/s: emissivity within 0.1% of LR for L >= [0-9]+ m, reflectivity for L >= [0-9]+ m$"
+check_match convergence.line20 "$conv_out" \
+    "^U10 = 20 m/s: emissivity within 0.1% of LR for L >= [0-9]+ m, reflectivity for L >= [0-9]+ m$"
+# The paper (Fig. 5-6): converged by 64 m at 5 m/s, by 512 m at 20 m/s;
+# higher wind, later convergence.
+l5=$(printf '%s\n' "$conv_out" | sed -n 's/^U10 = 5 m\/s: emissivity within 0.1% of LR for L >= \([0-9]*\) m, reflectivity for L >= \([0-9]*\) m$/\1 \2/p')
+l20=$(printf '%s\n' "$conv_out" | sed -n 's/^U10 = 20 m\/s: emissivity within 0.1% of LR for L >= \([0-9]*\) m, reflectivity for L >= \([0-9]*\) m$/\1 \2/p')
+num_check convergence.sizes 'e5 >= 8 && e5 <= 128 && r5 <= 128 && e20 >= 128 && r20 >= 128 && e20 > e5' \
+    e5="${l5% *}" r5="${l5#* }" e20="${l20% *}" r20="${l20#* }"
+check_eq convergence.no_temporary "$(find "$SB_TMP/conv" -name '*.tmp.*' | grep -c '')" 0
+
+conv_csv=$(cat "$SB_TMP/conv/convergence.csv" 2>/dev/null)
+check_match convergence.comments "$(printf '%s\n' "$conv_csv" | grep '^#')" \
+    "wavelength_um=4 theta_obs_deg=80 phi_obs_deg=0 theta_inc_deg=-80 phi_inc_deg=0"
+check_match convergence.comment_seed "$(printf '%s\n' "$conv_csv" | grep '^#')" \
+    "seed=1 method=variable-step .*tolerance=0.001"
+check_match convergence.comment_water "$(printf '%s\n' "$conv_csv" | grep '^#')" \
+    "water=hale-querry salinity_g_kg=35"
+SB_OUT=$(printf '%s\n' "$conv_csv" | grep -v '^#')
+check_eq convergence.header "$(csv_header)" \
+    "wind_m_s,x,L_m,facets,n,emis_lr,emis_origin,emis_mean,emis_rms_dev,emis_max_dev,refl_lr,refl_origin,refl_mean,refl_rms_dev,refl_max_dev,var_mx,var_my"
+check_eq convergence.rows "$(csv_rows)" 22
+check_csv_shape convergence.shape
+check_eq convergence.rows_per_wind "$(csv_all wind_m_s | sort | uniq -c | awk '{ printf "%s:%s ", $2, $1 }')" \
+    "20:11 5:11 "
+check_eq convergence.x "$(csv_all x | head -n 11 | tr '\n' ' ')" "1 2 3 4 5 6 7 8 9 10 11 "
+check_eq convergence.L "$(csv_all L_m | head -n 11 | tr '\n' ' ')" "1 2 4 8 16 32 64 128 256 512 1024 "
+check_eq convergence.facets "$(csv_all facets | sort -u)" 8
+check_eq convergence.lr_constant "$(csv_all emis_lr | head -n 11 | sort -u | grep -c '')" 1
+# Small facets differ from LR, the largest agree with it; the deviations
+# are bounded by the largest one.
+bad=$(printf '%s\n' "$SB_OUT" | tail -n +2 | awk -F, '
+    $2 == 1 && !($10 > 0.001 * $6 && $15 > 0.001 * $11) { print "x=1 converged: " $0 }
+    $2 == 11 && !($10 <= 0.001 * $6 && $15 <= 0.001 * $11) { print "x=11 not converged: " $0 }
+    !($9 <= $10 + 1e-12 && $14 <= $15 + 1e-12) { print "rms > max: " $0 }
+    !($7 > 0 && $7 < 1 && $8 > 0 && $8 < 1) { print "emissivity outside (0, 1): " $0 }')
+check_eq convergence.behaviour "$bad" ""
+
+# The same seed gives the same table whatever the thread count.
+OMP_NUM_THREADS=1 sb_run convergence --wavelength 4 --wind 10 --theta 60 --facets 4 --sizes 1:6 \
+    --quiet -o "$SB_TMP/conv1"
+check_rc convergence.threads1_rc "$([ -x "$(command -v gnuplot)" ] && echo 0 || echo 1)"
+OMP_NUM_THREADS=2 sb_run convergence --wavelength 4 --wind 10 --theta 60 --facets 4 --sizes 1:6 \
+    --quiet -o "$SB_TMP/conv2"
+check_eq convergence.threads "$(cat "$SB_TMP/conv2/convergence.csv")" \
+    "$(cat "$SB_TMP/conv1/convergence.csv")"
+SB_OUT=$(grep -v '^#' "$SB_TMP/conv1/convergence.csv")
+check_eq convergence.sizes_option "$(csv_all x | tr '\n' ' ')" "1 2 3 4 5 6 "
+check_eq convergence.inc_default "$(grep -c 'theta_inc_deg=-60 phi_inc_deg=0' "$SB_TMP/conv1/convergence.csv")" 1
+
+# The methods: one-meter reduces the facets beyond 4096 m per side,
+# variable-step-2n keeps sub-facets >= 1 m.
+sb_run convergence --wavelength 4 --wind 10 --theta 60 --facets 2 --sizes 1:4 \
+    --method variable-step-2n --n 2 --quiet -o "$SB_TMP/conv3"
+SB_OUT=$(grep -v '^#' "$SB_TMP/conv3/convergence.csv")
+check_eq convergence.2n_n "$(csv_all n | tr '\n' ' ')" "0 1 2 2 "
+sb_run convergence --wavelength 4 --wind 10 --theta 60 --facets 16 --sizes 8:9 \
+    --method one-meter --quiet -o "$SB_TMP/conv4"
+SB_OUT=$(grep -v '^#' "$SB_TMP/conv4/convergence.csv")
+check_eq convergence.one_meter_facets "$(csv_all facets | tr '\n' ' ')" "16 16 "
+check_eq convergence.one_meter_n "$(csv_all n | tr '\n' ' ')" "7 8 "
+
+# Without gnuplot the CSV is still written, and the command fails (exit 1).
+mkdir -p "$SB_TMP/bin" "$SB_TMP/fakebin"
+ln -sf "$(command -v cat)" "$SB_TMP/bin/cat"
+PATH="$SB_TMP/bin" sb_run convergence --wavelength 4 --wind 5 --theta 80 --facets 2 --sizes 1:3 \
+    --quiet -o "$SB_TMP/conv5"
+check_rc convergence.absent_rc 1
+check_match convergence.absent_msg "$SB_ERR" \
+    "^seabake: error: gnuplot not found: convergence.csv written, chart not drawn$"
+check convergence.absent_csv [ -s "$SB_TMP/conv5/convergence.csv" ]
+check convergence.absent_no_png [ ! -e "$SB_TMP/conv5/convergence.png" ]
+# A gnuplot that fails: exit 3, its message, no chart and no temporary file.
+printf '#!/bin/sh\necho "fake gnuplot: refused" >&2\nexit 1\n' >"$SB_TMP/fakebin/gnuplot"
+chmod +x "$SB_TMP/fakebin/gnuplot"
+PATH="$SB_TMP/fakebin:$SB_TMP/bin" sb_run convergence --wavelength 4 --wind 5 --theta 80 \
+    --facets 2 --sizes 1:3 --quiet -o "$SB_TMP/conv6"
+check_rc convergence.gnuplot_fails_rc 3
+check_match convergence.gnuplot_fails_msg "$SB_ERR" "gnuplot failed: fake gnuplot: refused"
+check convergence.gnuplot_fails_no_png [ ! -e "$SB_TMP/conv6/convergence.png" ]
+check_eq convergence.gnuplot_fails_no_temporary \
+    "$(find "$SB_TMP/conv6" -name '*.tmp.*' | grep -c '')" 0
+
+CONV_ERR=(convergence --wavelength 4 --wind 5 --theta 80 -o "$SB_TMP/conv-bad")
+sb_run convergence --wavelength 4 --theta 80
+check_error convergence.missing_wind 2 "missing --wind"
+sb_run convergence --wavelength 4 --wind 5
+check_error convergence.missing_theta 2 "missing --theta"
+sb_run convergence --wind 5 --theta 80
+check_error convergence.missing_wavelength 2 "missing --wavelength"
+sb_run "${CONV_ERR[@]}" --theta 90
+check_error convergence.theta 2 "--theta: 90 is outside \[0, 90\) degrees"
+sb_run "${CONV_ERR[@]}" --theta -10
+check_error convergence.theta_negative 2 "--theta: -10 is outside"
+sb_run "${CONV_ERR[@]}" --wind 5,41
+check_error convergence.wind_list 2 "--wind: 41 is outside \[0.5, 40\] m/s"
+sb_run "${CONV_ERR[@]}" --facets 0
+check_error convergence.facets 2 "--facets: 0 is outside \[1, 256\]"
+sb_run "${CONV_ERR[@]}" --facets 300
+check_error convergence.facets_max 2 "--facets: 300 is outside \[1, 256\]"
+sb_run "${CONV_ERR[@]}" --tolerance 0
+check_error convergence.tolerance 2 "--tolerance: 0 is outside \(0, 1\)"
+sb_run "${CONV_ERR[@]}" --sizes 5:3
+check_error convergence.sizes_backwards 2 "--sizes: '5:3' runs backwards"
+sb_run "${CONV_ERR[@]}" --sizes 0:4
+check_error convergence.sizes_range 2 "--sizes: 0 is outside \[1, 11\]"
+sb_run "${CONV_ERR[@]}" --sizes 1:2:3
+check_error convergence.sizes_form 2 "--sizes: '1:2:3' is not X1:X2"
+sb_run "${CONV_ERR[@]}" --n 2
+check_error convergence.n 2 "--n applies only to --method variable-step-2n"
+sb_run "${CONV_ERR[@]}" --inc 90,0
+check_error convergence.inc 2 "--inc: 90 is outside"
+sb_run "${CONV_ERR[@]}" --wavelength 20
+check_error convergence.wavelength 2 "--wavelength: .*outside"
+sb_run "${CONV_ERR[@]}" --water /nonexistent.csv
+check_error convergence.water 3 "--water: /nonexistent.csv"
+check convergence.errors_no_directory [ ! -e "$SB_TMP/conv-bad" ]
+printf 'x\n' >"$SB_TMP/plainfile"
+sb_run convergence --wavelength 4 --wind 5 --theta 80 --sizes 1 -o "$SB_TMP/plainfile"
+check_error convergence.o_not_directory 3 "-o: '.*plainfile' is not a directory"
+
+# ================================================================= bench
+
+sb_run bench --threads 0
+check_error bench.threads 2 "--threads: 0 is outside \[1, 1024\]"
+sb_run bench --quick=1
+check_error bench.quick_value 2 "--quick takes no value"
+sb_run bench --size 4
+check_error bench.unknown 2 "unknown option '--size'"
+if [ -n "$SEABAKE_WRAPPER" ]; then
+    echo "cli: bench --quick skipped under $SEABAKE_WRAPPER (too slow)" >&2
+else
+    sb_run bench --quick --threads 2 -o "$SB_TMP/bench"
+    check_rc bench.rc 0
+    check_eq bench.stderr "$SB_ERR" ""
+    check_match bench.table "$SB_OUT" "^section +method +settings"
+    check_match bench.ratio "$SB_OUT" \
+        "^FFT to sinusoids at equal spectrum resolution \(N = 128, step 1 m\): .* ratio [0-9.e+]+; max \|difference\| [0-9.e+-]+ relative$"
+    # The FFT and the same waves as sinusoids agree to round-off.
+    diff=$(printf '%s\n' "$SB_OUT" | sed -n 's/.*max |difference| \([0-9.e+-]*\) relative$/\1/p')
+    num_check bench.same_waves 'd >= 0 && d < 1e-9' d="$diff"
+    SB_OUT=$(cat "$SB_TMP/bench/bench.csv" 2>/dev/null)
+    check_eq bench.header "$(csv_header)" "section,method,settings,facets,seconds,facets_per_s,threads"
+    check_eq bench.rows "$(csv_rows)" 6
+    check_eq bench.methods "$(csv_all method | tr '\n' ' ')" \
+        "variable-step variable-step-2n one-meter variable-step fft-sample sinusoids-sample "
+    check_eq bench.facets "$(csv_all facets | tr '\n' ' ')" "65536 65536 65536 65536 16384 1024 "
+    check_eq bench.threads_column "$(csv_all threads | sort -u)" 2
+    bad=$(printf '%s\n' "$SB_OUT" | tail -n +2 | awk -F, '!($5 > 0 && $6 > 0)')
+    check_eq bench.positive "$bad" ""
+fi
+
+# ================================================================ render
+
+# A small copy of the shipped tiny scene (tinier under a memory checker).
+RSIZE=48
+[ -n "$SEABAKE_WRAPPER" ] && RSIZE=12
+RDIR="$SB_TMP/render"
+mkdir -p "$RDIR/cwd" || exit 99
+sed -e "s/^width = .*/width = $RSIZE/" -e "s/^height = .*/height = $RSIZE/" \
+    "$top_srcdir/examples/tiny.ini" >"$RDIR/sea.ini"
+RSCENE=$RDIR/sea.ini
+magic() {
+    od -An -tx1 -N"$2" "$1" 2>/dev/null | tr -d ' \n'
+}
+# absent COMMAND...: succeeds when the command fails.
+absent() {
+    ! "$@"
+}
+# render_files PATTERN: how many files in $RDIR match the glob PATTERN.
+render_files() {
+    find "$RDIR" -maxdepth 1 -name "$1" | grep -c ''
+}
+
+sb_run render "$RSCENE" -o "$RDIR/out.exr" --aov level,emissivity,reflectivity,temperature
+check_rc render.rc 0
+check_eq render.stdout "$SB_OUT" ""
+check_match render.summary "$SB_ERR" \
+    "^render: .*out\.exr: $RSIZE x $RSIZE, levels [0-9.,]+.*\(LR\) m, 1 frame, [0-9.e+-]+ s, brightness temperature [0-9.]+ to [0-9.]+ K$"
+check_eq render.exr_magic "$(magic "$RDIR/out.exr" 4)" "762f3101"
+check_eq render.png_magic "$(magic "$RDIR/out.png" 8)" "89504e470d0a1a0a"
+check_eq render.png_depth_8 "$(od -An -tu1 -j24 -N1 "$RDIR/out.png" | tr -d ' ')" 8
+for a in level emissivity reflectivity temperature; do
+    check_eq "render.aov_magic.$a" "$(magic "$RDIR/out.$a.exr" 4)" "762f3101"
+done
+for a in quantity unit scene time_s seed levels; do
+    check "render.exr_attr.$a" grep -qa "seabake:$a" "$RDIR/out.exr"
+done
+check render.exr_unit grep -qa "W m^-2 sr^-1 um^-1" "$RDIR/out.exr"
+check render.exr_scene grep -qaF "$RSCENE" "$RDIR/out.exr"
+check render.exr_levels grep -qaE "[0-9]+\(LR\)" "$RDIR/out.exr"
+check render.exr_no_frame_attr absent grep -qa "seabake:frame" "$RDIR/out.exr"
+check render.aov_unit_reflectivity grep -qa "sr^-1" "$RDIR/out.reflectivity.exr"
+if command -v exrheader >/dev/null 2>&1; then
+    header=$(exrheader "$RDIR/out.exr" 2>&1)
+    check_match render.exrheader_channel "$header" "^ *Y, 32-bit floating-point"
+    check_match render.exrheader_zip "$header" "zip"
+    check_match render.exrheader_size "$header" "\(0 0\) - \($((RSIZE - 1)) $((RSIZE - 1))\)"
+    check_match render.exrheader_quantity "$header" 'seabake:quantity .*"radiance"'
+    check_match render.exrheader_time "$header" 'seabake:time_s .*"0"'
+    for au in level:m emissivity:1 reflectivity:sr^-1 temperature:K; do
+        header=$(exrheader "$RDIR/out.${au%%:*}.exr" 2>&1)
+        check_match "render.exrheader_unit.${au%%:*}" "$header" \
+            "seabake:unit \(type string\): \"$(printf '%s' "${au#*:}" | sed 's/\^/\\^/')\""
+        check_match "render.exrheader_aov_channel.${au%%:*}" "$header" "^ *Y, 32-bit floating-point"
+    done
+fi
+check_eq render.no_temporary "$(render_files '*.tmp.*')" 0
+
+# The same scene gives the same bytes, whatever the thread count.
+sb_run render "$RSCENE" -o "$RDIR/again.exr" --threads 1 --quiet
+check_eq render.quiet "$SB_OUT$SB_ERR" ""
+check render.same_bytes cmp -s "$RDIR/out.exr" "$RDIR/again.exr"
+check render.same_png cmp -s "$RDIR/out.png" "$RDIR/again.png"
+sb_run render "$RSCENE" -o "$RDIR/again.exr" --threads 2 --quiet
+check render.same_bytes_threads cmp -s "$RDIR/out.exr" "$RDIR/again.exr"
+
+# Default names: the scene's base name in the current directory; --png none;
+# a 16-bit preview; --half.
+# shellcheck disable=SC2086
+(cd "$RDIR/cwd" && $SEABAKE_WRAPPER "$SEABAKE" render ../sea.ini --quiet) 2>"$RDIR/err"
+check_eq render.default_err "$(cat "$RDIR/err")" ""
+check render.default_exr test -s "$RDIR/cwd/sea.exr"
+check render.default_png test -s "$RDIR/cwd/sea.png"
+sb_run render "$RSCENE" -o "$RDIR/nopng.exr" --png none --quiet
+check_rc render.png_none_rc 0
+check render.png_none test ! -e "$RDIR/nopng.png"
+sb_run render "$RSCENE" -o "$RDIR/deep.exr" --png "$RDIR/preview16.png" --png-depth 16 --quiet
+check_eq render.png_depth_16 "$(od -An -tu1 -j24 -N1 "$RDIR/preview16.png" | tr -d ' ')" 16
+check render.png_named_not_default test ! -e "$RDIR/deep.png"
+sb_run render "$RSCENE" -o "$RDIR/half.exr" --half --aov level --png none --quiet
+check_rc render.half_rc 0
+if command -v exrheader >/dev/null 2>&1; then
+    check_match render.half_channel "$(exrheader "$RDIR/half.exr" 2>&1)" "Y, 16-bit floating-point"
+    check_match render.half_level_stays_float "$(exrheader "$RDIR/half.level.exr" 2>&1)" \
+        "Y, 32-bit floating-point"
+fi
+
+# Frames: numbered sets, t = time + f / rate, nothing without a number.
+sb_run render "$RSCENE" -o "$RDIR/anim.exr" --frames 0:1 --aov level --quiet
+check_rc render.frames_rc 0
+for f in 0000 0001; do
+    check_eq "render.frame_exr.$f" "$(magic "$RDIR/anim_$f.exr" 4)" "762f3101"
+    check_eq "render.frame_aov.$f" "$(magic "$RDIR/anim_$f.level.exr" 4)" "762f3101"
+    check_eq "render.frame_png.$f" "$(magic "$RDIR/anim_$f.png" 8)" "89504e470d0a1a0a"
+done
+check_eq render.frames_count "$(render_files 'anim*')" 6
+check render.frame_time grep -qaF "0.04" "$RDIR/anim_0001.exr"
+check render.frame_attr grep -qa "seabake:frame" "$RDIR/anim_0001.exr"
+check render.frames_differ absent cmp -s "$RDIR/anim_0000.exr" "$RDIR/anim_0001.exr"
+sb_run render "$RSCENE" -o "$RDIR/slow.exr" --frames 3:3 --frame-rate 10 --png none --quiet
+check render.frame_rate grep -qaF "0.3" "$RDIR/slow_0003.exr"
+if command -v exrheader >/dev/null 2>&1; then
+    check_match render.exrheader_frame_time "$(exrheader "$RDIR/anim_0001.exr" 2>&1)" \
+        'seabake:time_s .*"0.04"'
+    check_match render.exrheader_frame "$(exrheader "$RDIR/slow_0003.exr" 2>&1)" \
+        'seabake:frame .*"3"'
+    check_match render.exrheader_rate "$(exrheader "$RDIR/slow_0003.exr" 2>&1)" \
+        'seabake:time_s .*"0.3"'
+fi
+
+# --explain: the levels, why they are low-resolution, the samples.
+sb_run render "$RSCENE" -o "$RDIR/explain.exr" --explain --quiet --png none
+check_rc render.explain_rc 0
+check_match render.explain_level "$SB_ERR" "level +[0-9]+: [0-9.]+ m, window [0-9]+ x [0-9]+ facets from"
+check_match render.explain_lr "$SB_ERR" "low-resolution: the waves longer than .* less than the tolerance 0.001"
+check_match render.explain_samples "$SB_ERR" "1 spectral sample, at 4 um"
+
+# Scene-file errors: FILE:LINE, exit 2, no output file.
+render_error() {
+    local name=$1 rc=$2 re=$3 scene=$4
+    rm -f "$RDIR"/bad.*
+    sb_run render "$scene" -o "$RDIR/bad.exr" --aov level
+    check_error "$name" "$rc" "$re"
+    check_eq "$name.no_file" "$(render_files 'bad.*')" 0
+}
+sed 's/^wind_speed = .*/wind_sped = 8/' "$RSCENE" >"$RDIR/e_key.ini"
+render_error render.scene_unknown_key 2 "e_key.ini:[0-9]+: \[sea\] wind_sped: unknown key" \
+    "$RDIR/e_key.ini"
+sed 's/^wind_speed = .*/wind_speed = 41/' "$RSCENE" >"$RDIR/e_range.ini"
+render_error render.scene_range 2 \
+    "e_range.ini:[0-9]+: \[sea\] wind_speed: 41 is out of range \(allowed: \[0.5, 40\] m/s\)" \
+    "$RDIR/e_range.ini"
+grep -v '^altitude' "$RSCENE" >"$RDIR/e_missing.ini"
+render_error render.scene_missing_key 2 "e_missing.ini:[0-9]+: \[sensor\] altitude: missing required key" \
+    "$RDIR/e_missing.ini"
+sed 's/^\[sun\]/[moon]/' "$RSCENE" >"$RDIR/e_section.ini"
+render_error render.scene_section 2 "e_section.ini:[0-9]+: \[moon\]: unknown section" \
+    "$RDIR/e_section.ini"
+printf '[sea\nwind_speed = 8\n' >"$RDIR/e_syntax.ini"
+render_error render.scene_syntax 2 "e_syntax.ini:1: syntax error" "$RDIR/e_syntax.ini"
+sed 's/^wavelength = .*/wavelength = 1/' "$RSCENE" >"$RDIR/e_band.ini"
+render_error render.scene_wavelength 2 "e_band.ini:[0-9]+: \[sensor\] wavelength: 1 um is outside the water table" \
+    "$RDIR/e_band.ini"
+printf 'a\000b\n' >"$RDIR/e_binary.ini"
+render_error render.scene_binary 2 "e_binary.ini: contains a NUL byte" "$RDIR/e_binary.ini"
+render_error render.scene_unreadable 3 "no-such-scene.ini: cannot open" "$RDIR/no-such-scene.ini"
+
+# Usage errors: exit 2, no file.
+render_usage() {
+    local name=$1 re=$2
+    shift 2
+    rm -f "$RDIR"/bad.*
+    sb_run render "$@"
+    check_error "$name" 2 "$re"
+    check_eq "$name.no_file" "$(render_files 'bad.*')" 0
+}
+render_usage render.aov_nonsense "--aov: 'nonsense' is not one of level, emissivity, reflectivity, temperature" \
+    "$RSCENE" -o "$RDIR/bad.exr" --aov level,nonsense
+render_usage render.aov_twice "--aov: 'level' is given twice" "$RSCENE" -o "$RDIR/bad.exr" --aov level,level
+render_usage render.missing_scene "missing SCENE.ini" -o "$RDIR/bad.exr"
+render_usage render.two_scenes "unexpected argument" "$RSCENE" "$RSCENE" -o "$RDIR/bad.exr"
+render_usage render.extension "-o: '.*bad.txt' must end in .exr" "$RSCENE" -o "$RDIR/bad.txt"
+render_usage render.png_extension "--png: '.*bad.jpg' must end in .png" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png "$RDIR/bad.jpg"
+render_usage render.png_depth "--png-depth: 12 is not 8 or 16" "$RSCENE" -o "$RDIR/bad.exr" --png-depth 12
+render_usage render.png_depth_none "--png-depth applies only to a preview" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png none --png-depth 16
+render_usage render.frames_form "--frames: expected A:B" "$RSCENE" -o "$RDIR/bad.exr" --frames 3
+render_usage render.frames_backwards "--frames: '3:1' runs backwards" "$RSCENE" -o "$RDIR/bad.exr" --frames 3:1
+render_usage render.frames_integer "--frames: '0.5:2' must hold integers" \
+    "$RSCENE" -o "$RDIR/bad.exr" --frames 0.5:2
+render_usage render.frames_negative "--frames: -1 is outside \[0, 999999\]" \
+    "$RSCENE" -o "$RDIR/bad.exr" --frames -1:2
+render_usage render.frames_many "--frames: '0:100000' has 100001 frames, more than 100000" \
+    "$RSCENE" -o "$RDIR/bad.exr" --frames 0:100000
+render_usage render.rate_alone "--frame-rate applies only with --frames" \
+    "$RSCENE" -o "$RDIR/bad.exr" --frame-rate 30
+render_usage render.rate_zero "--frame-rate: 0 is outside \(0, inf\) Hz" \
+    "$RSCENE" -o "$RDIR/bad.exr" --frames 0:1 --frame-rate 0
+render_usage render.threads "--threads: 0 is outside \[1, 1024\]" "$RSCENE" -o "$RDIR/bad.exr" --threads 0
+render_usage render.half_value "--half takes no value" "$RSCENE" -o "$RDIR/bad.exr" --half=1
+cp "$RSCENE" "$RDIR/bad.exr"
+sb_run render "$RDIR/bad.exr" -o "$RDIR/bad.exr"
+check_error render.scene_is_output 2 "-o: '.*bad.exr' is the scene file"
+check_eq render.scene_kept "$(cat "$RDIR/bad.exr")" "$(cat "$RSCENE")"
+rm -f "$RDIR/bad.exr"
+
+# Output errors: exit 3 before any work, nothing left.
+sb_run render "$RSCENE" -o "$RDIR/no/such/dir/x.exr"
+check_error render.no_directory 3 "-o: cannot write into directory '.*no/such/dir'"
+printf 'x\n' >"$RDIR/plainfile"
+sb_run render "$RSCENE" -o "$RDIR/plainfile/x.exr"
+check_error render.not_directory 3 "-o: cannot write into directory '.*plainfile'"
+sb_run render "$RSCENE" -o "$RDIR/ok.exr" --png "$RDIR/no/such/dir/x.png"
+check_error render.png_no_directory 3 "--png: cannot write into directory"
+check render.png_no_directory_no_exr test ! -e "$RDIR/ok.exr"
+# A file of the frame that fails after others were written (the preview's
+# name is a directory): the frame's files are removed.
+mkdir -p "$RDIR/taken.png"
+sb_run render "$RSCENE" -o "$RDIR/partial.exr" --aov level --png "$RDIR/taken.png"
+check_error render.partial 3 "taken.png"
+check_eq render.partial_removed "$(render_files 'partial*')" 0
+check_eq render.errors_no_temporary "$(render_files '*.tmp.*')" 0
 
 finish

@@ -216,6 +216,46 @@ static void test_levels_and_seams(void)
     sea_image_free(&img);
 }
 
+/* The paper's three figure scenes (examples/fig7-9.ini) read exactly the
+ * levels of its Fig. 10: 1 and 2 m; 2, 4 and 8 m; 8, 16 and 32 m. */
+static void test_figure_levels(void)
+{
+    if (UNIT_QUICK)
+        return; /* three 500 x 500 renders: minutes under a memory checker */
+    const char *names[3] = { "fig7", "fig8", "fig9" };
+    const float want[3][3] = { { 1.0f, 2.0f, 0.0f }, { 2.0f, 4.0f, 8.0f }, { 8.0f, 16.0f, 32.0f } };
+    for (int s = 0; s < 3; s++) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/examples/%s.ini", SEA_TOP_SRCDIR, names[s]);
+        sea_scene sc;
+        sea_error err;
+        sea_status st = sea_scene_load(path, &sc, &err);
+        if (st != SEA_OK)
+            fprintf(stderr, "  %s\n", err.msg);
+        CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
+        sc.emissivity_method = SEA_EMIS_FAST; /* only the levels matter here */
+        sea_image img;
+        render(&sc, 0.0, &img);
+        size_t count[3] = { 0, 0, 0 }, other = 0;
+        for (size_t i = 0; i < (size_t)sc.width * (size_t)sc.height; i++) {
+            int k = 0;
+            while (k < 3 && img.level[i] != want[s][k])
+                k++;
+            if (k < 3 && want[s][k] > 0.0f)
+                count[k]++;
+            else
+                other++;
+        }
+        MEASURED("%s levels: %g m %zu px, %g m %zu px, %g m %zu px, other %zu\n", names[s],
+                 want[s][0], count[0], want[s][1], count[1], want[s][2], count[2], other);
+        CU_ASSERT_EQUAL(other, 0);
+        for (int k = 0; k < 3; k++)
+            if (want[s][k] > 0.0f)
+                CU_ASSERT(count[k] > 0);
+        sea_image_free(&img);
+    }
+}
+
 /* Low-resolution levels get no synthesis: a high view of a calm sea is
  * all low-resolution, with no wave plan and no facets. */
 static void test_low_resolution_levels(void)
@@ -247,5 +287,6 @@ int test_render_register(void)
            !CU_add_test(s, "glint position", test_glint_position) ||
            !CU_add_test(s, "determinism and time", test_determinism_and_time) ||
            !CU_add_test(s, "levels and seams", test_levels_and_seams) ||
-           !CU_add_test(s, "low-resolution levels", test_low_resolution_levels);
+           !CU_add_test(s, "low-resolution levels", test_low_resolution_levels) ||
+           !CU_add_test(s, "Fig. 7-9 level sets", test_figure_levels);
 }

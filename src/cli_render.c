@@ -1,0 +1,641 @@
+/* cli_render.c - the render subcommand of seabake: a scene file
+ * (seabake-scene(5)) to images.
+ *
+ * One prepare (camera, levels, spectral samples, wave plan), then one
+ * sea_render_frame per frame; each frame writes the radiance to OUT.exr
+ * (channel Y), the requested AOVs to OUT.<aov>.exr and a brightness
+ * temperature preview to OUT.png, with a frame suffix (OUT_0001.exr) when
+ * --frames is given.
+ *
+ * Every option is checked, and the scene file read, before any work; the
+ * output directories are checked before the (long) rendering.  The
+ * exporters write each file under a temporary name and rename it when
+ * complete; if one file of a frame fails, the files this run already wrote
+ * for that frame are removed, so a frame is all there or not at all. */
+#include <errno.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "cli.h"
+#include "exr.h"
+#include "preview.h"
+
+/* ------------------------------------------------------------ constants */
+
+/* Frames: numbers in [0, RENDER_FRAME_MAX], at most RENDER_FRAMES_MAX per
+ * run (as many as a LIST holds); names carry at least 4 digits, as
+ * Blender's "####". */
+#define RENDER_FRAME_MAX 999999
+#define RENDER_FRAMES_MAX SEA_CLI_LIST_MAX
+enum { RENDER_FRAME_DIGITS = 4 };
+static const double RENDER_FRAME_RATE_DEFAULT = 25.0; /* Hz */
+/* The preview's range: the 0.5 % and 99.5 % quantiles, so that a few
+ * glint pixels do not flatten the rest of the image. */
+static const double RENDER_PNG_CLIP = 0.005;
+#define RENDER_THREADS_MAX 1024
+/* Width of the progress bar, characters. */
+enum { RENDER_BAR = 30 };
+/* Wavelengths listed by --explain before "...". */
+enum { RENDER_EXPLAIN_SAMPLES = 16 };
+
+static const sea_cli_range RENDER_RANGE_FRAME = {0.0, RENDER_FRAME_MAX, false, false, ""};
+static const sea_cli_range RENDER_RANGE_RATE = {0.0, INFINITY, true, true, "Hz"};
+
+/* Arbitrary output variables, each in its own file OUT.<name>.exr. */
+typedef enum { AOV_LEVEL, AOV_EMISSIVITY, AOV_REFLECTIVITY, AOV_TEMPERATURE, AOV_COUNT } render_aov;
+
+static const struct {
+    const char *name;
+    const char *unit;
+    const char *quantity;
+} RENDER_AOVS[AOV_COUNT] = {
+    {"level", "m", "facet size of the clipmap level (0: sky)"},
+    {"emissivity", "1", "effective emissivity"},
+    {"reflectivity", "sr^-1", "effective reflectivity sun -> sensor"},
+    {"temperature", "K", "brightness temperature"},
+};
+
+/* ------------------------------------------------------------ help text */
+
+static const char RENDER_HELP[] =
+    "Usage: seabake render SCENE.ini [-o OUT.exr] [OPTIONS]\n"
+    "\n"
+    "Renders the view described by a scene file (seabake-scene(5)): the radiance\n"
+    "of every pixel (Eq 23 of the paper) over the clipmap levels the view needs.\n"
+    "Writes OUT.exr (channel Y: spectral radiance, W m^-2 sr^-1 um^-1, for one\n"
+    "wavelength; in-band radiance, W m^-2 sr^-1, for a band; FLOAT, ZIP) and a\n"
+    "PNG preview of the brightness temperature.  Files are written atomically.\n"
+    "A summary line goes to standard error, and a progress bar on a terminal.\n"
+    "\n"
+    "Output:\n"
+    "  -o OUT.exr          the radiance image; default: the scene file's base name\n"
+    "                      with .exr, in the current directory\n"
+    "  --aov LIST          comma list of level (facet size, m; 0 for the sky),\n"
+    "                      emissivity, reflectivity (sr^-1), temperature\n"
+    "                      (brightness, K): each to OUT.<aov>.exr, channel Y\n"
+    "  --png FILE.png      the preview (brightness temperature, linear between the\n"
+    "                      0.5 % and 99.5 % quantiles); default OUT.png; none: no\n"
+    "                      preview\n"
+    "  --png-depth D       bits per pixel of the preview, 8 (default) or 16\n"
+    "  --half              16-bit float channels (the level AOV stays 32-bit)\n"
+    "\n"
+    "Frames:\n"
+    "  --frames A:B        frames A to B, integers, 0 <= A <= B <= 999999, at most\n"
+    "                      100000; frame f at time + f / HZ; each file name gets\n"
+    "                      the frame number: OUT_0001.exr, OUT_0001.level.exr,\n"
+    "                      OUT_0001.png.  Default: one frame at the scene's time\n"
+    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
+    "\n"
+    "Running:\n"
+    "  --threads N         OpenMP threads, 1..1024; default: the OpenMP default\n"
+    "  --quiet             no progress bar and no summary line\n"
+    "  --explain           print on standard error what was chosen: the clipmap\n"
+    "                      levels (facet size, window, resolution, pixels), why\n"
+    "                      levels are low-resolution, the spectral samples\n";
+
+/* ------------------------------------------------------------- the setup */
+
+typedef struct {
+    const char *scene_path;
+    sea_scene sc;
+    /* OUT.exr as stem + extension; the preview likewise (png false: none) */
+    char *out_stem, *png_stem;
+    const char *out_ext, *png_ext;
+    bool png;
+    int png_depth;
+    bool aov[AOV_COUNT];
+    bool framed;
+    long frame_a, frame_b;
+    double rate;
+    bool half, quiet, explain, progress;
+} render_setup;
+
+static void render_setup_free(render_setup *s)
+{
+    free(s->out_stem);
+    free(s->png_stem);
+    s->out_stem = s->png_stem = NULL;
+}
+
+static bool has_suffix(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n > m && strcasecmp(s + n - m, suffix) == 0;
+}
+
+/* "--frames A:B". */
+static sea_status parse_frames(const char *text, long *a, long *b, sea_error *err)
+{
+    const char *colon = strchr(text, ':');
+    char first[64];
+    if (colon == NULL || strchr(colon + 1, ':') != NULL || (size_t)(colon - text) >= sizeof first)
+        return sea_fail(err, SEA_ERR_PARSE, "--frames: expected A:B (two frame numbers), got '%s'",
+                        text);
+    memcpy(first, text, (size_t)(colon - text));
+    first[colon - text] = '\0';
+    double va, vb;
+    sea_status st = sea_cli_parse_number("--frames", first, &RENDER_RANGE_FRAME, &va, err);
+    if (st == SEA_OK)
+        st = sea_cli_parse_number("--frames", colon + 1, &RENDER_RANGE_FRAME, &vb, err);
+    if (st != SEA_OK)
+        return st;
+    if (va != floor(va) || vb != floor(vb))
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' must hold integers", text);
+    if (va > vb)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' runs backwards (A:B needs A <= B)",
+                        text);
+    if (vb - va + 1.0 > RENDER_FRAMES_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' has %.0f frames, more than %d", text,
+                        vb - va + 1.0, RENDER_FRAMES_MAX);
+    *a = (long)va;
+    *b = (long)vb;
+    return SEA_OK;
+}
+
+/* "--aov level,temperature". */
+static sea_status parse_aovs(const char *text, bool aov[AOV_COUNT], sea_error *err)
+{
+    const char *p = text;
+    for (;;) {
+        const char *end = strchr(p, ',');
+        const size_t len = end ? (size_t)(end - p) : strlen(p);
+        int k = -1;
+        for (int q = 0; q < AOV_COUNT; ++q)
+            if (strlen(RENDER_AOVS[q].name) == len && strncmp(RENDER_AOVS[q].name, p, len) == 0)
+                k = q;
+        if (k < 0)
+            return sea_fail(err, SEA_ERR_PARSE,
+                            "--aov: '%.*s' is not one of level, emissivity, reflectivity, "
+                            "temperature (in '%s')",
+                            (int)len, p, text);
+        if (aov[k])
+            return sea_fail(err, SEA_ERR_PARSE, "--aov: '%s' is given twice (in '%s')",
+                            RENDER_AOVS[k].name, text);
+        aov[k] = true;
+        if (end == NULL)
+            return SEA_OK;
+        p = end + 1;
+    }
+}
+
+/* An integer option in [lo, hi]; def when not given. */
+static sea_status opt_integer(const sea_cli_args *args, const char *name, long lo, long hi,
+                              long def, long *out, sea_error *err)
+{
+    const char *text = sea_cli_args_get(args, name);
+    if (text == NULL) {
+        *out = def;
+        return SEA_OK;
+    }
+    char opt[48];
+    snprintf(opt, sizeof opt, "--%s", name);
+    const sea_cli_range range = {(double)lo, (double)hi, false, false, ""};
+    double v;
+    sea_status st = sea_cli_parse_number(opt, text, &range, &v, err);
+    if (st != SEA_OK)
+        return st;
+    if (v != floor(v))
+        return sea_fail(err, SEA_ERR_DOMAIN, "%s: %s is not an integer", opt, text);
+    *out = (long)v;
+    return SEA_OK;
+}
+
+/* The default output: the scene file's base name, its extension replaced
+ * by .exr, in the current directory. */
+static char *default_stem(const char *scene_path)
+{
+    const char *base = strrchr(scene_path, '/');
+    base = base ? base + 1 : scene_path;
+    const char *dot = strrchr(base, '.');
+    const size_t len = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+    return strndup(base, len);
+}
+
+/* Every option, then the scene file (its errors are usage errors, exit 2,
+ * or SEA_ERR_IO when it cannot be read). */
+static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_error *err)
+{
+    memset(s, 0, sizeof *s);
+    sea_status st;
+    s->scene_path = sea_cli_args_get(args, "scene");
+    if (s->scene_path == NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "missing SCENE.ini (the scene file, seabake-scene(5))");
+    if (s->scene_path[0] == '\0')
+        return sea_fail(err, SEA_ERR_PARSE, "empty scene file name");
+
+    const char *out = sea_cli_args_get(args, "o");
+    if (out != NULL && !has_suffix(out, ".exr"))
+        return sea_fail(err, SEA_ERR_PARSE, "-o: '%s' must end in .exr", out);
+    const char *png = sea_cli_args_get(args, "png");
+    s->png = png == NULL || strcmp(png, "none") != 0;
+    if (png != NULL && s->png && !has_suffix(png, ".png"))
+        return sea_fail(err, SEA_ERR_PARSE, "--png: '%s' must end in .png (or be none)", png);
+    long depth;
+    if ((st = opt_integer(args, "png-depth", 8, 16, 8, &depth, err)) != SEA_OK)
+        return st;
+    if (depth != 8 && depth != 16)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--png-depth: %ld is not 8 or 16", depth);
+    if (!s->png && sea_cli_args_get(args, "png-depth") != NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--png-depth applies only to a preview, not --png none");
+    s->png_depth = (int)depth;
+    const char *aov = sea_cli_args_get(args, "aov");
+    if (aov != NULL && (st = parse_aovs(aov, s->aov, err)) != SEA_OK)
+        return st;
+
+    const char *frames = sea_cli_args_get(args, "frames");
+    s->framed = frames != NULL;
+    if (s->framed && (st = parse_frames(frames, &s->frame_a, &s->frame_b, err)) != SEA_OK)
+        return st;
+    const char *rate = sea_cli_args_get(args, "frame-rate");
+    s->rate = RENDER_FRAME_RATE_DEFAULT;
+    if (rate != NULL) {
+        if (!s->framed)
+            return sea_fail(err, SEA_ERR_DOMAIN, "--frame-rate applies only with --frames");
+        if ((st = sea_cli_parse_number("--frame-rate", rate, &RENDER_RANGE_RATE, &s->rate, err)) !=
+            SEA_OK)
+            return st;
+    }
+    long threads;
+    if ((st = opt_integer(args, "threads", 1, RENDER_THREADS_MAX, 0, &threads, err)) != SEA_OK)
+        return st;
+#ifdef _OPENMP
+    if (threads > 0)
+        omp_set_num_threads((int)threads);
+#endif
+    s->half = sea_cli_args_get(args, "half") != NULL;
+    s->quiet = sea_cli_args_get(args, "quiet") != NULL;
+    s->explain = sea_cli_args_get(args, "explain") != NULL;
+    s->progress = !s->quiet && isatty(STDERR_FILENO);
+
+    /* The scene is read last: a typing mistake on the command line is
+     * reported first. */
+    if ((st = sea_scene_load(s->scene_path, &s->sc, err)) != SEA_OK)
+        return st;
+
+    if (out != NULL) {
+        s->out_stem = strndup(out, strlen(out) - strlen(".exr"));
+        s->out_ext = out + strlen(out) - strlen(".exr");
+    } else {
+        s->out_stem = default_stem(s->scene_path);
+        s->out_ext = ".exr";
+    }
+    if (s->png && png != NULL) {
+        s->png_stem = strndup(png, strlen(png) - strlen(".png"));
+        s->png_ext = png + strlen(png) - strlen(".png");
+    } else if (s->png) {
+        s->png_stem = s->out_stem ? strdup(s->out_stem) : NULL;
+        s->png_ext = ".png";
+    }
+    if (s->out_stem == NULL || (s->png && s->png_stem == NULL))
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    return SEA_OK;
+}
+
+/* ------------------------------------------------------------------ files */
+
+/* "STEM[_FFFF][MIDDLE]EXT", malloc'ed. */
+static char *frame_path(const char *stem, bool framed, long frame, const char *middle,
+                        const char *ext)
+{
+    char num[32] = "";
+    if (framed)
+        snprintf(num, sizeof num, "_%0*ld", RENDER_FRAME_DIGITS, frame);
+    const size_t len = strlen(stem) + strlen(num) + strlen(middle) + strlen(ext) + 1;
+    char *p = malloc(len);
+    if (p != NULL)
+        snprintf(p, len, "%s%s%s%s", stem, num, middle, ext);
+    return p;
+}
+
+/* Fails before any rendering when the directory of path cannot take a new
+ * file (the exporters create their temporary file there). */
+static sea_status check_parent_writable(const char *opt, const char *path, sea_error *err)
+{
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+    if (dir == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    sea_status st = SEA_OK;
+    if (access(dir, W_OK | X_OK) != 0)
+        st = sea_fail(err, SEA_ERR_IO, "%s: cannot write into directory '%s': %s", opt, dir,
+                      strerror(errno));
+    free(dir);
+    return st;
+}
+
+/* ------------------------------------------------------------- reporting */
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* "1,2,512(LR)": facet sizes of the levels prepare chose, finest first. */
+static void levels_text(const sea_render *r, char *buf, size_t size)
+{
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < n && used < size; ++i) {
+        int w = snprintf(buf + used, size - used, "%s%.10g%s", i ? "," : "", lv[i].facet,
+                         lv[i].low_res ? "(LR)" : "");
+        if (w < 0)
+            break;
+        used += (size_t)w;
+    }
+}
+
+/* --explain: what sea_render_prepare chose, and why. */
+static void explain(const render_setup *s, const sea_render *r)
+{
+    const sea_scene *sc = &s->sc;
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    const size_t npix = (size_t)sc->width * (size_t)sc->height;
+    size_t sea_pixels = 0;
+    for (size_t i = 0; i < n; ++i)
+        sea_pixels += lv[i].pixels;
+    fprintf(stderr,
+            "render: %s: %d x %d pixels, %zu sea and %zu sky; %zu clipmap level%s of facets "
+            "%g m x 2^l (grid %d, tolerance %g, method %s):\n",
+            s->scene_path, sc->width, sc->height, sea_pixels, npix - sea_pixels, n,
+            n == 1 ? "" : "s", sc->finest, sc->grid, sc->tolerance,
+            sea_facet_method_name((sea_facet_method)sc->method));
+    for (size_t i = 0; i < n; ++i) {
+        const sea_clip_level *l = &lv[i];
+        if (l->low_res)
+            fprintf(stderr,
+                    "  level %2d: %.10g m, low-resolution (m = 0, C = C_LR, no facets), generated "
+                    "share %.3g, %zu pixels\n",
+                    l->level, l->facet, l->generated_share, l->pixels);
+        else
+            fprintf(stderr,
+                    "  level %2d: %.10g m, window %zu x %zu facets from (%ld, %ld) = (%g m, %g m), "
+                    "generated share %.3g, %zu pixels, sub-facets 2^%d x 2^%d\n",
+                    l->level, l->facet, l->nx, l->ny, l->i0, l->j0, (double)l->i0 * l->facet,
+                    (double)l->j0 * l->facet, l->generated_share, l->pixels, l->sub_n, l->sub_n);
+    }
+    /* The first low-resolution level is the end of every pixel's chain. */
+    for (size_t i = 0; i < n; ++i) {
+        if (!lv[i].low_res)
+            continue;
+        fprintf(stderr,
+                "  levels from %g m are low-resolution: the waves longer than 2 x %g m carry "
+                "%.3g of the slope variance, less than the tolerance %g\n",
+                lv[i].facet, lv[i].facet, lv[i].generated_share, sc->tolerance);
+        break;
+    }
+    fprintf(stderr,
+            "  a pixel of footprint F reads level round(log2(F / %g m)), or a coarser one outside "
+            "that level's window; \"pixels\" counts the pixels whose footprint chose it\n",
+            sc->finest);
+    const double *wl, *wt;
+    const size_t k = sea_render_samples(r, &wl, &wt);
+    if (sc->wavelength > 0.0) {
+        fprintf(stderr, "render: 1 spectral sample, at %g um\n", wl[0] * 1e6);
+        return;
+    }
+    fprintf(stderr, "render: %zu spectral sample%s over %g-%g um (%s, %s response):", k,
+            k == 1 ? "" : "s", sc->band_min * 1e6, sc->band_max * 1e6,
+            sc->band_samples > 0 ? "samples in the scene" : "chosen by the tolerance",
+            sc->response_file[0] ? "the file's" : "flat");
+    for (size_t i = 0; i < k && i < RENDER_EXPLAIN_SAMPLES; ++i)
+        fprintf(stderr, "%s%.4g", i ? ", " : " ", wl[i] * 1e6);
+    fprintf(stderr, "%s um\n", k > RENDER_EXPLAIN_SAMPLES ? ", ..." : "");
+}
+
+/* The progress bar, over all frames: frame index and count in ctx. */
+typedef struct {
+    size_t index, count;
+    int shown; /* last percentage printed, -1 none */
+} render_progress;
+
+static void progress_bar(void *ctx, double fraction)
+{
+    render_progress *p = ctx;
+    const double done = ((double)p->index + fmin(fmax(fraction, 0.0), 1.0)) / (double)p->count;
+    const int pct = (int)floor(100.0 * done);
+    if (pct == p->shown)
+        return;
+    p->shown = pct;
+    char bar[RENDER_BAR + 1];
+    const int full = (int)floor(RENDER_BAR * done);
+    for (int i = 0; i < RENDER_BAR; ++i)
+        bar[i] = i < full ? '#' : '.';
+    bar[RENDER_BAR] = '\0';
+    if (p->count > 1)
+        fprintf(stderr, "\rrender: [%s] %3d%% frame %zu/%zu", bar, pct, p->index + 1, p->count);
+    else
+        fprintf(stderr, "\rrender: [%s] %3d%%", bar, pct);
+    fflush(stderr);
+}
+
+/* ---------------------------------------------------------------- frames */
+
+/* Writes every file of one frame; on a failure removes those it wrote. */
+static sea_status write_frame(const render_setup *s, const sea_image *img, long frame, double t,
+                              const char *levels, sea_error *err)
+{
+    const sea_scene *sc = &s->sc;
+    char *written[2 + AOV_COUNT];
+    size_t n_written = 0;
+    sea_status st = SEA_OK;
+    char time_s[32], seed[32], frame_s[32];
+    snprintf(time_s, sizeof time_s, "%.10g", t);
+    snprintf(seed, sizeof seed, "%lu", sc->seed);
+    snprintf(frame_s, sizeof frame_s, "%ld", frame);
+    sea_exr_attr attrs[] = {{"seabake:quantity", "radiance"},
+                            {"seabake:unit", sc->wavelength > 0.0 ? "W m^-2 sr^-1 um^-1"
+                                                                  : "W m^-2 sr^-1"},
+                            {"seabake:scene", s->scene_path},
+                            {"seabake:time_s", time_s},
+                            {"seabake:seed", seed},
+                            {"seabake:levels", levels},
+                            {"seabake:frame", frame_s}};
+    const size_t n_attrs = sizeof attrs / sizeof attrs[0] - (s->framed ? 0 : 1);
+    const sea_exr_options opt = {s->half ? SEA_EXR_HALF : SEA_EXR_FLOAT, SEA_EXR_ZIP};
+    const sea_exr_options opt_float = {SEA_EXR_FLOAT, SEA_EXR_ZIP};
+
+    char *path = frame_path(s->out_stem, s->framed, frame, "", s->out_ext);
+    if (path == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    sea_exr_channel ch = {"Y", img->radiance};
+    st = sea_exr_write(path, img->width, img->height, &ch, 1, attrs, n_attrs, &opt, err);
+    if (st == SEA_OK)
+        written[n_written++] = path;
+    else
+        free(path);
+
+    const float *planes[AOV_COUNT] = {img->level, img->emissivity, img->reflectivity,
+                                      img->temperature};
+    for (int k = 0; k < AOV_COUNT && st == SEA_OK; ++k) {
+        if (!s->aov[k])
+            continue;
+        char middle[32];
+        snprintf(middle, sizeof middle, ".%s", RENDER_AOVS[k].name);
+        if ((path = frame_path(s->out_stem, s->framed, frame, middle, s->out_ext)) == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+            break;
+        }
+        attrs[0].value = RENDER_AOVS[k].name;
+        attrs[1].value = RENDER_AOVS[k].unit;
+        ch.data = planes[k];
+        /* Level sizes reach L0 2^23 m, beyond HALF's 65504: always FLOAT. */
+        st = sea_exr_write(path, img->width, img->height, &ch, 1, attrs, n_attrs,
+                           k == AOV_LEVEL ? &opt_float : &opt, err);
+        if (st == SEA_OK)
+            written[n_written++] = path;
+        else
+            free(path);
+    }
+
+    if (st == SEA_OK && s->png) {
+        const size_t npix = (size_t)img->width * (size_t)img->height;
+        double lo, hi;
+        sea_png_range(img->temperature, npix, RENDER_PNG_CLIP, &lo, &hi);
+        if ((path = frame_path(s->png_stem, s->framed, frame, "", s->png_ext)) == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        } else {
+            st = sea_png_write_gray(path, img->width, img->height, img->temperature, lo, hi,
+                                    s->png_depth, err);
+            if (st == SEA_OK)
+                written[n_written++] = path;
+            else
+                free(path);
+        }
+    }
+
+    for (size_t i = 0; i < n_written; ++i) {
+        if (st != SEA_OK)
+            unlink(written[i]);
+        free(written[i]);
+    }
+    return st;
+}
+
+/* The directories of the outputs, before the rendering: a typing mistake
+ * in -o must not cost a whole render. */
+static sea_status check_outputs(const render_setup *s, sea_error *err)
+{
+    char *probe = frame_path(s->out_stem, s->framed, s->frame_a, "", s->out_ext);
+    if (probe == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    sea_status st = check_parent_writable("-o", probe, err);
+    /* A scene file called x.exr would be its own default output. */
+    struct stat a, b;
+    if (st == SEA_OK && stat(probe, &a) == 0 && stat(s->scene_path, &b) == 0 &&
+        a.st_dev == b.st_dev && a.st_ino == b.st_ino)
+        st = sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' is the scene file", probe);
+    free(probe);
+    if (st != SEA_OK || !s->png)
+        return st;
+    if ((probe = frame_path(s->png_stem, false, 0, "", s->png_ext)) == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    st = check_parent_writable("--png", probe, err);
+    free(probe);
+    return st;
+}
+
+/* Every frame, written as it is done; then the summary line. */
+static sea_status render_frames(const render_setup *s, const sea_render *r, double start,
+                                sea_error *err)
+{
+    sea_image img;
+    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    if (st != SEA_OK)
+        return st;
+    char levels[SEA_CLIP_MAX_LEVELS * 24];
+    levels_text(r, levels, sizeof levels);
+    const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
+    render_progress prog = {0, (size_t)(last - first + 1), -1};
+    const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
+    double t_min = INFINITY, t_max = -INFINITY;
+    for (long f = first; f <= last && st == SEA_OK; ++f) {
+        const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
+        prog.index = (size_t)(f - first);
+        st = sea_render_frame(r, t, &img, s->progress ? progress_bar : NULL, &prog, err);
+        if (st == SEA_OK)
+            st = write_frame(s, &img, f, t, levels, err);
+        if (st != SEA_OK)
+            break;
+        for (size_t q = 0; q < npix; ++q) {
+            t_min = fmin(t_min, img.temperature[q]);
+            t_max = fmax(t_max, img.temperature[q]);
+        }
+        if (s->progress)
+            progress_bar(&prog, 1.0);
+    }
+    if (s->progress)
+        fputc('\n', stderr);
+    sea_image_free(&img);
+    if (st != SEA_OK || s->quiet)
+        return st;
+    char *a = frame_path(s->out_stem, s->framed, first, "", s->out_ext);
+    char *b = frame_path(s->out_stem, s->framed, last, "", s->out_ext);
+    if (a != NULL && b != NULL)
+        fprintf(stderr,
+                "render: %s%s%s: %d x %d, levels %s m, %ld frame%s, %.3g s, brightness "
+                "temperature %.2f to %.2f K\n",
+                a, last > first ? " to " : "", last > first ? b : "", s->sc.width, s->sc.height,
+                levels, last - first + 1, last > first ? "s" : "", seconds_now() - start, t_min,
+                t_max);
+    free(a);
+    free(b);
+    return a != NULL && b != NULL ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+}
+
+static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err)
+{
+    (void)out; /* the images go to files, the reports to standard error */
+    const double start = seconds_now();
+    render_setup s;
+    sea_render *r = NULL;
+    sea_status st = render_parse(args, &s, err);
+    if (st == SEA_OK)
+        st = check_outputs(&s, err);
+    if (st == SEA_OK)
+        st = sea_render_prepare(&s.sc, &r, err);
+    if (st == SEA_OK && s.explain)
+        explain(&s, r);
+    if (st == SEA_OK)
+        st = render_frames(&s, r, start, err);
+    sea_render_free(r);
+    render_setup_free(&s);
+    return st;
+}
+
+/* --------------------------------------------------------------- command */
+
+static const sea_cli_option RENDER_OPTIONS[] = {
+    {"scene", SEA_CLI_OPT_POSITIONAL},
+    {"o", SEA_CLI_OPT_SHORT},
+    {"frames", 0},
+    {"frame-rate", 0},
+    {"aov", 0},
+    {"png", 0},
+    {"png-depth", 0},
+    {"half", SEA_CLI_OPT_FLAG},
+    {"threads", 0},
+    {"quiet", SEA_CLI_OPT_FLAG},
+    {"explain", SEA_CLI_OPT_FLAG}};
+
+const sea_cli_command sea_cli_render_commands[] = {
+    {"render", "images of a scene file: radiance EXR, AOVs, PNG preview", RENDER_HELP,
+     RENDER_OPTIONS, sizeof RENDER_OPTIONS / sizeof RENDER_OPTIONS[0], run_render},
+};
+const size_t sea_cli_render_n_commands =
+    sizeof sea_cli_render_commands / sizeof sea_cli_render_commands[0];
