@@ -136,6 +136,10 @@ extern const size_t sea_cli_waves_n_commands;
 extern const sea_cli_command sea_cli_render_commands[];
 extern const size_t sea_cli_render_n_commands;
 
+/* The subcommand of cli_bake.c (bake), listed after render. */
+extern const sea_cli_command sea_cli_bake_commands[];
+extern const size_t sea_cli_bake_n_commands;
+
 /* The complex refractive index of the water at --wavelength (required, um)
  * from --water (table name or CSV file, default hale-querry), --salinity
  * (default 35 g/kg) and, if the subcommand has it, --index.  The same

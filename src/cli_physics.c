@@ -681,6 +681,9 @@ const sea_cli_command *sea_cli_command_find(const char *name)
     for (size_t i = 0; i < sea_cli_render_n_commands; ++i)
         if (strcmp(sea_cli_render_commands[i].name, name) == 0)
             return &sea_cli_render_commands[i];
+    for (size_t i = 0; i < sea_cli_bake_n_commands; ++i)
+        if (strcmp(sea_cli_bake_commands[i].name, name) == 0)
+            return &sea_cli_bake_commands[i];
     return NULL;
 }
 
@@ -703,12 +706,15 @@ void sea_cli_print_usage(FILE *f)
     for (size_t i = 0; i < sea_cli_render_n_commands; ++i)
         fprintf(f, "  %-13s %s\n", sea_cli_render_commands[i].name,
                 sea_cli_render_commands[i].summary);
+    for (size_t i = 0; i < sea_cli_bake_n_commands; ++i)
+        fprintf(f, "  %-13s %s\n", sea_cli_bake_commands[i].name, sea_cli_bake_commands[i].summary);
     fputs("  help          this text, or the options of one subcommand\n"
           "\n"
           "The physics subcommands and slopes write CSV on standard output: a\n"
           "header row, then one row per case; convergence and bench print a table\n"
           "and write their files into a directory; render writes EXR and PNG\n"
-          "images of a scene file (seabake-scene(5)).  Exit status: 0 success,\n"
+          "images of a scene file (seabake-scene(5)), bake its per-level maps and a\n"
+          "manifest into a directory.  Exit status: 0 success,\n"
           "1 runtime failure, 2 usage error, 3 input/output error.  See seabake(1).\n",
           f);
 }

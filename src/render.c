@@ -263,6 +263,46 @@ static double band_temperature(const sea_render *r, double L)
     return T;
 }
 
+/* Radiance unit of the images: per um for one wavelength (SI is per m). */
+static double radiance_unit(const sea_render *r)
+{
+    return r->nsamp == 1 && r->sc.wavelength > 0.0 ? 1e-6 : 1.0;
+}
+
+sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+                                   sea_dir sun, sea_facet_optics *out, sea_error *err)
+{
+    double L, e, rho;
+    sea_status s = facet_radiance(r, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho, err);
+    if (s != SEA_OK)
+        return s;
+    out->emissivity = e;
+    out->reflectivity = rho;
+    out->radiance = L * radiance_unit(r);
+    out->temperature = band_temperature(r, L);
+    return SEA_OK;
+}
+
+const sea_scene *sea_render_scene(const sea_render *r)
+{
+    return &r->sc;
+}
+
+const sea_camera *sea_render_camera(const sea_render *r)
+{
+    return &r->cam;
+}
+
+const sea_waves *sea_render_waves(const sea_render *r)
+{
+    return r->waves;
+}
+
+sea_moments sea_render_lr_moments(const sea_render *r)
+{
+    return r->lr;
+}
+
 /* Weight of window lv at (x, y): 1 inside, fading to 0 over the outer
  * EDGE facets (at least 2, a sixteenth of the window), 0 outside; *fx, *fy
  * get the position in facet-centre units. */
@@ -696,7 +736,7 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
     double sky_L = 0.0;
     for (size_t i = 0; i < r->nsamp; i++)
         sky_L += r->wt[i] * r->lsky[i];
-    const double unit = r->nsamp == 1 && sc->wavelength > 0.0 ? 1e-6 : 1.0; /* per um */
+    const double unit = radiance_unit(r); /* per um */
     const float sky_T = (float)band_temperature(r, sky_L);
     size_t rows_done = 0;
     int failed = st != SEA_OK;

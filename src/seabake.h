@@ -598,6 +598,79 @@ typedef void (*sea_progress_fn)(void *ctx, double fraction);
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err);
 
+/* What prepare chose, read-only, owned by r: the validated scene, the
+ * sensor, the wave plan (NULL when every level is low-resolution) and the
+ * moments of a low-resolution facet (m = 0, C = C_LR, h = 0). */
+const sea_scene *sea_render_scene(const sea_render *r);
+const sea_camera *sea_render_camera(const sea_render *r);
+const sea_waves *sea_render_waves(const sea_render *r);
+sea_moments sea_render_lr_moments(const sea_render *r);
+
+/* Optics of one facet, as sea_render_frame computes them for a pixel. */
+typedef struct {
+    double emissivity;   /* response-weighted band mean of eps~ toward obs, [0, 1] */
+    double reflectivity; /* band mean of rho~ sun -> obs, sr^-1 (0 with the sun down) */
+    double radiance;     /* Eq 23: W m^-2 sr^-1 um^-1 (one wavelength) or W m^-2 sr^-1
+                            (band), the units of sea_image.radiance */
+    double temperature;  /* brightness temperature of the radiance, K */
+} sea_facet_optics;
+
+/* Optics of a facet of statistics st seen from obs with the sun at sun
+ * (local directions; the sun counts when sun.theta < pi/2), by the same
+ * code as sea_render_frame: L = sum_i w_i (rho~ E_sun + (1 - eps) L_sky +
+ * eps B(T_sea)).  SEA_ERR_NUMERIC only from the reference quadrature. */
+sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+                                   sea_dir sun, sea_facet_optics *out, sea_error *err);
+
+/* ---------------------------------------------------------------- baking */
+
+/* Maps of one clipmap level at one time.  A texel is a facet: texel (i, r)
+ * of an nx x ny level, r = 0 the top (north) row, is facet (i0 + i,
+ * j0 + ny - 1 - r), stored at index r nx + i (row 0 = north, as EXR row 0
+ * is the image top).  A low-resolution level has no texels (moments and
+ * optics NULL): every facet is `lr_moments` (m = 0, C = C_LR) and
+ * `lr_optics` holds its optics toward the image centre. */
+typedef struct {
+    sea_clip_level level;
+    sea_moments *moments;     /* nx ny, from sea_waves_facets with level.sub_n */
+    sea_facet_optics *optics; /* nx ny, toward the sensor from each texel centre */
+    sea_moments lr_moments;
+    sea_facet_optics lr_optics;
+    sea_dir lr_obs, lr_sun;   /* the directions lr_optics was computed for */
+} sea_bake_level;
+
+typedef struct {
+    double time;          /* s */
+    size_t n_levels;      /* as sea_render_levels: finest first, then the LR level */
+    sea_bake_level levels[SEA_CLIP_MAX_LEVELS];
+} sea_bake;
+
+/* Bakes every level of r at time t (finite).  The optics of a texel are
+ * those of its facet seen from the sensor: the direction from the texel
+ * centre (x, y) on the sea (flat: (x, y, 0); spherical: the azimuthal
+ * equidistant map point of sensor.c placed on the sphere) to the sensor, in
+ * the local frame there, and the sun's direction in that frame.  Threads:
+ * OpenMP, the result independent of their number.  On failure *out holds
+ * nothing to free.  Free with sea_bake_free. */
+sea_status sea_bake_frame(const sea_render *r, double t, sea_bake *out, sea_error *err);
+void sea_bake_free(sea_bake *b);
+
+/* Tangent-space normal of the mean slope (+x east, +y north, +z up):
+ * n = (-mx, -my, 1) / sqrt(mx^2 + my^2 + 1). */
+void sea_bake_normal(const sea_moments *m, double n[3]);
+
+/* Microfacet parameters of a facet's slope covariance C = M - m m^T for a
+ * GGX (Blender Principled BSDF) material.  Convention: the isotropic width
+ * is the Beckmann-equivalent alpha = sqrt(C_xx + C_yy) (a Beckmann
+ * distribution of width alpha has slope variance alpha^2 / 2 per axis);
+ * Blender squares its Roughness input (alpha = roughness^2), so
+ * roughness = sqrt(alpha).  anisotropy = (l1 - l2) / (l1 + l2) in [0, 1]
+ * from the eigenvalues l1 >= l2 of C (0 for C = 0); rotation = the angle of
+ * the major axis counter-clockwise from +x (east), in [0, pi), divided by
+ * 2 pi: in [0, 0.5) (Blender's Anisotropic Rotation, 1 = a full turn). */
+void sea_bake_roughness(const sea_moments *m, double *roughness, double *anisotropy,
+                        double *rotation);
+
 #ifdef __cplusplus
 }
 #endif

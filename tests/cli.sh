@@ -969,4 +969,148 @@ check_error render.partial 3 "taken.png"
 check_eq render.partial_removed "$(render_files 'partial*')" 0
 check_eq render.errors_no_temporary "$(render_files '*.tmp.*')" 0
 
+# ================================================================ bake
+
+BDIR="$SB_TMP/bake"
+mkdir -p "$BDIR" || exit 99
+# bake_state DIR: listing, permissions and checksums of a tree ("absent").
+bake_state() {
+    if [ -e "$1" ]; then
+        ls -ld "$1" | awk '{print $1}'
+        (cd "$1" && find . -exec ls -ld {} + | awk '{print $1, $NF}' | sort &&
+            find . -type f -exec cksum {} + | sort)
+    else
+        echo absent
+    fi
+}
+# bake_leftovers: temporary or old directories left beside the outputs.
+bake_leftovers() {
+    find "$BDIR" -maxdepth 1 \( -name '*.tmp.*' -o -name '*.old.*' \) | grep -c ''
+}
+# exr_header FILE: the channel list attribute of the header, in hex
+# (after "channels\0chlist\0").
+exr_header() {
+    od -An -tx1 -N4000 "$1" | tr -d ' \n' |
+        sed -n 's/.*6368616e6e656c730063686c69737400\(.\{0,240\}\).*/\1/p'
+}
+BGROUPS="moments moments2 optics normal roughness emission"
+
+sb_run bake "$RSCENE" -o "$BDIR/out"
+check_rc bake.rc 0
+check_eq bake.stdout "$SB_OUT" ""
+check_match bake.summary "$SB_ERR" "^bake: .*out: [0-9]+ texels in [0-9.e+-]+ s"
+check bake.manifest test -s "$BDIR/out/manifest.json"
+# Levels from the manifest: "HR indices|LR indices".
+if command -v python3 >/dev/null 2>&1; then
+    check bake.json_valid python3 -m json.tool "$BDIR/out/manifest.json"
+    levels=$(python3 -c '
+import json, sys
+m = json.load(open(sys.argv[1]))
+lv = m["levels"]
+print(" ".join(str(l["index"]) for l in lv if not l["low_res"]) + "|" +
+      " ".join(str(l["index"]) for l in lv if l["low_res"] and "frames" not in l))
+' "$BDIR/out/manifest.json")
+else
+    echo "cli.sh: python3 absent: manifest checked with grep only" >&2
+    check bake.json_braces grep -q '^}' "$BDIR/out/manifest.json"
+    levels="$(cd "$BDIR/out" && ls moments_*.exr | sed 's/moments_\([0-9]*\)\.exr/\1/' | sort -n |
+        tr '\n' ' ' | sed 's/ $//')|x"
+fi
+hr=${levels%%|*}
+lr=${levels#*|}
+check_match bake.has_hr "$hr" "^[0-9]"
+check_match bake.has_lr "$lr" "[0-9x]"
+check_eq bake.lr_in_manifest "$(grep -c '"low_res":[[:space:]]*true' "$BDIR/out/manifest.json")" 1
+expected=""
+for l in $hr; do
+    for g in $BGROUPS; do
+        expected="$expected ${g}_$l.exr ${g}_$l.png"
+    done
+done
+got=$(cd "$BDIR/out" && ls | grep -v '^manifest.json$' | sort | tr '\n' ' ')
+check_eq bake.files "$got" "$(printf '%s\n' $expected | sort | tr '\n' ' ')"
+for l in $hr; do
+    for g in $BGROUPS; do
+        check_eq "bake.exr_magic.${g}_$l" "$(magic "$BDIR/out/${g}_$l.exr" 4)" "762f3101"
+        check_eq "bake.png_magic.${g}_$l" "$(magic "$BDIR/out/${g}_$l.png" 8)" "89504e470d0a1a0a"
+        check "bake.manifest_names.${g}_$l" grep -q "\"${g}_$l.exr\"" "$BDIR/out/manifest.json"
+    done
+done
+l0=${hr%% *}
+# Channels: R,G,B,A FLOAT for a 4-quantity group; RGB only for emission
+# (name, NUL, pixel type 2 = FLOAT, pLinear 0).
+check_match bake.float_channels "$(exr_header "$BDIR/out/optics_$l0.exr")" "410002000000.*520002000000"
+check_no_match bake.emission_no_alpha "$(exr_header "$BDIR/out/emission_$l0.exr")" "410002000000"
+check bake.exr_attr grep -qa "seabake:channels" "$BDIR/out/moments_$l0.exr"
+check bake.manifest_units grep -q '"radiance":[[:space:]]*"W m^-2 sr^-1 um^-1"' "$BDIR/out/manifest.json"
+check bake.manifest_scale grep -qE '"emission_scale":[[:space:]]*[0-9]' "$BDIR/out/manifest.json"
+mkdir "$BDIR/umask_probe"
+check_eq bake.dir_mode "$(ls -ld "$BDIR/out" | cut -c1-10)" "$(ls -ld "$BDIR/umask_probe" | cut -c1-10)"
+
+# Re-baking replaces DIR as a whole: a stranger file goes, the new options
+# show, nothing is left beside it.
+: >"$BDIR/out/stranger"
+sb_run bake "$RSCENE" -o "$BDIR/out/" --compression none --format half --quiet
+check_rc bake.rebake 0
+check_eq bake.rebake_quiet "$SB_ERR" ""
+check bake.rebake_replaced test ! -e "$BDIR/out/stranger"
+check bake.rebake_manifest grep -q '"compression":[[:space:]]*"none"' "$BDIR/out/manifest.json"
+check_eq bake.rebake_leftovers "$(bake_leftovers)" 0
+check_match bake.half_channels "$(exr_header "$BDIR/out/optics_$l0.exr")" "410001000000.*520001000000"
+
+# Failures leave DIR exactly as it was, and nothing beside it.
+before=$(bake_state "$BDIR/out")
+sb_run bake "$RSCENE" -o "$BDIR/out" --format nonsense
+check_error bake.bad_format 2 "--format: 'nonsense' is not float or half"
+sb_run bake "$RSCENE" -o "$BDIR/out" --compression lzw
+check_error bake.bad_compression 2 "--compression: 'lzw' is not none, zip or piz"
+sb_run bake "$RSCENE" -o "$BDIR/out" --frame-rate 10
+check_error bake.rate_alone 2 "--frame-rate applies only with --frames"
+sb_run bake "$RSCENE" -o "$BDIR/pov" --pov
+check_rc bake.pov.rc 0
+for f in scene.pov scene.ini seabake.inc; do
+    check "bake.pov.$f" test -s "$BDIR/pov/$f"
+done
+check_match bake.pov.camera "$(cat "$BDIR/pov/scene.pov")" 'camera'
+sb_run bake "$RSCENE" -o "$BDIR/out" --blender
+check_error bake.blender 2 "--blender: not implemented yet"
+sb_run bake "$RSCENE"
+check_error bake.no_dir 2 "missing -o DIR"
+sb_run bake "$BDIR/no-such.ini" -o "$BDIR/out"
+check_error bake.no_scene 3 "no-such.ini"
+check_eq bake.failures_keep_dir "$(bake_state "$BDIR/out")" "$before"
+sb_run bake "$RSCENE" -o "$BDIR/no/such/parent/out"
+check_error bake.no_parent 3 "-o: cannot create '.*no/such/parent/out.tmp.XXXXXX'"
+if [ "$(id -u)" -ne 0 ]; then
+    mkdir -p "$BDIR/ro/out" && : >"$BDIR/ro/out/keep" && chmod 555 "$BDIR/ro"
+    ro_before=$(bake_state "$BDIR/ro/out")
+    sb_run bake "$RSCENE" -o "$BDIR/ro/out"
+    check_error bake.unwritable_parent 3 "-o: cannot create"
+    check_eq bake.unwritable_keeps "$(bake_state "$BDIR/ro/out")" "$ro_before"
+    check_eq bake.unwritable_leftovers "$(find "$BDIR/ro" -maxdepth 1 -name 'out.*' | grep -c '')" 0
+    chmod 755 "$BDIR/ro"
+else
+    echo "cli.sh: running as root: the unwritable-parent bake is not tested" >&2
+fi
+printf 'not a directory\n' >"$BDIR/plain"
+sb_run bake "$RSCENE" -o "$BDIR/plain"
+check_error bake.dir_is_file 2 "-o: '.*plain' exists and is not a directory"
+check_eq bake.file_kept "$(cat "$BDIR/plain")" "not a directory"
+check_eq bake.failures_leftovers "$(bake_leftovers)" 0
+
+# Frames: every map of every HR level once per frame, numbered.
+sb_run bake "$RSCENE" -o "$BDIR/frames" --frames 0:1 --frame-rate 10 --quiet
+check_rc bake.frames 0
+for f in 0000 0001; do
+    for g in $BGROUPS; do
+        check "bake.frames.${g}_${l0}_$f" test -s "$BDIR/frames/${g}_${l0}_$f.exr"
+        check "bake.frames.${g}_${l0}_$f.png" test -s "$BDIR/frames/${g}_${l0}_$f.png"
+    done
+done
+check_eq bake.frames_count "$(find "$BDIR/frames" -name '*.exr' | grep -c '')" \
+    "$(( $(printf '%s\n' $hr | grep -c '') * 12 ))"
+check bake.frames_time grep -q '"time_s":[[:space:]]*0.1' "$BDIR/frames/manifest.json"
+check bake.frames_differ absent cmp -s "$BDIR/frames/moments_${l0}_0000.exr" \
+    "$BDIR/frames/moments_${l0}_0001.exr"
+
 finish

@@ -39,6 +39,7 @@ int test_waves_register(void);
 int test_scene_register(void);
 int test_sensor_register(void);
 int test_render_register(void);
+int test_bake_register(void);
 int test_preview_register(void);
 int test_exr_register(void);
 

@@ -1,0 +1,68 @@
+/* povray.h - POV-Ray 3.7 scenes of a baked sea (issue 5, ../shared/CLIENTS.md).
+ *
+ * A scene is a directory holding scene.pov, scene.ini, seabake.inc (the
+ * macros of exporters/povray/seabake.inc) and the level maps the caller
+ * wrote there.  Rendered with `povray scene.ini` run in that directory, it
+ * gives an EXR image (+FE, half floats) whose pixels are the sensor's
+ * radiances times `scale`.
+ *
+ * Geometry.  World (x east, y north, z up) maps to POV <x, z, y>.  The
+ * camera is the pinhole sensor given as explicit location, direction, right
+ * and up vectors (direction = focal * fwd, right = width * right,
+ * up = height * up), so a world point lands on the pixel sea_camera_project
+ * gives, at any look angle and roll.  The sea is the plane z = 0 cut into
+ * nested rings, one mesh2 per level; each coarser level lies 1e-3 finest
+ * facets below the next finer one so that overlapping windows show the
+ * finer level.  For a spherical-Earth camera the rings
+ * stay flat at z = 0 in map coordinates (the azimuthal equidistant map of
+ * sea_camera_pixel): the scene is then an approximation near the horizon. */
+#ifndef SEABAKE_POVRAY_H
+#define SEABAKE_POVRAY_H
+
+#include <stddef.h>
+
+#include "seabake.h"
+
+/* One clipmap level of the exported sea. */
+typedef struct {
+    int level;            /* clipmap level index l */
+    double facet;         /* m */
+    double x0, y0, w, h;  /* the level's rectangle in metres (lower-left corner, size) */
+    int has_hole;         /* 1: the next finer level's rectangle is cut out */
+    double hx0, hy0, hw, hh;
+    const char *emission_file; /* RGB EXR, relative to dir, or NULL for a low-resolution level */
+    double constant;      /* scaled radiance of a low-resolution level (used when emission_file is NULL) */
+} sea_pov_level;
+
+/* Largest value POV-Ray can read from or write to a half-float EXR. */
+#define SEA_POV_HALF_MAX 65504.0
+
+/* Writes dir/scene.pov, dir/scene.ini and dir/seabake.inc.
+ *
+ * cam: the sensor (sea_camera_init).  levels[0..n-1], n >= 1, in any
+ * order (finest first reads best), facet > 0: each is a ring, its rectangle (w, h > 0,
+ * finite) minus its hole when has_hole (hw, hh > 0, finite; normally the
+ * next finer level's rectangle).  The hole is clipped to the rectangle: one
+ * that misses it cuts nothing, one that covers it hides the level (no ring
+ * is made).  A level
+ * with emission_file is textured with that map, texel (0, bottom row) at
+ * the rectangle's lower-left corner and the top-right texel at its
+ * top-right corner, so a map of nx x ny texels over nx x ny facets puts
+ * each texel on its facet; emission_file is a relative path without '"',
+ * '\\' or control characters (it is not opened here).  A level without one
+ * emits `constant`.  sky_scaled: the colour of rays that meet no ring.
+ * constant and sky_scaled in [0, SEA_POV_HALF_MAX]; scale > 0, finite: the
+ * factor already applied to the radiances (POV value = radiance * scale),
+ * written to scene.pov as Seabake_Radiance_Scale.
+ *
+ * scene.ini: Width, Height, Antialias=off, Output_File_Type=E,
+ * Output_File_Name=scene.exr, Input_File_Name=scene.pov.
+ *
+ * The three files are written to temporary names and renamed only when all
+ * are written; on failure none of them is created or changed.  Returns
+ * SEA_ERR_DOMAIN for invalid arguments (naming the level), SEA_ERR_IO
+ * naming the file and the system error, SEA_ERR_NOMEM. */
+sea_status sea_pov_write(const char *dir, const sea_camera *cam, const sea_pov_level *levels,
+                         size_t n, double sky_scaled, double scale, sea_error *err);
+
+#endif /* SEABAKE_POVRAY_H */

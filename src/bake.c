@@ -1,0 +1,209 @@
+/* bake.c - maps of every clipmap level at one time (issue 5): the facet
+ * moments of each high-resolution level, exactly as sea_waves_facets gives
+ * them, flipped to north-up rows, and the optics of each facet toward the
+ * sensor; low-resolution levels are constants.  The derived renderer maps
+ * (normal, roughness) are small total functions of the moments.
+ *
+ * Nothing here writes files: the command line (cli_bake.c) turns a sea_bake
+ * into EXR maps, previews and a manifest. */
+#include "config.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "seabake.h"
+
+void sea_bake_free(sea_bake *b)
+{
+    if (b == NULL)
+        return;
+    for (size_t l = 0; l < b->n_levels; l++) {
+        free(b->levels[l].moments);
+        free(b->levels[l].optics);
+    }
+    memset(b, 0, sizeof *b);
+}
+
+/* Sea point of map coordinates (x, y) (sensor.c's mapping): world point q
+ * and local vertical n.  Flat: (x, y, 0) and +z.  Spherical: the point of
+ * the sphere through the nadir point at arc length |(x, y) - nadir| from
+ * it, in the direction of (x, y) - nadir (azimuthal equidistant). */
+static void map_point(const sea_camera *c, double x, double y, double q[3], double n[3])
+{
+    if (c->earth == SEA_EARTH_FLAT) {
+        q[0] = x;
+        q[1] = y;
+        q[2] = 0.0;
+        n[0] = n[1] = 0.0;
+        n[2] = 1.0;
+        return;
+    }
+    const double R = SEA_EARTH_RADIUS;
+    const double dx = x - c->pos[0], dy = y - c->pos[1], arc = hypot(dx, dy);
+    const double a = arc / R;
+    const double horiz = R * sin(a);
+    const double pc[3] = { arc > 0.0 ? horiz * dx / arc : 0.0, arc > 0.0 ? horiz * dy / arc : 0.0,
+                           R * cos(a) }; /* from the centre */
+    q[0] = c->pos[0] + pc[0];
+    q[1] = c->pos[1] + pc[1];
+    q[2] = pc[2] - R;
+    for (int i = 0; i < 3; i++)
+        n[i] = pc[i] / R;
+}
+
+/* Directions from the sea point (x, y) toward the sensor and the sun, in
+ * the local frame there. */
+static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, double y,
+                       sea_dir *obs, sea_dir *sun)
+{
+    sea_pixel_geom g;
+    memset(&g, 0, sizeof g);
+    double q[3];
+    map_point(c, x, y, q, g.normal);
+    double d[3] = { c->pos[0] - q[0], c->pos[1] - q[1], c->pos[2] - q[2] };
+    const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int i = 0; i < 3; i++)
+        d[i] /= len;
+    *obs = sea_camera_local_dir(&g, d);
+    *sun = sea_camera_local_dir(&g, sun_vec);
+}
+
+/* One high-resolution level: moments, flipped north-up, then optics. */
+static sea_status bake_level(const sea_render *r, double t, sea_bake_level *bl, sea_error *err)
+{
+    const sea_clip_level *lv = &bl->level;
+    const size_t nx = lv->nx, ny = lv->ny, n = nx * ny;
+    sea_status st = sea_check_size(n, sizeof(sea_moments) + sizeof(sea_moments) +
+                                          sizeof(sea_facet_optics),
+                                   "bake level", err);
+    if (st != SEA_OK)
+        return st;
+    sea_moments *south = malloc(n * sizeof *south);
+    bl->moments = malloc(n * sizeof *bl->moments);
+    bl->optics = malloc(n * sizeof *bl->optics);
+    if (south == NULL || bl->moments == NULL || bl->optics == NULL) {
+        free(south);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for level %d (%zu x %zu texels)",
+                        lv->level, nx, ny);
+    }
+    const sea_rect rect = { lv->facet, lv->i0, lv->j0, nx, ny };
+    st = sea_waves_facets(sea_render_waves(r), &rect, lv->sub_n, t, south, err);
+    if (st != SEA_OK) {
+        free(south);
+        return st;
+    }
+    for (size_t row = 0; row < ny; row++)
+        memcpy(bl->moments + row * nx, south + (ny - 1 - row) * nx, nx * sizeof *south);
+    free(south);
+
+    const sea_scene *sc = sea_render_scene(r);
+    const sea_camera *cam = sea_render_camera(r);
+    const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
+                                sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
+    int failed = 0;
+    sea_error first = { { 0 } };
+#pragma omp parallel for schedule(dynamic, 1)
+    for (size_t row = 0; row < ny; row++) {
+        if (failed)
+            continue;
+        const double y = ((double)(lv->j0 + (long)(ny - 1 - row)) + 0.5) * lv->facet;
+        for (size_t i = 0; i < nx; i++) {
+            const size_t q = row * nx + i;
+            const double x = ((double)(lv->i0 + (long)i) + 0.5) * lv->facet;
+            sea_dir obs, sun;
+            texel_dirs(cam, sun_vec, x, y, &obs, &sun);
+            const sea_slope_stats s = sea_moments_stats(&bl->moments[q]);
+            sea_error e1;
+            sea_status s1 = sea_render_facet_optics(r, &s, obs, sun, &bl->optics[q], &e1);
+            if (s1 == SEA_OK && !(isfinite(bl->optics[q].radiance) &&
+                                  isfinite(bl->optics[q].reflectivity)))
+                s1 = sea_fail(&e1, SEA_ERR_NUMERIC, "radiance %g at texel (%zu, %zu) of level %d",
+                              bl->optics[q].radiance, i, row, lv->level);
+            if (s1 != SEA_OK) {
+#pragma omp critical(sea_bake_error)
+                {
+                    if (!failed)
+                        first = e1;
+                    failed = 1;
+                }
+                break;
+            }
+        }
+    }
+    if (failed) {
+        if (err != NULL)
+            *err = first;
+        return SEA_ERR_NUMERIC;
+    }
+    return SEA_OK;
+}
+
+sea_status sea_bake_frame(const sea_render *r, double t, sea_bake *out, sea_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!isfinite(t))
+        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    out->time = t;
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    const sea_scene *sc = sea_render_scene(r);
+    const sea_camera *cam = sea_render_camera(r);
+    const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
+                                sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
+    /* The low-resolution constants are seen from the image centre, as the
+     * renderer's choice of spectral samples sees them. */
+    sea_pixel_geom g;
+    sea_camera_pixel(cam, 0.5 * cam->width, 0.5 * cam->height, &g);
+    const sea_dir lr_obs = g.hit ? g.obs : (sea_dir){ sc->look_zenith, 0.0 };
+    const sea_dir lr_sun = sea_camera_local_dir(&g, sun_vec);
+    const sea_moments lrm = sea_render_lr_moments(r);
+    const sea_slope_stats lrs = sea_moments_stats(&lrm);
+    sea_facet_optics lro;
+    sea_status st = sea_render_facet_optics(r, &lrs, lr_obs, lr_sun, &lro, err);
+    if (st != SEA_OK)
+        return st;
+    out->n_levels = n;
+    for (size_t l = 0; l < n; l++) {
+        sea_bake_level *bl = &out->levels[l];
+        bl->level = lv[l];
+        bl->lr_moments = lrm;
+        bl->lr_optics = lro;
+        bl->lr_obs = lr_obs;
+        bl->lr_sun = lr_sun;
+        if (lv[l].low_res)
+            continue;
+        st = bake_level(r, t, bl, err);
+        if (st != SEA_OK) {
+            sea_bake_free(out);
+            return st;
+        }
+    }
+    return SEA_OK;
+}
+
+void sea_bake_normal(const sea_moments *m, double n[3])
+{
+    const double len = sqrt(m->mx * m->mx + m->my * m->my + 1.0);
+    n[0] = -m->mx / len;
+    n[1] = -m->my / len;
+    n[2] = 1.0 / len;
+}
+
+void sea_bake_roughness(const sea_moments *m, double *roughness, double *anisotropy,
+                        double *rotation)
+{
+    const sea_slope_stats s = sea_moments_stats(m);
+    const double tr = s.cov.xx + s.cov.yy;
+    const double diff = s.cov.xx - s.cov.yy;
+    /* l1 - l2 = sqrt((xx - yy)^2 + 4 xy^2), l1 + l2 = trace */
+    const double spread = hypot(diff, 2.0 * s.cov.xy);
+    *roughness = sqrt(sqrt(tr));
+    *anisotropy = tr > 0.0 ? fmin(1.0, spread / tr) : 0.0;
+    double angle = spread > 0.0 ? 0.5 * atan2(2.0 * s.cov.xy, diff) : 0.0; /* (-pi/2, pi/2] */
+    if (angle < 0.0)
+        angle += M_PI;
+    if (angle >= M_PI)
+        angle -= M_PI;
+    *rotation = angle / (2.0 * M_PI);
+}

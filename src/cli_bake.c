@@ -1,0 +1,915 @@
+/* cli_bake.c - the bake subcommand of seabake: a scene file
+ * (seabake-scene(5)) to a directory of per-level maps and a manifest.
+ *
+ * One prepare (as render), then one sea_bake_frame per frame.  Each
+ * high-resolution clipmap level l gets, per frame, single-part scanline EXR
+ * files of plain R, G, B(, A) channels named <quantity>_<l>[_<frame>].exr
+ * (see BAKE_GROUPS) and an 8-bit PNG preview of each file's first quantity
+ * (radiance for optics and emission).  Low-resolution levels get no files:
+ * their constants are in manifest.json, which also places every map in the
+ * world (JSON through cJSON; the library stays JSON-free).
+ *
+ * Atomic output.  Everything is written into a fresh sibling directory
+ * DIR.tmp.XXXXXX (mkdtemp, same parent as DIR, so renames stay on one file
+ * system).  Only when every file is there: an existing DIR (which must be a
+ * directory) is renamed aside to DIR.old.XXXXXX, the new directory renamed
+ * to DIR, and the old one removed.  On any failure before that the
+ * temporary directory is removed and DIR is exactly as it was. */
+#define _XOPEN_SOURCE 700
+#include <errno.h>
+#include <ftw.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli.h"
+#include "config.h"
+#include "exr.h"
+#include "povray.h"
+#include "preview.h"
+
+/* ------------------------------------------------------------ constants */
+
+#define BAKE_FRAME_MAX 999999
+#define BAKE_FRAMES_MAX SEA_CLI_LIST_MAX
+enum { BAKE_FRAME_DIGITS = 4 };
+static const double BAKE_FRAME_RATE_DEFAULT = 25.0; /* Hz */
+/* Preview range: 0.5 % and 99.5 % quantiles, as render's. */
+static const double BAKE_PNG_CLIP = 0.005;
+/* The emission maps carry radiance x scale, scale a power of ten putting
+ * the largest radiance of the first frame at or just below this value:
+ * well inside half range (65504) with its 3.3 significant digits, and
+ * room for later frames' glints. */
+static const double BAKE_EMISSION_TARGET = 1000.0;
+static const int BAKE_MANIFEST_VERSION = 1;
+
+static const sea_cli_range BAKE_RANGE_FRAME = {0.0, BAKE_FRAME_MAX, false, false, ""};
+static const sea_cli_range BAKE_RANGE_RATE = {0.0, INFINITY, true, true, "Hz"};
+
+/* The quantities a texel can carry. */
+typedef enum {
+    Q_MX, Q_MY, Q_MXX, Q_MYY, Q_MXY, Q_H, Q_ZERO,
+    Q_EMISSIVITY, Q_REFLECTIVITY, Q_RADIANCE, Q_TEMPERATURE,
+    Q_NX, Q_NY, Q_NZ, Q_ROUGHNESS, Q_ANISOTROPY, Q_ROTATION, Q_EMISSION
+} bake_quantity;
+
+static const struct {
+    const char *name, *unit, *meaning;
+} BAKE_Q[] = {
+    [Q_MX] = {"mx", "1", "mean slope dz/dx (east)"},
+    [Q_MY] = {"my", "1", "mean slope dz/dy (north)"},
+    [Q_MXX] = {"mxx", "1", "mx^2 + C_xx"},
+    [Q_MYY] = {"myy", "1", "my^2 + C_yy"},
+    [Q_MXY] = {"mxy", "1", "mx my + C_xy"},
+    [Q_H] = {"h", "m", "mean height of the generated waves"},
+    [Q_ZERO] = {"unused", "1", "0 (unused)"},
+    [Q_EMISSIVITY] = {"emissivity", "1", "effective emissivity toward the sensor"},
+    [Q_REFLECTIVITY] = {"reflectivity", "sr^-1", "effective reflectivity sun -> sensor"},
+    [Q_RADIANCE] = {"radiance", NULL, "Eq 23 radiance toward the sensor"},
+    [Q_TEMPERATURE] = {"temperature", "K", "brightness temperature"},
+    [Q_NX] = {"normal_x", "1", "(n_x + 1) / 2, tangent space, +x east"},
+    [Q_NY] = {"normal_y", "1", "(n_y + 1) / 2, tangent space, +y north"},
+    [Q_NZ] = {"normal_z", "1", "(n_z + 1) / 2"},
+    [Q_ROUGHNESS] = {"roughness", "1", "Principled BSDF roughness = sqrt(sqrt(C_xx + C_yy))"},
+    [Q_ANISOTROPY] = {"anisotropy", "1", "(l1 - l2) / (l1 + l2) of C"},
+    [Q_ROTATION] = {"rotation", "turn", "major axis of C from east, counter-clockwise / 2 pi"},
+    [Q_EMISSION] = {"emission", NULL, "radiance x emission_scale"},
+};
+
+enum { GROUP_CH_MAX = 4 };
+/* One file per group; preview = the channel shown in the PNG. */
+static const struct {
+    const char *name;
+    size_t n;
+    bake_quantity q[GROUP_CH_MAX];
+    size_t preview;
+} BAKE_GROUPS[] = {
+    {"moments", 4, {Q_MX, Q_MY, Q_MXX, Q_MYY}, 0},
+    {"moments2", 3, {Q_MXY, Q_H, Q_ZERO}, 0},
+    {"optics", 4, {Q_EMISSIVITY, Q_REFLECTIVITY, Q_RADIANCE, Q_TEMPERATURE}, 2},
+    {"normal", 3, {Q_NX, Q_NY, Q_NZ}, 0},
+    {"roughness", 3, {Q_ROUGHNESS, Q_ANISOTROPY, Q_ROTATION}, 0},
+    {"emission", 3, {Q_EMISSION, Q_EMISSION, Q_EMISSION}, 0},
+};
+enum { BAKE_N_GROUPS = sizeof BAKE_GROUPS / sizeof BAKE_GROUPS[0] };
+static const char *const CHANNEL_NAMES[GROUP_CH_MAX] = {"R", "G", "B", "A"};
+
+/* ------------------------------------------------------------ help text */
+
+static const char BAKE_HELP[] =
+    "Usage: seabake bake SCENE.ini -o DIR [OPTIONS]\n"
+    "\n"
+    "Bakes the clipmap levels a scene's view needs (seabake-scene(5)) into DIR:\n"
+    "for every high-resolution level l and frame, single-part EXR maps of plain\n"
+    "R,G,B(,A) channels, <quantity>_<l>[_<frame>].exr, and a PNG preview of each:\n"
+    "  moments_<l>    R mx, G my, B mx^2+C_xx, A my^2+C_yy (LEAN moments)\n"
+    "  moments2_<l>   R mx my+C_xy, G height (m), B unused (0)\n"
+    "  optics_<l>     R emissivity, G reflectivity sun -> sensor (sr^-1),\n"
+    "                 B radiance (Eq 23), A brightness temperature (K)\n"
+    "  normal_<l>     RGB (n+1)/2 of the mean-slope normal (+x east, +y north)\n"
+    "  roughness_<l>  R roughness (GGX, Blender: sqrt(sqrt(C_xx+C_yy))),\n"
+    "                 G anisotropy, B rotation (turns from east)\n"
+    "  emission_<l>   RGB radiance x scale (RGB only, for POV-Ray)\n"
+    "Row 0 is the north edge.  Low-resolution levels get no maps; manifest.json\n"
+    "lists every level (facet size, origin, extent, texels, files, channels,\n"
+    "units), the scene, the sensor, seed, times and the emission scale.  DIR is\n"
+    "replaced atomically: a failed bake leaves it as it was.\n"
+    "\n"
+    "Options:\n"
+    "  -o DIR              the output directory (required)\n"
+    "  --format F          float (default) or half channels\n"
+    "  --compression C     none, zip (default) or piz\n"
+    "  --frames A:B        frames A to B, integers, 0 <= A <= B <= 999999; frame f\n"
+    "                      at time + f / HZ, names get _FFFF; default: one frame\n"
+    "                      at the scene's time, no number\n"
+    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
+    "  --pov               also a POV-Ray scene: DIR/scene.pov, scene.ini, seabake.inc\n"
+    "  --blender           also the Blender import (not implemented yet)\n"
+    "  --quiet             no summary line\n";
+
+/* ------------------------------------------------------------- the setup */
+
+typedef struct {
+    const char *scene_path;
+    sea_scene sc;
+    char *dir; /* -o without trailing slashes */
+    bool framed;
+    long frame_a, frame_b;
+    double rate;
+    sea_exr_options exr;
+    bool quiet;
+    bool pov;
+} bake_setup;
+
+static sea_status parse_frames(const char *text, long *a, long *b, sea_error *err)
+{
+    const char *colon = strchr(text, ':');
+    char first[64];
+    if (colon == NULL || strchr(colon + 1, ':') != NULL || (size_t)(colon - text) >= sizeof first)
+        return sea_fail(err, SEA_ERR_PARSE, "--frames: expected A:B (two frame numbers), got '%s'",
+                        text);
+    memcpy(first, text, (size_t)(colon - text));
+    first[colon - text] = '\0';
+    double va, vb;
+    sea_status st = sea_cli_parse_number("--frames", first, &BAKE_RANGE_FRAME, &va, err);
+    if (st == SEA_OK)
+        st = sea_cli_parse_number("--frames", colon + 1, &BAKE_RANGE_FRAME, &vb, err);
+    if (st != SEA_OK)
+        return st;
+    if (va != floor(va) || vb != floor(vb))
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' must hold integers", text);
+    if (va > vb)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' runs backwards (A:B needs A <= B)",
+                        text);
+    if (vb - va + 1.0 > BAKE_FRAMES_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' has %.0f frames, more than %d", text,
+                        vb - va + 1.0, BAKE_FRAMES_MAX);
+    *a = (long)va;
+    *b = (long)vb;
+    return SEA_OK;
+}
+
+static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error *err)
+{
+    memset(s, 0, sizeof *s);
+    sea_status st;
+    s->scene_path = sea_cli_args_get(args, "scene");
+    if (s->scene_path == NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "missing SCENE.ini (the scene file, seabake-scene(5))");
+    if (s->scene_path[0] == '\0')
+        return sea_fail(err, SEA_ERR_PARSE, "empty scene file name");
+    const char *out = sea_cli_args_get(args, "o");
+    if (out == NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN, "missing -o DIR (the output directory)");
+    size_t len = strlen(out);
+    while (len > 1 && out[len - 1] == '/')
+        len--;
+    if (len == 0)
+        return sea_fail(err, SEA_ERR_PARSE, "-o: empty directory name");
+    const char *format = sea_cli_args_get(args, "format");
+    s->exr.pixel = SEA_EXR_FLOAT;
+    if (format != NULL) {
+        if (strcmp(format, "half") == 0)
+            s->exr.pixel = SEA_EXR_HALF;
+        else if (strcmp(format, "float") != 0)
+            return sea_fail(err, SEA_ERR_PARSE, "--format: '%s' is not float or half", format);
+    }
+    const char *comp = sea_cli_args_get(args, "compression");
+    s->exr.compression = SEA_EXR_ZIP;
+    if (comp != NULL) {
+        if (strcmp(comp, "none") == 0)
+            s->exr.compression = SEA_EXR_NONE;
+        else if (strcmp(comp, "piz") == 0)
+            s->exr.compression = SEA_EXR_PIZ;
+        else if (strcmp(comp, "zip") != 0)
+            return sea_fail(err, SEA_ERR_PARSE, "--compression: '%s' is not none, zip or piz",
+                            comp);
+    }
+    const char *frames = sea_cli_args_get(args, "frames");
+    s->framed = frames != NULL;
+    if (s->framed && (st = parse_frames(frames, &s->frame_a, &s->frame_b, err)) != SEA_OK)
+        return st;
+    const char *rate = sea_cli_args_get(args, "frame-rate");
+    s->rate = BAKE_FRAME_RATE_DEFAULT;
+    if (rate != NULL) {
+        if (!s->framed)
+            return sea_fail(err, SEA_ERR_DOMAIN, "--frame-rate applies only with --frames");
+        if ((st = sea_cli_parse_number("--frame-rate", rate, &BAKE_RANGE_RATE, &s->rate, err)) !=
+            SEA_OK)
+            return st;
+    }
+    s->pov = sea_cli_args_get(args, "pov") != NULL;
+    /* The Blender exporter is not there yet: refuse the flag rather than
+     * silently writing less than asked. */
+    if (sea_cli_args_get(args, "blender") != NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--blender: not implemented yet");
+    s->quiet = sea_cli_args_get(args, "quiet") != NULL;
+    if ((st = sea_scene_load(s->scene_path, &s->sc, err)) != SEA_OK)
+        return st;
+    if ((s->dir = strndup(out, len)) == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    return SEA_OK;
+}
+
+/* ------------------------------------------------------------ directories */
+
+static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
+{
+    (void)sb;
+    (void)flag;
+    (void)ftw;
+    return remove(path);
+}
+
+/* Removes a directory tree we created; best effort (used on failure paths
+ * and for the old DIR after the new one is in place). */
+static int remove_tree(const char *path)
+{
+    return nftw(path, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
+}
+
+/* "DIR.<what>.XXXXXX", malloc'ed. */
+static char *sibling_template(const char *dir, const char *what)
+{
+    const size_t len = strlen(dir) + strlen(what) + 10;
+    char *p = malloc(len);
+    if (p != NULL)
+        snprintf(p, len, "%s.%s.XXXXXX", dir, what);
+    return p;
+}
+
+/* DIR must be absent or a directory. */
+static sea_status check_dir(const char *dir, sea_error *err)
+{
+    struct stat sb;
+    if (lstat(dir, &sb) != 0) {
+        if (errno == ENOENT)
+            return SEA_OK;
+        return sea_fail(err, SEA_ERR_IO, "-o: cannot examine '%s': %s", dir, strerror(errno));
+    }
+    if (!S_ISDIR(sb.st_mode))
+        return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory", dir);
+    return SEA_OK;
+}
+
+/* Puts the finished temporary directory in place of dir. */
+static sea_status commit_dir(const char *tmp, const char *dir, sea_error *err)
+{
+    struct stat sb;
+    if (lstat(dir, &sb) != 0) {
+        if (rename(tmp, dir) != 0)
+            return sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", tmp, dir,
+                            strerror(errno));
+        return SEA_OK;
+    }
+    if (!S_ISDIR(sb.st_mode))
+        return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory", dir);
+    char *old = sibling_template(dir, "old");
+    if (old == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    /* mkdtemp reserves a unique name; renaming a directory onto an empty
+     * directory replaces it (POSIX rename). */
+    if (mkdtemp(old) == NULL) {
+        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot create '%s': %s", old,
+                                 strerror(errno));
+        free(old);
+        return st;
+    }
+    if (rename(dir, old) != 0) {
+        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot move '%s' aside to '%s': %s", dir,
+                                 old, strerror(errno));
+        rmdir(old);
+        free(old);
+        return st;
+    }
+    if (rename(tmp, dir) != 0) {
+        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", tmp, dir,
+                                 strerror(errno));
+        rename(old, dir); /* put the old one back */
+        free(old);
+        return st;
+    }
+    remove_tree(old);
+    free(old);
+    return SEA_OK;
+}
+
+/* ------------------------------------------------------------------ maps */
+
+static double texel_value(const sea_bake_level *bl, size_t q, bake_quantity k, double scale)
+{
+    const sea_moments *m = &bl->moments[q];
+    const sea_facet_optics *o = &bl->optics[q];
+    double n[3], r[3];
+    switch (k) {
+    case Q_MX: return m->mx;
+    case Q_MY: return m->my;
+    case Q_MXX: return m->mxx;
+    case Q_MYY: return m->myy;
+    case Q_MXY: return m->mxy;
+    case Q_H: return m->h;
+    case Q_ZERO: return 0.0;
+    case Q_EMISSIVITY: return o->emissivity;
+    case Q_REFLECTIVITY: return o->reflectivity;
+    case Q_RADIANCE: return o->radiance;
+    case Q_TEMPERATURE: return o->temperature;
+    case Q_NX:
+    case Q_NY:
+    case Q_NZ: sea_bake_normal(m, n); return 0.5 * (n[k - Q_NX] + 1.0);
+    case Q_ROUGHNESS:
+    case Q_ANISOTROPY:
+    case Q_ROTATION:
+        sea_bake_roughness(m, &r[0], &r[1], &r[2]);
+        return r[k - Q_ROUGHNESS];
+    case Q_EMISSION: return o->radiance * scale;
+    }
+    return 0.0;
+}
+
+/* "<group>_<level>[_<frame>]<ext>", malloc'ed. */
+static char *map_name(const char *group, int level, bool framed, long frame, const char *ext)
+{
+    char buf[128];
+    if (framed)
+        snprintf(buf, sizeof buf, "%s_%d_%0*ld%s", group, level, BAKE_FRAME_DIGITS, frame, ext);
+    else
+        snprintf(buf, sizeof buf, "%s_%d%s", group, level, ext);
+    return strdup(buf);
+}
+
+static char *join(const char *dir, const char *name)
+{
+    const size_t len = strlen(dir) + strlen(name) + 2;
+    char *p = malloc(len);
+    if (p != NULL)
+        snprintf(p, len, "%s/%s", dir, name);
+    return p;
+}
+
+static const char *radiance_unit(const sea_scene *sc)
+{
+    return sc->wavelength > 0.0 ? "W m^-2 sr^-1 um^-1" : "W m^-2 sr^-1";
+}
+
+static const char *quantity_unit(const sea_scene *sc, bake_quantity k)
+{
+    if (k == Q_RADIANCE)
+        return radiance_unit(sc);
+    if (k == Q_EMISSION)
+        return sc->wavelength > 0.0 ? "W m^-2 sr^-1 um^-1 x emission_scale"
+                                    : "W m^-2 sr^-1 x emission_scale";
+    return BAKE_Q[k].unit;
+}
+
+/* Every file of one level and frame into tmp; the manifest entry of the
+ * frame (file names) into files. */
+static sea_status write_level(const bake_setup *s, const char *tmp, const sea_bake_level *bl,
+                              long frame, double t, double scale, float *buf[GROUP_CH_MAX],
+                              cJSON *files, sea_error *err)
+{
+    const sea_clip_level *lv = &bl->level;
+    const size_t n = lv->nx * lv->ny;
+    char level_s[16], frame_s[32], time_s[32], facet_s[32], scale_s[32];
+    snprintf(level_s, sizeof level_s, "%d", lv->level);
+    snprintf(frame_s, sizeof frame_s, "%ld", frame);
+    snprintf(time_s, sizeof time_s, "%.17g", t);
+    snprintf(facet_s, sizeof facet_s, "%.17g", lv->facet);
+    snprintf(scale_s, sizeof scale_s, "%.17g", scale);
+    sea_status st = SEA_OK;
+    for (size_t g = 0; g < BAKE_N_GROUPS && st == SEA_OK; g++) {
+        char channels[256] = "";
+        size_t used = 0;
+        sea_exr_channel ch[GROUP_CH_MAX];
+        for (size_t c = 0; c < BAKE_GROUPS[g].n; c++) {
+            const bake_quantity k = BAKE_GROUPS[g].q[c];
+            for (size_t q = 0; q < n; q++)
+                buf[c][q] = (float)texel_value(bl, q, k, scale);
+            ch[c].name = CHANNEL_NAMES[c];
+            ch[c].data = buf[c];
+            int w = snprintf(channels + used, sizeof channels - used, "%s%s=%s", c ? "," : "",
+                             CHANNEL_NAMES[c], BAKE_Q[k].name);
+            if (w > 0 && (size_t)w < sizeof channels - used)
+                used += (size_t)w;
+        }
+        const sea_exr_attr attrs[] = {{"seabake:quantity", BAKE_GROUPS[g].name},
+                                      {"seabake:channels", channels},
+                                      {"seabake:level", level_s},
+                                      {"seabake:facet_m", facet_s},
+                                      {"seabake:time_s", time_s},
+                                      {"seabake:frame", frame_s},
+                                      {"seabake:emission_scale", scale_s}};
+        const size_t n_attrs = strcmp(BAKE_GROUPS[g].name, "emission") == 0 ? 7 : 6;
+        char *exr_name = map_name(BAKE_GROUPS[g].name, lv->level, s->framed, frame, ".exr");
+        char *png_name = map_name(BAKE_GROUPS[g].name, lv->level, s->framed, frame, ".png");
+        char *exr_path = exr_name ? join(tmp, exr_name) : NULL;
+        char *png_path = png_name ? join(tmp, png_name) : NULL;
+        if (exr_path == NULL || png_path == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        } else {
+            st = sea_exr_write(exr_path, (int)lv->nx, (int)lv->ny, ch, BAKE_GROUPS[g].n, attrs,
+                               n_attrs, &s->exr, err);
+            if (st == SEA_OK) {
+                double lo, hi;
+                const float *shown = buf[BAKE_GROUPS[g].preview];
+                sea_png_range(shown, n, BAKE_PNG_CLIP, &lo, &hi);
+                st = sea_png_write_gray(png_path, (int)lv->nx, (int)lv->ny, shown, lo, hi, 8,
+                                        err);
+            }
+            if (st == SEA_OK) {
+                cJSON *f = cJSON_AddObjectToObject(files, BAKE_GROUPS[g].name);
+                if (f == NULL || !cJSON_AddStringToObject(f, "exr", exr_name) ||
+                    !cJSON_AddStringToObject(f, "png", png_name))
+                    st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+            }
+        }
+        free(exr_name);
+        free(png_name);
+        free(exr_path);
+        free(png_path);
+    }
+    return st;
+}
+
+/* ------------------------------------------------------------- manifest */
+
+static cJSON *number_or_null(double v)
+{
+    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
+}
+
+static cJSON *vec(const double *v, size_t n)
+{
+    return cJSON_CreateDoubleArray(v, (int)n);
+}
+
+static double deg(double rad)
+{
+    return rad * 180.0 / M_PI;
+}
+
+static cJSON *scene_json(const bake_setup *s)
+{
+    const sea_scene *sc = &s->sc;
+    static const char *const tables[] = {"hale-querry", "segelstein"};
+    cJSON *o = cJSON_CreateObject();
+    cJSON *sea = cJSON_AddObjectToObject(o, "sea");
+    cJSON_AddNumberToObject(sea, "wind_speed_m_s", sc->wind_speed);
+    cJSON_AddNumberToObject(sea, "wind_direction_deg", deg(sc->wind_dir));
+    cJSON_AddItemToObject(sea, "fetch_m", number_or_null(sc->fetch)); /* null: infinite */
+    cJSON_AddNumberToObject(sea, "temperature_K", sc->temperature);
+    cJSON_AddNumberToObject(sea, "salinity_g_kg", sc->salinity);
+    cJSON_AddStringToObject(sea, "water", sc->water_file[0] ? sc->water_file
+                                          : sc->water_table >= 0 && sc->water_table < 2
+                                              ? tables[sc->water_table]
+                                              : "?");
+    cJSON_AddNumberToObject(sea, "seed", (double)sc->seed);
+    cJSON_AddNumberToObject(sea, "time_s", sc->time);
+    cJSON_AddNumberToObject(sea, "loop_period_s", sc->loop_period);
+    cJSON *sun = cJSON_AddObjectToObject(o, "sun");
+    cJSON_AddNumberToObject(sun, "zenith_deg", deg(sc->sun_zenith));
+    cJSON_AddNumberToObject(sun, "azimuth_deg", deg(sc->sun_azimuth));
+    cJSON_AddItemToObject(sun, "irradiance_W_m2_um",
+                          sc->sun_irradiance >= 0.0 ? cJSON_CreateNumber(sc->sun_irradiance * 1e-6)
+                                                    : cJSON_CreateNull());
+    cJSON_AddNumberToObject(sun, "temperature_K", sc->sun_temperature);
+    cJSON_AddNumberToObject(sun, "solid_angle_sr", sc->sun_solid_angle);
+    cJSON_AddNumberToObject(sun, "transmittance", sc->sun_transmittance);
+    cJSON *sky = cJSON_AddObjectToObject(o, "sky");
+    cJSON_AddItemToObject(sky, "radiance_W_m2_sr_um",
+                          sc->sky_radiance >= 0.0 ? cJSON_CreateNumber(sc->sky_radiance * 1e-6)
+                                                  : cJSON_CreateNull());
+    cJSON_AddNumberToObject(sky, "temperature_K", sc->sky_temperature);
+    cJSON *sen = cJSON_AddObjectToObject(o, "sensor");
+    cJSON_AddNumberToObject(sen, "x_m", sc->sensor_x);
+    cJSON_AddNumberToObject(sen, "y_m", sc->sensor_y);
+    cJSON_AddNumberToObject(sen, "altitude_m", sc->altitude);
+    cJSON_AddNumberToObject(sen, "look_zenith_deg", deg(sc->look_zenith));
+    cJSON_AddNumberToObject(sen, "look_azimuth_deg", deg(sc->look_azimuth));
+    cJSON_AddNumberToObject(sen, "roll_deg", deg(sc->roll));
+    cJSON_AddNumberToObject(sen, "hfov_deg", deg(sc->hfov));
+    cJSON_AddNumberToObject(sen, "width", sc->width);
+    cJSON_AddNumberToObject(sen, "height", sc->height);
+    if (sc->wavelength > 0.0) {
+        cJSON_AddNumberToObject(sen, "wavelength_um", sc->wavelength * 1e6);
+        cJSON_AddNullToObject(sen, "band_um");
+    } else {
+        cJSON_AddNullToObject(sen, "wavelength_um");
+        const double band[2] = {sc->band_min * 1e6, sc->band_max * 1e6};
+        cJSON_AddItemToObject(sen, "band_um", vec(band, 2));
+    }
+    cJSON_AddStringToObject(sen, "response", sc->response_file);
+    cJSON_AddNumberToObject(sen, "samples", sc->band_samples);
+    cJSON *mod = cJSON_AddObjectToObject(o, "model");
+    cJSON_AddStringToObject(mod, "method", sea_facet_method_name((sea_facet_method)sc->method));
+    cJSON_AddNumberToObject(mod, "n", sc->n);
+    cJSON_AddNumberToObject(mod, "finest_m", sc->finest);
+    cJSON_AddNumberToObject(mod, "grid", sc->grid);
+    cJSON_AddStringToObject(mod, "emissivity",
+                            sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+    cJSON_AddStringToObject(mod, "earth", sc->earth == SEA_EARTH_FLAT ? "flat" : "spherical");
+    cJSON_AddNumberToObject(mod, "tolerance", sc->tolerance);
+    return o;
+}
+
+static cJSON *camera_json(const sea_camera *c, double hfov)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddItemToObject(o, "position_m", vec(c->pos, 3));
+    cJSON_AddItemToObject(o, "forward", vec(c->fwd, 3));
+    cJSON_AddItemToObject(o, "right", vec(c->right, 3));
+    cJSON_AddItemToObject(o, "up", vec(c->up, 3));
+    cJSON_AddNumberToObject(o, "focal_px", c->focal);
+    cJSON_AddNumberToObject(o, "width", c->width);
+    cJSON_AddNumberToObject(o, "height", c->height);
+    cJSON_AddNumberToObject(o, "hfov_deg", deg(hfov));
+    cJSON_AddStringToObject(o, "earth", c->earth == SEA_EARTH_FLAT ? "flat" : "spherical");
+    cJSON_AddStringToObject(o, "frame", "world x east, y north, z up, m; image u right, v down");
+    return o;
+}
+
+static cJSON *moments_json(const sea_moments *m)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "mx", m->mx);
+    cJSON_AddNumberToObject(o, "my", m->my);
+    cJSON_AddNumberToObject(o, "mxx", m->mxx);
+    cJSON_AddNumberToObject(o, "myy", m->myy);
+    cJSON_AddNumberToObject(o, "mxy", m->mxy);
+    cJSON_AddNumberToObject(o, "h", m->h);
+    return o;
+}
+
+static cJSON *rect_json(const sea_clip_level *lv)
+{
+    cJSON *o = cJSON_CreateObject();
+    const double origin[2] = {(double)lv->i0 * lv->facet, (double)lv->j0 * lv->facet};
+    const double extent[2] = {(double)lv->nx * lv->facet, (double)lv->ny * lv->facet};
+    cJSON_AddItemToObject(o, "origin_m", vec(origin, 2));
+    cJSON_AddItemToObject(o, "extent_m", vec(extent, 2));
+    return o;
+}
+
+/* The levels array: geometry from the first frame's bake; HR levels get a
+ * "frames" array filled by write_level. */
+static cJSON *levels_json(const bake_setup *s, const sea_bake *b)
+{
+    cJSON *arr = cJSON_CreateArray();
+    for (size_t l = 0; l < b->n_levels; l++) {
+        const sea_bake_level *bl = &b->levels[l];
+        const sea_clip_level *lv = &bl->level;
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddItemToArray(arr, o);
+        cJSON_AddNumberToObject(o, "index", lv->level);
+        cJSON_AddNumberToObject(o, "facet_m", lv->facet);
+        cJSON_AddBoolToObject(o, "low_res", lv->low_res);
+        cJSON_AddNumberToObject(o, "generated_share", lv->generated_share);
+        cJSON_AddNumberToObject(o, "sub_n", lv->sub_n);
+        /* the hole: the next finer high-resolution level's rectangle */
+        if (l > 0 && !b->levels[l - 1].level.low_res)
+            cJSON_AddItemToObject(o, "hole", rect_json(&b->levels[l - 1].level));
+        else
+            cJSON_AddNullToObject(o, "hole");
+        if (lv->low_res) {
+            cJSON_AddItemToObject(o, "moments", moments_json(&bl->lr_moments));
+            cJSON *op = cJSON_AddObjectToObject(o, "optics");
+            cJSON_AddNumberToObject(op, "emissivity", bl->lr_optics.emissivity);
+            cJSON_AddNumberToObject(op, "reflectivity", bl->lr_optics.reflectivity);
+            cJSON_AddNumberToObject(op, "radiance", bl->lr_optics.radiance);
+            cJSON_AddNumberToObject(op, "temperature", bl->lr_optics.temperature);
+            cJSON_AddNumberToObject(op, "obs_theta_deg", deg(bl->lr_obs.theta));
+            cJSON_AddNumberToObject(op, "obs_phi_deg", deg(bl->lr_obs.phi));
+            cJSON_AddNumberToObject(op, "sun_theta_deg", deg(bl->lr_sun.theta));
+            cJSON_AddNumberToObject(op, "sun_phi_deg", deg(bl->lr_sun.phi));
+            cJSON_AddStringToObject(op, "toward", "the image centre");
+            continue;
+        }
+        const double origin[2] = {(double)lv->i0 * lv->facet, (double)lv->j0 * lv->facet};
+        const double extent[2] = {(double)lv->nx * lv->facet, (double)lv->ny * lv->facet};
+        const double texels[2] = {(double)lv->nx, (double)lv->ny};
+        const double first[2] = {(double)lv->i0, (double)lv->j0};
+        cJSON_AddItemToObject(o, "origin_m", vec(origin, 2));
+        cJSON_AddItemToObject(o, "extent_m", vec(extent, 2));
+        cJSON_AddItemToObject(o, "texels", vec(texels, 2));
+        cJSON_AddItemToObject(o, "first_facet", vec(first, 2));
+        cJSON *maps = cJSON_AddObjectToObject(o, "maps");
+        for (size_t g = 0; g < BAKE_N_GROUPS; g++) {
+            cJSON *chs = cJSON_AddArrayToObject(maps, BAKE_GROUPS[g].name);
+            for (size_t c = 0; c < BAKE_GROUPS[g].n; c++) {
+                const bake_quantity k = BAKE_GROUPS[g].q[c];
+                cJSON *ch = cJSON_CreateObject();
+                cJSON_AddStringToObject(ch, "channel", CHANNEL_NAMES[c]);
+                cJSON_AddStringToObject(ch, "quantity", BAKE_Q[k].name);
+                cJSON_AddStringToObject(ch, "unit", quantity_unit(&s->sc, k));
+                cJSON_AddStringToObject(ch, "meaning", BAKE_Q[k].meaning);
+                cJSON_AddItemToArray(chs, ch);
+            }
+        }
+        cJSON_AddArrayToObject(o, "frames");
+    }
+    return arr;
+}
+
+static cJSON *manifest_json(const bake_setup *s, const sea_render *r, const sea_bake *b,
+                            double scale)
+{
+    cJSON *m = cJSON_CreateObject();
+    cJSON_AddStringToObject(m, "format", "seabake-bake");
+    cJSON_AddNumberToObject(m, "version", BAKE_MANIFEST_VERSION);
+    cJSON_AddStringToObject(m, "generator", PACKAGE_STRING);
+    cJSON_AddStringToObject(m, "scene_file", s->scene_path);
+    cJSON_AddItemToObject(m, "scene", scene_json(s));
+    cJSON_AddItemToObject(m, "camera", camera_json(sea_render_camera(r), s->sc.hfov));
+    cJSON_AddNumberToObject(m, "seed", (double)s->sc.seed);
+    cJSON_AddNumberToObject(m, "time_s", s->sc.time);
+    cJSON_AddBoolToObject(m, "framed", s->framed);
+    cJSON_AddNumberToObject(m, "frame_rate_hz", s->rate);
+    cJSON_AddArrayToObject(m, "frames");
+    cJSON_AddStringToObject(m, "pixel_type", s->exr.pixel == SEA_EXR_HALF ? "half" : "float");
+    cJSON_AddStringToObject(m, "compression",
+                            s->exr.compression == SEA_EXR_NONE  ? "none"
+                            : s->exr.compression == SEA_EXR_PIZ ? "piz"
+                                                                : "zip");
+    cJSON_AddStringToObject(m, "rows", "row 0 = north edge (largest y); texel (i, row) = facet "
+                                       "(i0 + i, j0 + ny - 1 - row)");
+    cJSON_AddNumberToObject(m, "emission_scale", scale);
+    cJSON *u = cJSON_AddObjectToObject(m, "units");
+    for (size_t k = 0; k < sizeof BAKE_Q / sizeof BAKE_Q[0]; k++)
+        cJSON_AddStringToObject(u, BAKE_Q[k].name, quantity_unit(&s->sc, (bake_quantity)k));
+    cJSON_AddStringToObject(m, "roughness_convention",
+                            "GGX in Blender's Principled BSDF: alpha = sqrt(C_xx + C_yy) "
+                            "(Beckmann-equivalent width), roughness = sqrt(alpha); anisotropy = "
+                            "(l1 - l2) / (l1 + l2); rotation = major-axis angle from east / 2 pi");
+    cJSON_AddItemToObject(m, "levels", levels_json(s, b));
+    return m;
+}
+
+static sea_status write_manifest(const char *tmp, cJSON *m, sea_error *err)
+{
+    char *text = cJSON_Print(m);
+    char *path = join(tmp, "manifest.json");
+    sea_status st = SEA_OK;
+    if (text == NULL || path == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    } else {
+        FILE *f = fopen(path, "w");
+        if (f == NULL) {
+            st = sea_fail(err, SEA_ERR_IO, "cannot create '%s': %s", path, strerror(errno));
+        } else {
+            const bool ok = fputs(text, f) >= 0 && fputc('\n', f) != EOF;
+            if (fclose(f) != 0 || !ok)
+                st = sea_fail(err, SEA_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
+        }
+    }
+    free(text);
+    free(path);
+    return st;
+}
+
+/* ------------------------------------------------------------------ run */
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The emission scale: a power of ten putting the largest radiance (HR
+ * texels and the LR constant) at or below BAKE_EMISSION_TARGET. */
+static double emission_scale(const sea_bake *b)
+{
+    double top = 0.0;
+    for (size_t l = 0; l < b->n_levels; l++) {
+        const sea_bake_level *bl = &b->levels[l];
+        top = fmax(top, bl->lr_optics.radiance);
+        if (bl->level.low_res)
+            continue;
+        for (size_t q = 0; q < bl->level.nx * bl->level.ny; q++)
+            top = fmax(top, bl->optics[q].radiance);
+    }
+    if (!(top > 0.0) || !isfinite(top))
+        return 1.0;
+    return pow(10.0, floor(log10(BAKE_EMISSION_TARGET / top)));
+}
+
+/* Radiance of the sky in the maps' units (per um for one wavelength,
+ * in-band for a band), as sea_render_frame computes it. */
+static double sky_radiance(const sea_render *r)
+{
+    const sea_scene *sc = sea_render_scene(r);
+    const double *wl, *wt;
+    const size_t n = sea_render_samples(r, &wl, &wt);
+    double L = 0.0;
+    for (size_t i = 0; i < n; i++)
+        L += wt[i] * (sc->sky_radiance >= 0.0 ? sc->sky_radiance
+                                              : sea_planck_radiance(wl[i], sc->sky_temperature));
+    return sc->wavelength > 0.0 ? 1e-6 * L : L;
+}
+
+/* The POV-Ray scene of the first frame: one ring per level (finest first),
+ * each with its emission map and the next finer level cut out; the
+ * low-resolution level as a constant ring reaching 1000 altitudes away. */
+static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_bake *b,
+                            const char *tmp, double scale, sea_error *err)
+{
+    sea_pov_level pl[SEA_CLIP_MAX_LEVELS];
+    char *names[SEA_CLIP_MAX_LEVELS] = {NULL};
+    size_t n = 0;
+    sea_status st = SEA_OK;
+    const sea_camera *cam = sea_render_camera(r);
+    const double far = 1000.0 * s->sc.altitude;
+    for (size_t l = 0; l < b->n_levels && st == SEA_OK; l++) {
+        const sea_bake_level *bl = &b->levels[l];
+        sea_pov_level *p = &pl[n];
+        memset(p, 0, sizeof *p);
+        p->level = bl->level.level;
+        p->facet = bl->level.facet;
+        if (bl->level.low_res) {
+            p->x0 = cam->pos[0] - far;
+            p->y0 = cam->pos[1] - far;
+            p->w = p->h = 2.0 * far;
+            p->constant = bl->lr_optics.radiance * scale;
+        } else {
+            p->x0 = (double)bl->level.i0 * bl->level.facet;
+            p->y0 = (double)bl->level.j0 * bl->level.facet;
+            p->w = (double)bl->level.nx * bl->level.facet;
+            p->h = (double)bl->level.ny * bl->level.facet;
+            names[n] = map_name("emission", bl->level.level, s->framed, s->frame_a, ".exr");
+            if (names[n] == NULL)
+                st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+            p->emission_file = names[n];
+        }
+        if (n > 0) {
+            p->has_hole = 1;
+            p->hx0 = pl[n - 1].x0;
+            p->hy0 = pl[n - 1].y0;
+            p->hw = pl[n - 1].w;
+            p->hh = pl[n - 1].h;
+        }
+        n++;
+    }
+    if (st == SEA_OK)
+        st = sea_pov_write(tmp, cam, pl, n, sky_radiance(r) * scale, scale, err);
+    for (size_t l = 0; l < n; l++)
+        free(names[l]);
+    return st;
+}
+
+/* Bakes every frame into tmp and writes the manifest there. */
+static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
+                           size_t *texels, sea_error *err)
+{
+    const sea_clip_level *lv;
+    const size_t nlev = sea_render_levels(r, &lv);
+    size_t nmax = 1;
+    for (size_t l = 0; l < nlev; l++)
+        if (!lv[l].low_res && lv[l].nx * lv[l].ny > nmax)
+            nmax = lv[l].nx * lv[l].ny;
+    sea_status st = sea_check_size(nmax, GROUP_CH_MAX * sizeof(float), "map buffers", err);
+    if (st != SEA_OK)
+        return st;
+    float *buf[GROUP_CH_MAX] = {NULL};
+    for (size_t c = 0; c < GROUP_CH_MAX; c++)
+        if ((buf[c] = malloc(nmax * sizeof(float))) == NULL)
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu texels", nmax);
+    cJSON *manifest = NULL;
+    double scale = 1.0;
+    const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
+    *texels = 0;
+    for (long f = first; f <= last && st == SEA_OK; ++f) {
+        const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
+        sea_bake b;
+        if ((st = sea_bake_frame(r, t, &b, err)) != SEA_OK)
+            break;
+        if (manifest == NULL) {
+            scale = emission_scale(&b);
+            manifest = manifest_json(s, r, &b, scale);
+            if (manifest == NULL)
+                st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        }
+        if (st == SEA_OK) {
+            cJSON *fr = cJSON_CreateObject();
+            cJSON_AddNumberToObject(fr, "frame", (double)f);
+            cJSON_AddNumberToObject(fr, "time_s", t);
+            cJSON_AddItemToArray(cJSON_GetObjectItem(manifest, "frames"), fr);
+        }
+        cJSON *levels = manifest ? cJSON_GetObjectItem(manifest, "levels") : NULL;
+        for (size_t l = 0; l < b.n_levels && st == SEA_OK; l++) {
+            if (b.levels[l].level.low_res)
+                continue;
+            cJSON *entry = cJSON_CreateObject();
+            cJSON_AddNumberToObject(entry, "frame", (double)f);
+            cJSON_AddNumberToObject(entry, "time_s", t);
+            cJSON *files = cJSON_AddObjectToObject(entry, "files");
+            cJSON_AddItemToArray(cJSON_GetObjectItem(cJSON_GetArrayItem(levels, (int)l), "frames"),
+                                 entry);
+            st = write_level(s, tmp, &b.levels[l], f, t, scale, buf, files, err);
+            *texels += b.levels[l].level.nx * b.levels[l].level.ny;
+        }
+        if (st == SEA_OK && s->pov && f == first)
+            st = write_pov(s, r, &b, tmp, scale, err);
+        sea_bake_free(&b);
+    }
+    if (st == SEA_OK)
+        st = write_manifest(tmp, manifest, err);
+    cJSON_Delete(manifest);
+    for (size_t c = 0; c < GROUP_CH_MAX; c++)
+        free(buf[c]);
+    return st;
+}
+
+static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
+{
+    (void)out; /* files go to DIR, the summary to standard error */
+    const double start = seconds_now();
+    bake_setup s;
+    sea_render *r = NULL;
+    char *tmp = NULL;
+    size_t texels = 0;
+    sea_status st = bake_parse(args, &s, err);
+    if (st == SEA_OK)
+        st = check_dir(s.dir, err);
+    if (st == SEA_OK && (tmp = sibling_template(s.dir, "tmp")) == NULL)
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    /* The temporary directory first: an unwritable parent must not cost a
+     * whole bake. */
+    if (st == SEA_OK && mkdtemp(tmp) == NULL) {
+        const int e = errno;
+        /* mkdtemp may have overwritten the template: name the pattern */
+        snprintf(tmp + strlen(tmp) - 6, 7, "XXXXXX");
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot create '%s': %s", tmp, strerror(e));
+        free(tmp);
+        tmp = NULL;
+    }
+    if (st == SEA_OK) {
+        /* mkdtemp makes it 0700; DIR gets the umask's permissions */
+        const mode_t mask = umask(0);
+        umask(mask);
+        if (chmod(tmp, 0777 & ~mask) != 0)
+            st = sea_fail(err, SEA_ERR_IO, "-o: cannot set the permissions of '%s': %s", tmp,
+                          strerror(errno));
+    }
+    if (st == SEA_OK)
+        st = sea_render_prepare(&s.sc, &r, err);
+    if (st == SEA_OK)
+        st = bake_all(&s, r, tmp, &texels, err);
+    if (st == SEA_OK)
+        st = commit_dir(tmp, s.dir, err);
+    if (st != SEA_OK && tmp != NULL)
+        remove_tree(tmp);
+    if (st == SEA_OK && !s.quiet) {
+        const double secs = seconds_now() - start;
+        fprintf(stderr, "bake: %s: %zu texels in %.3g s (%.3g texels/s)\n", s.dir, texels, secs,
+                secs > 0.0 ? (double)texels / secs : 0.0);
+    }
+    sea_render_free(r);
+    free(tmp);
+    free(s.dir);
+    return st;
+}
+
+/* --------------------------------------------------------------- command */
+
+static const sea_cli_option BAKE_OPTIONS[] = {
+    {"scene", SEA_CLI_OPT_POSITIONAL},
+    {"o", SEA_CLI_OPT_SHORT},
+    {"frames", 0},
+    {"frame-rate", 0},
+    {"format", 0},
+    {"compression", 0},
+    {"pov", SEA_CLI_OPT_FLAG},
+    {"blender", SEA_CLI_OPT_FLAG},
+    {"quiet", SEA_CLI_OPT_FLAG}};
+
+const sea_cli_command sea_cli_bake_commands[] = {
+    {"bake", "per-level EXR maps, previews and a manifest of a scene file", BAKE_HELP,
+     BAKE_OPTIONS, sizeof BAKE_OPTIONS / sizeof BAKE_OPTIONS[0], run_bake},
+};
+const size_t sea_cli_bake_n_commands = sizeof sea_cli_bake_commands / sizeof sea_cli_bake_commands[0];

@@ -1,0 +1,385 @@
+/* pov_driver.c - the test driver of tests/povray.sh: exports a scene with
+ * sea_pov_write and checks POV-Ray's render of it against seabake's own.
+ *
+ *   pov_driver export SCENE.ini DIR   writes DIR/scene.pov, scene.ini,
+ *                                     seabake.inc, level_<l>.exr, render.exr
+ *   pov_driver check SCENE.ini DIR    compares DIR/scene.exr (POV-Ray) with
+ *                                     seabake's render; prints the numbers
+ *
+ * The scene must render to a uniform radiance (pov_nadir.ini: sun below the
+ * horizon, sky as warm as the sea), so that each clipmap level's emission
+ * map is that constant, the same over its whole window, which any bake
+ * must give.  The finest level's map also carries markers: single texels of
+ * distinct values whose images must land where sea_camera_project puts the
+ * texel centres.  Exit status 0 pass, 1 fail, 99 hard error. */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "exr.h"
+#include "povray.h"
+#include "seabake.h"
+
+enum { N_MARKERS = 5, MIN_MARKERS = 3, MARKER_WINDOW = 3, MARKER_GRID_U = 5, MARKER_GRID_V = 6 };
+/* Markers at least this far apart and from the image's edges, pixels. */
+static const double MARKER_SPACING = 8.0, MARKER_MARGIN = 4.0;
+/* POV-Ray's sky is exported at this fraction of seabake's, so that the
+ * sky/sea boundary shows in a uniform scene. */
+static const double SKY_FACTOR = 0.5;
+/* The low-resolution ring reaches this many altitudes from the sensor;
+ * pixels whose sea point lies beyond it are not compared (POV-Ray shows the
+ * sky there). */
+static const double LR_EXTENT = 1e3;
+/* Marker k's map value: the constant times this (well apart, inside half range). */
+static double marker_gain(int k)
+{
+    return 2.0 + 0.5 * k;
+}
+/* Half floats keep 11 significant bits: relative rounding <= 2^-11. */
+static const double HALF_REL = 4.9e-4;
+/* The render must be uniform to this (it is epsilon B + (1 - epsilon) B). */
+static const double UNIFORM_REL = 1e-6;
+
+typedef struct {
+    sea_scene sc;
+    sea_render *r;
+    sea_camera cam;
+    sea_image img;
+    double L;     /* the uniform sea radiance of seabake's render */
+    double sky;   /* its sky radiance */
+    double scale; /* POV value = radiance * scale */
+    size_t n_levels;
+    const sea_clip_level *lv;
+    int fine;     /* index of the finest high-resolution level */
+    int n_markers;
+    long mi[N_MARKERS], mj[N_MARKERS]; /* marker facets (world facet indices) */
+} setup;
+
+static int die(const char *what, const sea_error *e)
+{
+    fprintf(stderr, "pov_driver: %s: %s\n", what, e ? e->msg : "");
+    return 99;
+}
+
+static int prepare(const char *scene, setup *s)
+{
+    sea_error e;
+    memset(s, 0, sizeof *s);
+    if (sea_scene_load(scene, &s->sc, &e) != SEA_OK || sea_render_prepare(&s->sc, &s->r, &e) ||
+        sea_camera_init(&s->cam, s->sc.sensor_x, s->sc.sensor_y, s->sc.altitude,
+                        s->sc.look_zenith, s->sc.look_azimuth, s->sc.roll, s->sc.hfov,
+                        s->sc.width, s->sc.height, s->sc.earth, &e) ||
+        sea_image_alloc(&s->img, s->sc.width, s->sc.height, &e) ||
+        sea_render_frame(s->r, s->sc.time, &s->img, NULL, NULL, &e))
+        return die(scene, &e);
+    const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
+    double lo = INFINITY, hi = -INFINITY;
+    int any_sky = 0;
+    for (size_t q = 0; q < npix; q++) {
+        if (s->img.level[q] > 0.0f) {
+            lo = fmin(lo, s->img.radiance[q]);
+            hi = fmax(hi, s->img.radiance[q]);
+        } else {
+            s->sky = s->img.radiance[q];
+            any_sky = 1;
+        }
+    }
+    if (!(hi - lo <= UNIFORM_REL * hi))
+        return die("the render is not uniform over the sea", NULL);
+    s->L = 0.5 * (lo + hi);
+    if (!any_sky)
+        s->sky = s->L;
+    /* A power of two puts the constant near 1 without changing its digits. */
+    s->scale = exp2(-round(log2(s->L)));
+    s->n_levels = sea_render_levels(s->r, &s->lv);
+    s->fine = -1;
+    for (size_t k = 0; k < s->n_levels && s->fine < 0; k++)
+        if (!s->lv[k].low_res)
+            s->fine = (int)k;
+    if (s->fine < 0)
+        return die("the scene has no high-resolution level", NULL);
+    /* Markers: points of a grid over the image that fall in the finest
+     * level's window, well apart. */
+    if (s->sc.width < 2 * MARKER_MARGIN || s->sc.height < 2 * MARKER_MARGIN)
+        return die("the image is too small for markers", NULL);
+    const sea_clip_level *f = &s->lv[s->fine];
+    double au[N_MARKERS], av[N_MARKERS];
+    for (int b = 0; b < MARKER_GRID_V && s->n_markers < N_MARKERS; b++)
+        for (int a = 0; a < MARKER_GRID_U && s->n_markers < N_MARKERS; a++) {
+            const double u = (a + 0.5 + 0.2 * (b % 2)) / MARKER_GRID_U * s->sc.width;
+            const double v = (b + 0.5) / MARKER_GRID_V * s->sc.height;
+            /* Only where seabake itself used the finest level: the pixels
+             * there are no larger than about a texel, so a one-texel marker
+             * cannot fall between two pixel centres. */
+            const size_t q = (size_t)v * (size_t)s->sc.width + (size_t)u;
+            if (s->img.level[q] != (float)f->facet)
+                continue;
+            sea_pixel_geom g;
+            sea_camera_pixel(&s->cam, u, v, &g);
+            if (!g.hit)
+                continue;
+            const long i = (long)floor(g.x / f->facet), j = (long)floor(g.y / f->facet);
+            if (i < f->i0 || j < f->j0 || i >= f->i0 + (long)f->nx || j >= f->j0 + (long)f->ny)
+                continue;
+            const double p[3] = { (i + 0.5) * f->facet, (j + 0.5) * f->facet, 0.0 };
+            double pu, pv;
+            if (!sea_camera_project(&s->cam, p, &pu, &pv) || pu < MARKER_MARGIN ||
+                pv < MARKER_MARGIN || pu > s->sc.width - MARKER_MARGIN ||
+                pv > s->sc.height - MARKER_MARGIN)
+                continue;
+            int apart = 1;
+            for (int k = 0; k < s->n_markers; k++)
+                if (hypot(pu - au[k], pv - av[k]) < MARKER_SPACING)
+                    apart = 0;
+            if (!apart)
+                continue;
+            au[s->n_markers] = pu;
+            av[s->n_markers] = pv;
+            s->mi[s->n_markers] = i;
+            s->mj[s->n_markers] = j;
+            s->n_markers++;
+        }
+    if (s->n_markers < MIN_MARKERS)
+        return die("too few marker places in the finest level's window", NULL);
+    return 0;
+}
+
+static void release(setup *s)
+{
+    sea_image_free(&s->img);
+    sea_render_free(s->r);
+}
+
+static int do_export(const char *dir, setup *s)
+{
+    sea_error e;
+    sea_pov_level pl[SEA_CLIP_MAX_LEVELS];
+    char names[SEA_CLIP_MAX_LEVELS][32];
+    const double c = s->L * s->scale;
+    for (size_t k = 0; k < s->n_levels; k++) {
+        const sea_clip_level *l = &s->lv[k];
+        sea_pov_level *p = &pl[k];
+        memset(p, 0, sizeof *p);
+        p->level = l->level;
+        p->facet = l->facet;
+        p->constant = c;
+        if (k > 0 && !s->lv[k - 1].low_res) {
+            const sea_clip_level *h = &s->lv[k - 1];
+            p->has_hole = 1;
+            p->hx0 = (double)h->i0 * h->facet;
+            p->hy0 = (double)h->j0 * h->facet;
+            p->hw = (double)h->nx * h->facet;
+            p->hh = (double)h->ny * h->facet;
+        }
+        if (l->low_res) {
+            /* Every LR facet is the same: a ring far beyond the view. */
+            const double R = LR_EXTENT * s->sc.altitude;
+            p->x0 = s->sc.sensor_x - R;
+            p->y0 = s->sc.sensor_y - R;
+            p->w = p->h = 2.0 * R;
+            continue;
+        }
+        p->x0 = (double)l->i0 * l->facet;
+        p->y0 = (double)l->j0 * l->facet;
+        p->w = (double)l->nx * l->facet;
+        p->h = (double)l->ny * l->facet;
+        snprintf(names[k], sizeof names[k], "level_%d.exr", l->level);
+        p->emission_file = names[k];
+        const size_t nt = l->nx * l->ny;
+        float *map = malloc(nt * sizeof *map);
+        if (map == NULL)
+            return die("out of memory", NULL);
+        for (size_t t = 0; t < nt; t++)
+            map[t] = (float)c;
+        if ((int)k == s->fine)
+            for (int m = 0; m < s->n_markers; m++) {
+                /* Row 0 is the top of the image: the northernmost facets. */
+                const size_t col = (size_t)(s->mi[m] - l->i0);
+                const size_t row = l->ny - 1 - (size_t)(s->mj[m] - l->j0);
+                map[row * l->nx + col] = (float)(c * marker_gain(m));
+            }
+        char path[4096];
+        snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+        const sea_exr_channel ch[3] = { { "R", map }, { "G", map }, { "B", map } };
+        const sea_exr_options opt = { SEA_EXR_HALF, SEA_EXR_ZIP };
+        sea_status st = sea_exr_write(path, (int)l->nx, (int)l->ny, ch, 3, NULL, 0, &opt, &e);
+        free(map);
+        if (st != SEA_OK)
+            return die(path, &e);
+    }
+    /* Outside every ring (none here) and in the sky: the sky radiance. */
+    if (sea_pov_write(dir, &s->cam, pl, s->n_levels, SKY_FACTOR * s->sky * s->scale, s->scale,
+                      &e) != SEA_OK)
+        return die(dir, &e);
+    printf("exported %zu levels, constant %.6g x scale %.6g, %d markers\n", s->n_levels, s->L,
+           s->scale, s->n_markers);
+    return 0;
+}
+
+static int do_check(const char *dir, setup *s)
+{
+    sea_error e;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/scene.exr", dir);
+    sea_exr_image pov;
+    if (sea_exr_read(path, &pov, &e) != SEA_OK)
+        return die(path, &e);
+    int fails = 0;
+    const float *R = sea_exr_image_channel(&pov, "R");
+    const int W = s->sc.width, H = s->sc.height;
+    if (R == NULL || pov.width != W || pov.height != H) {
+        fprintf(stderr, "FAIL: %s: %d x %d, no R channel or size not %d x %d\n", path, pov.width,
+                pov.height, W, H);
+        sea_exr_image_free(&pov);
+        return 1;
+    }
+    /* (b) markers: centroid of the excess over the constant. */
+    const double c = s->L * s->scale;
+    double mu[N_MARKERS], mv[N_MARKERS], worst = 0.0;
+    for (int k = 0; k < s->n_markers; k++) {
+        const sea_clip_level *f = &s->lv[s->fine];
+        const double p[3] = { ((double)s->mi[k] + 0.5) * f->facet,
+                              ((double)s->mj[k] + 0.5) * f->facet, 0.0 };
+        sea_camera_project(&s->cam, p, &mu[k], &mv[k]);
+        const int ci = (int)floor(mu[k]), cj = (int)floor(mv[k]);
+        double sw = 0.0, su = 0.0, sv = 0.0, peak = 0.0;
+        for (int j = cj - MARKER_WINDOW; j <= cj + MARKER_WINDOW; j++)
+            for (int i = ci - MARKER_WINDOW; i <= ci + MARKER_WINDOW; i++) {
+                if (i < 0 || j < 0 || i >= W || j >= H)
+                    continue;
+                const double x = R[j * W + i] - c;
+                if (x <= 0.0)
+                    continue;
+                sw += x;
+                su += x * (i + 0.5);
+                sv += x * (j + 0.5);
+                peak = fmax(peak, x);
+            }
+        const double du = sw > 0.0 ? su / sw - mu[k] : INFINITY;
+        const double dv = sw > 0.0 ? sv / sw - mv[k] : INFINITY;
+        const double d = hypot(du, dv);
+        worst = fmax(worst, d);
+        /* The bilinear footprint of one texel peaks at its value where a
+         * pixel centre falls on the texel centre; less elsewhere. */
+        printf("marker %d: expected (%.3f, %.3f), POV centroid (%.3f, %.3f), error %.3f px, "
+               "peak excess %.3g of %.3g\n",
+               k, mu[k], mv[k], mu[k] + du, mv[k] + dv, d, peak, c * (marker_gain(k) - 1.0));
+        if (!(d <= 1.0)) {
+            fprintf(stderr, "FAIL: marker %d lands %.3f px from its projection\n", k, d);
+            fails++;
+        }
+    }
+    /* (a) geometry and values: every pixel away from the markers. */
+    size_t n_sea = 0, n_sky = 0, n_far = 0, bad = 0;
+    const double reach = LR_EXTENT * s->sc.altitude;
+    double max_rel = 0.0, sum2 = 0.0;
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) {
+            int near = 0;
+            for (int k = 0; k < s->n_markers; k++)
+                if (fabs(i + 0.5 - mu[k]) < MARKER_WINDOW + 1 &&
+                    fabs(j + 0.5 - mv[k]) < MARKER_WINDOW + 1)
+                    near = 1;
+            if (near)
+                continue;
+            sea_pixel_geom g;
+            sea_camera_pixel(&s->cam, i + 0.5, j + 0.5, &g);
+            if (g.hit && (fabs(g.x - s->sc.sensor_x) > reach || fabs(g.y - s->sc.sensor_y) > reach)) {
+                n_far++;
+                continue;
+            }
+            const size_t q = (size_t)j * (size_t)W + (size_t)i;
+            const double want = s->img.radiance[q] * (s->img.level[q] > 0.0f ? 1.0 : SKY_FACTOR);
+            const double got = R[q] / s->scale;
+            const double rel = fabs(got - want) / want;
+            if (s->img.level[q] > 0.0f)
+                n_sea++;
+            else
+                n_sky++;
+            max_rel = fmax(max_rel, rel);
+            sum2 += rel * rel;
+            if (!(rel <= HALF_REL)) {
+                if (bad++ < 5)
+                    fprintf(stderr, "FAIL: pixel (%d, %d): POV %.7g, seabake %.7g (rel %.3g)\n",
+                            i, j, got, want, rel);
+            }
+        }
+    const double rms = sqrt(sum2 / (double)(n_sea + n_sky));
+    printf("pixels: %zu sea, %zu sky compared (markers and %zu beyond the rings excluded); "
+           "relative difference max %.3g, RMS %.3g; markers worst %.3f px\n",
+           n_sea, n_sky, n_far, max_rel, rms, worst);
+    if (bad) {
+        fprintf(stderr, "FAIL: %zu pixels differ by more than %g\n", bad, HALF_REL);
+        fails++;
+    }
+    sea_exr_image_free(&pov);
+    return fails ? 1 : 0;
+}
+
+/* compare REF.exr LEVEL.exr POV.exr: seabake render's radiance (channel
+ * Y) against POV-Ray's image of the baked export (channel R, divided by the
+ * scale that scene.pov declares, passed as SCALE) over the sea pixels
+ * (level > 0); fails when the relative RMS difference exceeds MAX. */
+static int do_compare(const char *ref, const char *level, const char *povimg, double scale,
+                      double max_rms)
+{
+    sea_exr_image a, l, b;
+    sea_error err;
+    memset(&a, 0, sizeof a);
+    memset(&l, 0, sizeof l);
+    memset(&b, 0, sizeof b);
+    int rc = 1;
+    if (sea_exr_read(ref, &a, &err) != SEA_OK || sea_exr_read(level, &l, &err) != SEA_OK ||
+        sea_exr_read(povimg, &b, &err) != SEA_OK) {
+        fprintf(stderr, "FAIL: %s\n", err.msg);
+        goto done;
+    }
+    const float *pa = sea_exr_image_channel(&a, "Y"), *pl = sea_exr_image_channel(&l, "Y");
+    const float *pb = sea_exr_image_channel(&b, "R");
+    if (pa == NULL || pl == NULL || pb == NULL || a.width != b.width || a.height != b.height) {
+        fprintf(stderr, "FAIL: channels or sizes do not match\n");
+        goto done;
+    }
+    double sum2 = 0.0, max_rel = 0.0;
+    size_t n = 0;
+    for (size_t i = 0; i < (size_t)a.width * (size_t)a.height; i++) {
+        if (pl[i] == 0.0f)
+            continue;
+        const double rel = fabs(pb[i] / scale - pa[i]) / pa[i];
+        sum2 += rel * rel;
+        max_rel = fmax(max_rel, rel);
+        n++;
+    }
+    const double rms = n ? sqrt(sum2 / (double)n) : INFINITY;
+    printf("seabake render vs POV-Ray of the bake: %zu sea pixels, relative RMS %.3g, max %.3g\n",
+           n, rms, max_rel);
+    rc = rms < max_rms ? 0 : 1;
+    if (rc)
+        fprintf(stderr, "FAIL: relative RMS %.3g >= %.3g\n", rms, max_rms);
+done:
+    sea_exr_image_free(&a);
+    sea_exr_image_free(&l);
+    sea_exr_image_free(&b);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    sea_init();
+    if (argc == 7 && strcmp(argv[1], "compare") == 0)
+        return do_compare(argv[2], argv[3], argv[4], atof(argv[5]), atof(argv[6]));
+    if (argc != 4 || (strcmp(argv[1], "export") != 0 && strcmp(argv[1], "check") != 0)) {
+        fprintf(stderr, "usage: pov_driver export|check SCENE.ini DIR\n"
+                        "       pov_driver compare REF.exr LEVEL.exr POV.exr SCALE MAX_RMS\n");
+        return 99;
+    }
+    setup s;
+    int rc = prepare(argv[2], &s);
+    if (rc == 0)
+        rc = strcmp(argv[1], "export") == 0 ? do_export(argv[3], &s) : do_check(argv[3], &s);
+    release(&s);
+    return rc;
+}

@@ -1,0 +1,304 @@
+/* test_bake.c - baked maps (issue 5): the moments of each level are
+ * sea_waves_facets' own, north up; LEAN averaging across levels; normals,
+ * roughness and optics as documented; low-resolution levels constant. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "unit.h"
+
+/* A 48 x 48 view 55 deg from nadir: footprints from ~2 to ~9 m, so several
+ * high-resolution levels and the low-resolution one. */
+static sea_scene bake_scene(void)
+{
+    sea_scene sc;
+    sea_scene_defaults(&sc);
+    sc.wind_speed = 10.0;
+    sc.wind_dir = 61.7 * DEG;
+    sc.altitude = 120.0;
+    sc.look_zenith = 55.0 * DEG;
+    sc.look_azimuth = 200.0 * DEG;
+    sc.hfov = 40.0 * DEG;
+    sc.width = sc.height = 48;
+    sc.wavelength = 4e-6;
+    sc.method = SEA_METHOD_VARIABLE_STEP;
+    sc.n = 0;
+    sc.grid = 64;
+    sc.emissivity_method = SEA_EMIS_FAST;
+    sc.sun_zenith = 50.0 * DEG;
+    sc.sun_azimuth = 200.0 * DEG; /* in view: a glint */
+    return sc;
+}
+
+static sea_render *prepare(const sea_scene *sc)
+{
+    sea_render *r = NULL;
+    sea_error err;
+    sea_status st = sea_render_prepare(sc, &r, &err);
+    if (st != SEA_OK)
+        fprintf(stderr, "  prepare: %s\n", err.msg);
+    CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
+    return r;
+}
+
+static void bake(const sea_render *r, double t, sea_bake *b)
+{
+    sea_error err;
+    sea_status st = sea_bake_frame(r, t, b, &err);
+    if (st != SEA_OK)
+        fprintf(stderr, "  bake: %s\n", err.msg);
+    CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
+}
+
+static size_t count_hr(const sea_bake *b)
+{
+    size_t n = 0;
+    for (size_t l = 0; l < b->n_levels; l++)
+        n += !b->levels[l].level.low_res;
+    return n;
+}
+
+/* Texel (i, row) is facet (i0 + i, j0 + ny - 1 - row) of the very same
+ * sea_waves_facets call: equal bit for bit.  Low-resolution levels have no
+ * texels and carry m = 0, C = C_LR. */
+static void test_moments_exact(void)
+{
+    const sea_scene sc = bake_scene();
+    sea_render *r = prepare(&sc);
+    sea_bake b;
+    const double t = 1.37;
+    bake(r, t, &b);
+    CU_ASSERT(count_hr(&b) >= 2);
+    CU_ASSERT(b.n_levels > count_hr(&b)); /* and a low-resolution one */
+    CU_ASSERT_EQUAL(b.time, t);
+    const sea_moments lr = sea_render_lr_moments(r);
+    for (size_t l = 0; l < b.n_levels; l++) {
+        const sea_bake_level *bl = &b.levels[l];
+        const sea_clip_level *lv = &bl->level;
+        if (lv->low_res) {
+            CU_ASSERT_PTR_NULL(bl->moments);
+            CU_ASSERT_PTR_NULL(bl->optics);
+            CU_ASSERT(memcmp(&bl->lr_moments, &lr, sizeof lr) == 0);
+            CU_ASSERT_EQUAL(bl->lr_moments.mx, 0.0);
+            CU_ASSERT(bl->lr_moments.mxx > 0.0);
+            CU_ASSERT(bl->lr_optics.emissivity > 0.0 && bl->lr_optics.emissivity <= 1.0);
+            continue;
+        }
+        const size_t n = lv->nx * lv->ny;
+        sea_moments *ref = malloc(n * sizeof *ref);
+        CU_ASSERT_PTR_NOT_NULL_FATAL(ref);
+        const sea_rect rect = { lv->facet, lv->i0, lv->j0, lv->nx, lv->ny };
+        sea_error err;
+        CU_ASSERT_EQUAL_FATAL(sea_waves_facets(sea_render_waves(r), &rect, lv->sub_n, t, ref, &err),
+                              SEA_OK);
+        size_t diff = 0;
+        for (size_t row = 0; row < lv->ny; row++)
+            diff += memcmp(bl->moments + row * lv->nx, ref + (lv->ny - 1 - row) * lv->nx,
+                           lv->nx * sizeof *ref) != 0;
+        CU_ASSERT_EQUAL(diff, 0);
+        free(ref);
+    }
+    sea_bake_free(&b);
+    sea_bake_free(&b); /* a freed bake frees again as nothing */
+    sea_render_free(r);
+}
+
+/* LEAN across levels.  With sub-facets of the finest size at every level
+ * (variable-step-2n, n >= every level: sub_n = l), the texel of level l+1
+ * is the mean of the 2 x 2 level-l texels it covers, to round-off (1e-12
+ * of the second moments).  With Variable Step this cannot hold: the coarse
+ * level's slope is taken from waves |k| <= pi/2L only and its C covers the
+ * waves between pi/2L and pi/L that the fine level resolves; what holds
+ * there is that both levels use the same realisation: the 2 x 2 mean of the
+ * fine slope equals the coarse one within the slope std of those waves, and
+ * C_coarse >= C_fine (trace). */
+static void test_lean_across_levels(void)
+{
+    sea_scene sc = bake_scene();
+    sc.method = SEA_METHOD_VARIABLE_STEP_2N;
+    sc.n = 12;
+    sea_render *r = prepare(&sc);
+    sea_bake b;
+    bake(r, 0.61, &b);
+    size_t pairs = 0, checked = 0;
+    for (size_t l = 0; l + 1 < b.n_levels; l++) {
+        const sea_bake_level *f = &b.levels[l], *c = &b.levels[l + 1];
+        if (f->level.low_res || c->level.low_res || c->level.level != f->level.level + 1)
+            continue;
+        CU_ASSERT_EQUAL(f->level.sub_n, f->level.level);
+        pairs++;
+        const sea_clip_level *lf = &f->level, *lc = &c->level;
+        for (size_t jc = 0; jc < lc->ny; jc++)
+            for (size_t ic = 0; ic < lc->nx; ic++) {
+                /* coarse facet (ci, cj) covers fine facets 2 ci.., 2 cj.. */
+                const long ci = lc->i0 + (long)ic, cj = lc->j0 + (long)jc;
+                const long fi = 2 * ci - lf->i0, fj = 2 * cj - lf->j0;
+                if (fi < 0 || fj < 0 || fi + 1 >= (long)lf->nx || fj + 1 >= (long)lf->ny)
+                    continue;
+                sea_moments avg = { 0 };
+                for (int dj = 0; dj < 2; dj++)
+                    for (int di = 0; di < 2; di++) {
+                        const size_t row = lf->ny - 1 - (size_t)(fj + dj);
+                        const sea_moments *m = &f->moments[row * lf->nx + (size_t)(fi + di)];
+                        avg.mx += 0.25 * m->mx;
+                        avg.my += 0.25 * m->my;
+                        avg.mxx += 0.25 * m->mxx;
+                        avg.myy += 0.25 * m->myy;
+                        avg.mxy += 0.25 * m->mxy;
+                        avg.h += 0.25 * m->h;
+                    }
+                const sea_moments *m = &c->moments[(lc->ny - 1 - jc) * lc->nx + ic];
+                const double s = m->mxx + m->myy;
+                ASSERT_ABS(avg.mx, m->mx, 1e-12 * s + 1e-15);
+                ASSERT_ABS(avg.my, m->my, 1e-12 * s + 1e-15);
+                ASSERT_ABS(avg.mxx, m->mxx, 1e-12 * s);
+                ASSERT_ABS(avg.myy, m->myy, 1e-12 * s);
+                ASSERT_ABS(avg.mxy, m->mxy, 1e-12 * s);
+                ASSERT_ABS(avg.h, m->h, 1e-9);
+                checked++;
+            }
+    }
+    CU_ASSERT(pairs >= 1);
+    CU_ASSERT(checked > 0);
+    MEASURED("bake LEAN: %zu coarse texels over %zu level pairs equal the 2x2 fine mean\n",
+             checked, pairs);
+    sea_bake_free(&b);
+    sea_render_free(r);
+}
+
+/* Normal, roughness and optics of every texel, as documented. */
+static void test_derived_maps(void)
+{
+    const sea_scene sc = bake_scene();
+    sea_render *r = prepare(&sc);
+    sea_bake b;
+    bake(r, 0.0, &b);
+    /* Eq 23 terms of this scene: sun from its temperature and solid
+     * angle, sky a blackbody, one wavelength, radiance per um */
+    const double wl = sc.wavelength;
+    const double esun = sc.sun_transmittance * sc.sun_solid_angle *
+                        sea_planck_radiance(wl, sc.sun_temperature);
+    const double lsky = sea_planck_radiance(wl, sc.sky_temperature);
+    const double bsea = sea_planck_radiance(wl, sc.temperature);
+    size_t bad_norm = 0, bad_rough = 0, bad_opt = 0, bad_eq23 = 0, glint = 0, total = 0;
+    for (size_t l = 0; l < b.n_levels; l++) {
+        const sea_bake_level *bl = &b.levels[l];
+        if (bl->level.low_res)
+            continue;
+        for (size_t q = 0; q < bl->level.nx * bl->level.ny; q++, total++) {
+            const sea_moments *m = &bl->moments[q];
+            double n[3];
+            sea_bake_normal(m, n);
+            if (fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0) > 1e-14 || !(n[2] > 0.0) ||
+                fabs(-n[0] / n[2] - m->mx) > 1e-14 || fabs(-n[1] / n[2] - m->my) > 1e-14)
+                bad_norm++;
+            double rough, aniso, rot;
+            sea_bake_roughness(m, &rough, &aniso, &rot);
+            const sea_slope_stats s = sea_moments_stats(m);
+            /* rebuild C from the three numbers */
+            const double tr = pow(rough, 4.0), l1 = 0.5 * tr * (1.0 + aniso),
+                         l2 = 0.5 * tr * (1.0 - aniso), th = 2.0 * M_PI * rot;
+            const double c = cos(th), sn = sin(th);
+            const double xx = l1 * c * c + l2 * sn * sn, yy = l1 * sn * sn + l2 * c * c,
+                         xy = (l1 - l2) * c * sn;
+            const double tol = 1e-10 * tr;
+            if (!(rough > 0.0 && rough < 1.0) || !(aniso >= 0.0 && aniso <= 1.0) ||
+                !(rot >= 0.0 && rot < 0.5) || fabs(xx - s.cov.xx) > tol ||
+                fabs(yy - s.cov.yy) > tol || fabs(xy - s.cov.xy) > tol)
+                bad_rough++;
+            const sea_facet_optics *o = &bl->optics[q];
+            if (!(o->emissivity >= 0.0 && o->emissivity <= 1.0) || !(o->reflectivity >= 0.0) ||
+                !isfinite(o->reflectivity) || !(o->radiance > 0.0) || !isfinite(o->radiance) ||
+                !(o->temperature > 200.0 && o->temperature < 6000.0))
+                bad_opt++;
+            const double eq23 =
+                1e-6 * (o->reflectivity * esun + (1.0 - o->emissivity) * lsky + o->emissivity * bsea);
+            if (fabs(o->radiance - eq23) > 1e-12 * eq23)
+                bad_eq23++;
+            if (o->temperature > sc.temperature + 1.0)
+                glint++;
+        }
+    }
+    CU_ASSERT(total > 1000);
+    CU_ASSERT_EQUAL(bad_norm, 0);
+    CU_ASSERT_EQUAL(bad_rough, 0);
+    CU_ASSERT_EQUAL(bad_opt, 0);
+    CU_ASSERT_EQUAL(bad_eq23, 0);
+    CU_ASSERT(glint > 0); /* the sun is in view: some texels are brighter than the sea */
+    MEASURED("bake: %zu texels, %zu brighter than the sea by more than 1 K (glint)\n", total,
+             glint);
+    sea_bake_free(&b);
+    sea_render_free(r);
+}
+
+/* The derived maps on hand-made moments: an isotropic facet, an
+ * anisotropic one along 30 deg, a flat one. */
+static void test_roughness_convention(void)
+{
+    const double s2 = 0.0123; /* per-axis slope variance */
+    sea_moments iso = { 0.1, -0.2, 0.01 + s2, 0.1 * -0.2, 0.04 + s2, 0.0 };
+    double rough, aniso, rot;
+    sea_bake_roughness(&iso, &rough, &aniso, &rot);
+    ASSERT_REL(rough * rough, sqrt(2.0 * s2), 1e-12, 0.0); /* Beckmann alpha = sqrt(2) sigma */
+    ASSERT_ABS(aniso, 0.0, 1e-9);
+    const double a = 30.0 * DEG, l1 = 0.02, l2 = 0.005;
+    sea_moments an = { 0.0, 0.0, l1 * cos(a) * cos(a) + l2 * sin(a) * sin(a),
+                       (l1 - l2) * cos(a) * sin(a), l1 * sin(a) * sin(a) + l2 * cos(a) * cos(a),
+                       0.0 };
+    sea_bake_roughness(&an, &rough, &aniso, &rot);
+    ASSERT_REL(aniso, (l1 - l2) / (l1 + l2), 1e-12, 0.0);
+    ASSERT_REL(rot, 30.0 / 360.0, 1e-12, 0.0);
+    /* major axis at -30 deg is 150 deg: rotation in [0, 0.5) */
+    an.mxy = -an.mxy;
+    sea_bake_roughness(&an, &rough, &aniso, &rot);
+    ASSERT_REL(rot, 150.0 / 360.0, 1e-12, 0.0);
+    const sea_moments flat = { 0 };
+    sea_bake_roughness(&flat, &rough, &aniso, &rot);
+    CU_ASSERT(rough == 0.0 && aniso == 0.0 && rot == 0.0);
+    double n[3];
+    sea_bake_normal(&flat, n);
+    CU_ASSERT(n[0] == 0.0 && n[1] == 0.0 && n[2] == 1.0);
+}
+
+/* The texel optics are those the renderer gives a pixel looking at the
+ * texel centre: a spherical-earth bake far out agrees with the flat one
+ * near the sensor, and a bad time is refused. */
+static void test_errors_and_earth(void)
+{
+    sea_scene sc = bake_scene();
+    sea_render *r = prepare(&sc);
+    sea_bake b;
+    sea_error err;
+    CU_ASSERT_EQUAL(sea_bake_frame(r, NAN, &b, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT(strstr(err.msg, "time") != NULL);
+    CU_ASSERT_EQUAL(b.n_levels, 0);
+    bake(r, 0.0, &b);
+    sc.earth = SEA_EARTH_SPHERICAL;
+    sea_render *rs = prepare(&sc);
+    sea_bake bs;
+    bake(rs, 0.0, &bs);
+    /* 120 m up, a few hundred metres out: the sphere tilts the view by
+     * under 0.01 deg, so the optics agree to 1e-3 relative */
+    const sea_bake_level *f = &b.levels[0], *s = &bs.levels[0];
+    CU_ASSERT_FATAL(!f->level.low_res && f->level.nx == s->level.nx && f->level.ny == s->level.ny);
+    double worst = 0.0;
+    for (size_t q = 0; q < f->level.nx * f->level.ny; q++)
+        worst = fmax(worst, fabs(f->optics[q].emissivity - s->optics[q].emissivity));
+    CU_ASSERT(worst < 1e-3);
+    MEASURED("bake: spherical vs flat earth, level 0 emissivity differs by at most %.2g\n", worst);
+    sea_bake_free(&b);
+    sea_bake_free(&bs);
+    sea_render_free(r);
+    sea_render_free(rs);
+}
+
+int test_bake_register(void)
+{
+    CU_pSuite s = CU_add_suite("bake", NULL, NULL);
+    if (s == NULL)
+        return 1;
+    return !CU_add_test(s, "moments are sea_waves_facets', north up", test_moments_exact) ||
+           !CU_add_test(s, "LEAN averaging across levels", test_lean_across_levels) ||
+           !CU_add_test(s, "normal, roughness, optics, Eq 23", test_derived_maps) ||
+           !CU_add_test(s, "roughness convention", test_roughness_convention) ||
+           !CU_add_test(s, "errors, spherical earth", test_errors_and_earth);
+}
