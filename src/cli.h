@@ -140,6 +140,39 @@ extern const size_t sea_cli_render_n_commands;
 extern const sea_cli_command sea_cli_bake_commands[];
 extern const size_t sea_cli_bake_n_commands;
 
+/* ------------------------------------------------ helpers of the subcommands */
+
+/* Option `name` was given. */
+bool sea_cli_given(const sea_cli_args *args, const char *name);
+/* SEA_ERR_DOMAIN "missing --name<why>" unless option name was given. */
+sea_status sea_cli_require(const sea_cli_args *args, const char *name, const char *why,
+                           sea_error *err);
+/* The option's number checked against range, or def when it is absent. */
+sea_status sea_cli_opt_number(const sea_cli_args *args, const char *name,
+                              const sea_cli_range *range, double def, double *out, sea_error *err);
+/* The option's LIST (see sea_cli_parse_list), or the LIST text def. */
+sea_status sea_cli_opt_list(const sea_cli_args *args, const char *name, const sea_cli_range *range,
+                            const char *def, sea_cli_list *out, sea_error *err);
+/* An integer option in [lo, hi], or def when it is absent. */
+sea_status sea_cli_opt_integer(const sea_cli_args *args, const char *name, long lo, long hi,
+                               long def, long *out, sea_error *err);
+
+/* "--frames A:B": integers in [0, SEA_CLI_FRAME_MAX], A <= B, at most
+ * SEA_CLI_FRAMES_MAX frames (as many as a LIST holds). */
+#define SEA_CLI_FRAME_MAX 999999
+#define SEA_CLI_FRAMES_MAX SEA_CLI_LIST_MAX
+sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *err);
+
+/* s ends with suffix (ASCII case ignored) and is longer than it. */
+bool sea_cli_has_suffix(const char *s, const char *suffix);
+/* "dir/name", malloc'ed (NULL when out of memory). */
+char *sea_cli_path_join(const char *dir, const char *name);
+/* SEA_ERR_IO, before any computation, when the directory of path cannot
+ * take a new file (the writers create their temporary files there). */
+sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_error *err);
+/* Monotonic wall-clock seconds. */
+double sea_cli_seconds(void);
+
 /* The complex refractive index of the water at --wavelength (required, um)
  * from --water (table name or CSV file, default hale-querry), --salinity
  * (default 35 g/kg) and, if the subcommand has it, --index.  The same

@@ -36,8 +36,6 @@
 
 /* ------------------------------------------------------------ constants */
 
-#define BAKE_FRAME_MAX 999999
-#define BAKE_FRAMES_MAX SEA_CLI_LIST_MAX
 enum { BAKE_FRAME_DIGITS = 4 };
 static const double BAKE_FRAME_RATE_DEFAULT = 25.0; /* Hz */
 /* Preview range: 0.5 % and 99.5 % quantiles, as render's. */
@@ -49,7 +47,6 @@ static const double BAKE_PNG_CLIP = 0.005;
 static const double BAKE_EMISSION_TARGET = 1000.0;
 static const int BAKE_MANIFEST_VERSION = 1;
 
-static const sea_cli_range BAKE_RANGE_FRAME = {0.0, BAKE_FRAME_MAX, false, false, ""};
 static const sea_cli_range BAKE_RANGE_RATE = {0.0, INFINITY, true, true, "Hz"};
 
 /* The quantities a texel can carry. */
@@ -147,34 +144,6 @@ typedef struct {
     bool pov;
 } bake_setup;
 
-static sea_status parse_frames(const char *text, long *a, long *b, sea_error *err)
-{
-    const char *colon = strchr(text, ':');
-    char first[64];
-    if (colon == NULL || strchr(colon + 1, ':') != NULL || (size_t)(colon - text) >= sizeof first)
-        return sea_fail(err, SEA_ERR_PARSE, "--frames: expected A:B (two frame numbers), got '%s'",
-                        text);
-    memcpy(first, text, (size_t)(colon - text));
-    first[colon - text] = '\0';
-    double va, vb;
-    sea_status st = sea_cli_parse_number("--frames", first, &BAKE_RANGE_FRAME, &va, err);
-    if (st == SEA_OK)
-        st = sea_cli_parse_number("--frames", colon + 1, &BAKE_RANGE_FRAME, &vb, err);
-    if (st != SEA_OK)
-        return st;
-    if (va != floor(va) || vb != floor(vb))
-        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' must hold integers", text);
-    if (va > vb)
-        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' runs backwards (A:B needs A <= B)",
-                        text);
-    if (vb - va + 1.0 > BAKE_FRAMES_MAX)
-        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' has %.0f frames, more than %d", text,
-                        vb - va + 1.0, BAKE_FRAMES_MAX);
-    *a = (long)va;
-    *b = (long)vb;
-    return SEA_OK;
-}
-
 static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -214,7 +183,7 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     }
     const char *frames = sea_cli_args_get(args, "frames");
     s->framed = frames != NULL;
-    if (s->framed && (st = parse_frames(frames, &s->frame_a, &s->frame_b, err)) != SEA_OK)
+    if (s->framed && (st = sea_cli_parse_frames(frames, &s->frame_a, &s->frame_b, err)) != SEA_OK)
         return st;
     const char *rate = sea_cli_args_get(args, "frame-rate");
     s->rate = BAKE_FRAME_RATE_DEFAULT;
@@ -364,15 +333,6 @@ static char *map_name(const char *group, int level, bool framed, long frame, con
     return strdup(buf);
 }
 
-static char *join(const char *dir, const char *name)
-{
-    const size_t len = strlen(dir) + strlen(name) + 2;
-    char *p = malloc(len);
-    if (p != NULL)
-        snprintf(p, len, "%s/%s", dir, name);
-    return p;
-}
-
 static const char *radiance_unit(const sea_scene *sc)
 {
     return sc->wavelength > 0.0 ? "W m^-2 sr^-1 um^-1" : "W m^-2 sr^-1";
@@ -428,8 +388,8 @@ static sea_status write_level(const bake_setup *s, const char *tmp, const sea_ba
         const size_t n_attrs = strcmp(BAKE_GROUPS[g].name, "emission") == 0 ? 7 : 6;
         char *exr_name = map_name(BAKE_GROUPS[g].name, lv->level, s->framed, frame, ".exr");
         char *png_name = map_name(BAKE_GROUPS[g].name, lv->level, s->framed, frame, ".png");
-        char *exr_path = exr_name ? join(tmp, exr_name) : NULL;
-        char *png_path = png_name ? join(tmp, png_name) : NULL;
+        char *exr_path = exr_name ? sea_cli_path_join(tmp, exr_name) : NULL;
+        char *png_path = png_name ? sea_cli_path_join(tmp, png_name) : NULL;
         if (exr_path == NULL || png_path == NULL) {
             st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         } else {
@@ -673,7 +633,7 @@ static cJSON *manifest_json(const bake_setup *s, const sea_render *r, const sea_
 static sea_status write_manifest(const char *tmp, cJSON *m, sea_error *err)
 {
     char *text = cJSON_Print(m);
-    char *path = join(tmp, "manifest.json");
+    char *path = sea_cli_path_join(tmp, "manifest.json");
     sea_status st = SEA_OK;
     if (text == NULL || path == NULL) {
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
@@ -693,13 +653,6 @@ static sea_status write_manifest(const char *tmp, cJSON *m, sea_error *err)
 }
 
 /* ------------------------------------------------------------------ run */
-
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* The emission scale: a power of ten putting the largest radiance (HR
  * texels and the LR constant) at or below BAKE_EMISSION_TARGET. */
@@ -848,7 +801,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
 static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
 {
     (void)out; /* files go to DIR, the summary to standard error */
-    const double start = seconds_now();
+    const double start = sea_cli_seconds();
     bake_setup s;
     sea_render *r = NULL;
     char *tmp = NULL;
@@ -885,7 +838,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     if (st != SEA_OK && tmp != NULL)
         remove_tree(tmp);
     if (st == SEA_OK && !s.quiet) {
-        const double secs = seconds_now() - start;
+        const double secs = sea_cli_seconds() - start;
         fprintf(stderr, "bake: %s: %zu texels in %.3g s (%.3g texels/s)\n", s.dir, texels, secs,
                 secs > 0.0 ? (double)texels / secs : 0.0);
     }
@@ -912,4 +865,5 @@ const sea_cli_command sea_cli_bake_commands[] = {
     {"bake", "per-level EXR maps, previews and a manifest of a scene file", BAKE_HELP,
      BAKE_OPTIONS, sizeof BAKE_OPTIONS / sizeof BAKE_OPTIONS[0], run_bake},
 };
-const size_t sea_cli_bake_n_commands = sizeof sea_cli_bake_commands / sizeof sea_cli_bake_commands[0];
+const size_t sea_cli_bake_n_commands =
+    sizeof sea_cli_bake_commands / sizeof sea_cli_bake_commands[0];

@@ -159,53 +159,13 @@ static const char SEA_CLI_HELP_ENERGY[] =
 
 /* ------------------------------------------------------- option helpers */
 
-/* Option names in the tables carry no dashes; messages show "--name". */
-static const char *dashed(const char *name, char *buf, size_t size)
-{
-    snprintf(buf, size, "--%s", name);
-    return buf;
-}
-
-static bool given(const sea_cli_args *args, const char *name)
-{
-    return sea_cli_args_get(args, name) != NULL;
-}
-
-static sea_status require(const sea_cli_args *args, const char *name, const char *why,
-                          sea_error *err)
-{
-    if (given(args, name))
-        return SEA_OK;
-    return sea_fail(err, SEA_ERR_DOMAIN, "missing --%s%s", name, why ? why : "");
-}
-
 /* Refuses name2 when name1 was given. */
 static sea_status exclusive(const sea_cli_args *args, const char *name1, const char *name2,
                             sea_error *err)
 {
-    if (given(args, name1) && given(args, name2))
+    if (sea_cli_given(args, name1) && sea_cli_given(args, name2))
         return sea_fail(err, SEA_ERR_DOMAIN, "--%s cannot be combined with --%s", name2, name1);
     return SEA_OK;
-}
-
-static sea_status opt_number(const sea_cli_args *args, const char *name, const sea_cli_range *range,
-                             double def, double *out, sea_error *err)
-{
-    char opt[48];
-    const char *text = sea_cli_args_get(args, name);
-    if (!text) {
-        *out = def;
-        return SEA_OK;
-    }
-    return sea_cli_parse_number(dashed(name, opt, sizeof opt), text, range, out, err);
-}
-
-static sea_status opt_list(const sea_cli_args *args, const char *name, const sea_cli_range *range,
-                           const char *def, sea_cli_list *out, sea_error *err)
-{
-    char opt[48];
-    const char *text = sea_cli_args_get(args, name);
-    return sea_cli_parse_list(dashed(name, opt, sizeof opt), text ? text : def, range, out, err);
 }
 
 static sea_status opt_method(const sea_cli_args *args, sea_emis_method *out, sea_error *err)
@@ -237,10 +197,10 @@ typedef struct {
 
 static sea_status water_index(const sea_cli_args *args, sea_cli_sea *sea, sea_error *err)
 {
-    sea_status st = require(args, "wavelength", NULL, err);
+    sea_status st = sea_cli_require(args, "wavelength", NULL, err);
     if (st == SEA_OK)
-        st = opt_number(args, "wavelength", &SEA_CLI_RANGE_WAVELENGTH, 0.0, &sea->wavelength_um,
-                        err);
+        st = sea_cli_opt_number(args, "wavelength", &SEA_CLI_RANGE_WAVELENGTH, 0.0,
+                                &sea->wavelength_um, err);
     if (st != SEA_OK)
         return st;
 
@@ -258,8 +218,8 @@ static sea_status water_index(const sea_cli_args *args, sea_cli_sea *sea, sea_er
     }
 
     double salinity;
-    st = opt_number(args, "salinity", &SEA_CLI_RANGE_SALINITY, SEA_CLI_SALINITY_DEFAULT, &salinity,
-                    err);
+    st = sea_cli_opt_number(args, "salinity", &SEA_CLI_RANGE_SALINITY, SEA_CLI_SALINITY_DEFAULT,
+                            &salinity, err);
     if (st != SEA_OK)
         return st;
     const char *name = sea_cli_args_get(args, "water");
@@ -304,11 +264,11 @@ static sea_status sea_state(const sea_cli_args *args, sea_spectrum *spec, double
                             double *fetch, sea_error *err)
 {
     double wind_dir_deg;
-    sea_status st = opt_number(args, "wind", &SEA_CLI_RANGE_WIND, 0.0, wind, err);
+    sea_status st = sea_cli_opt_number(args, "wind", &SEA_CLI_RANGE_WIND, 0.0, wind, err);
     if (st == SEA_OK)
-        st = opt_number(args, "fetch", &SEA_CLI_RANGE_FETCH, INFINITY, fetch, err);
+        st = sea_cli_opt_number(args, "fetch", &SEA_CLI_RANGE_FETCH, INFINITY, fetch, err);
     if (st == SEA_OK)
-        st = opt_number(args, "wind-dir", &SEA_CLI_RANGE_AZIMUTH, 0.0, &wind_dir_deg, err);
+        st = sea_cli_opt_number(args, "wind-dir", &SEA_CLI_RANGE_AZIMUTH, 0.0, &wind_dir_deg, err);
     if (st != SEA_OK)
         return st;
     return sea_spectrum_init(spec, *wind, *fetch, sea_cli_radians(wind_dir_deg), err);
@@ -358,10 +318,11 @@ static sea_status slope_stats(const sea_cli_args *args, sea_slope_stats *stats, 
     } else {
         sea_spectrum spec;
         double wind, fetch, facet, kc;
-        if ((st = require(args, "wind", " (or give the slope covariance with --cov)", err)) !=
-                SEA_OK ||
+        if ((st = sea_cli_require(args, "wind", " (or give the slope covariance with --cov)",
+                                  err)) != SEA_OK ||
             (st = sea_state(args, &spec, &wind, &fetch, err)) != SEA_OK ||
-            (st = opt_number(args, "facet", &SEA_CLI_RANGE_FACET, 0.0, &facet, err)) != SEA_OK ||
+            (st = sea_cli_opt_number(args, "facet", &SEA_CLI_RANGE_FACET, 0.0, &facet, err)) !=
+                SEA_OK ||
             (st = facet_cov(&spec, facet, &kc, &stats->cov, err)) != SEA_OK)
             return st;
     }
@@ -402,11 +363,11 @@ static sea_status run_spectrum(const sea_cli_args *args, FILE *out, sea_error *e
     sea_spectrum spec;
     double wind, fetch;
     sea_cli_list facets = {NULL, 0};
-    sea_status st = require(args, "wind", NULL, err);
+    sea_status st = sea_cli_require(args, "wind", NULL, err);
     if (st == SEA_OK)
         st = sea_state(args, &spec, &wind, &fetch, err);
     if (st == SEA_OK)
-        st = opt_list(args, "facet", &SEA_CLI_RANGE_FACET, "0", &facets, err);
+        st = sea_cli_opt_list(args, "facet", &SEA_CLI_RANGE_FACET, "0", &facets, err);
     if (st != SEA_OK)
         goto done;
 
@@ -445,11 +406,11 @@ static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
 static sea_status direction_grid(const sea_cli_args *args, sea_cli_list *theta, sea_cli_list *phi,
                                  sea_error *err)
 {
-    sea_status st = require(args, "theta", NULL, err);
+    sea_status st = sea_cli_require(args, "theta", NULL, err);
     if (st == SEA_OK)
-        st = opt_list(args, "theta", &SEA_CLI_RANGE_THETA, NULL, theta, err);
+        st = sea_cli_opt_list(args, "theta", &SEA_CLI_RANGE_THETA, NULL, theta, err);
     if (st == SEA_OK)
-        st = opt_list(args, "phi", &SEA_CLI_RANGE_AZIMUTH, "0", phi, err);
+        st = sea_cli_opt_list(args, "phi", &SEA_CLI_RANGE_AZIMUTH, "0", phi, err);
     return st;
 }
 
@@ -618,18 +579,18 @@ static sea_status run_reflectivity(const sea_cli_args *args, FILE *out, sea_erro
     sea_cli_sea sea;
     double inc[2];
     const char *inc_text = sea_cli_args_get(args, "inc");
-    sea_status st = require(args, "inc", NULL, err);
+    sea_status st = sea_cli_require(args, "inc", NULL, err);
     if (st == SEA_OK)
         st = sea_cli_parse_tuple("--inc", inc_text, 2, SEA_CLI_RANGE_DIRECTION, "THETA,PHI", inc,
                                  err);
     if (st != SEA_OK)
         goto done;
-    if (given(args, "obs")) {
+    if (sea_cli_given(args, "obs")) {
         if ((st = exclusive(args, "obs", "theta", err)) != SEA_OK ||
             (st = exclusive(args, "obs", "phi", err)) != SEA_OK ||
             (st = obs_pairs(args, &pairs, err)) != SEA_OK)
             goto done;
-    } else if (!given(args, "theta")) {
+    } else if (!sea_cli_given(args, "theta")) {
         st = sea_fail(err, SEA_ERR_DOMAIN,
                       "missing observation directions: give --obs THETA,PHI or --theta LIST");
         goto done;

@@ -31,11 +31,8 @@
 
 /* ------------------------------------------------------------ constants */
 
-/* Frames: numbers in [0, RENDER_FRAME_MAX], at most RENDER_FRAMES_MAX per
- * run (as many as a LIST holds); names carry at least 4 digits, as
+/* Frames (sea_cli_parse_frames): names carry at least 4 digits, as
  * Blender's "####". */
-#define RENDER_FRAME_MAX 999999
-#define RENDER_FRAMES_MAX SEA_CLI_LIST_MAX
 enum { RENDER_FRAME_DIGITS = 4 };
 static const double RENDER_FRAME_RATE_DEFAULT = 25.0; /* Hz */
 /* The preview's range: the 0.5 % and 99.5 % quantiles, so that a few
@@ -47,7 +44,6 @@ enum { RENDER_BAR = 30 };
 /* Wavelengths listed by --explain before "...". */
 enum { RENDER_EXPLAIN_SAMPLES = 16 };
 
-static const sea_cli_range RENDER_RANGE_FRAME = {0.0, RENDER_FRAME_MAX, false, false, ""};
 static const sea_cli_range RENDER_RANGE_RATE = {0.0, INFINITY, true, true, "Hz"};
 
 /* Arbitrary output variables, each in its own file OUT.<name>.exr. */
@@ -126,41 +122,6 @@ static void render_setup_free(render_setup *s)
     s->out_stem = s->png_stem = NULL;
 }
 
-static bool has_suffix(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n > m && strcasecmp(s + n - m, suffix) == 0;
-}
-
-/* "--frames A:B". */
-static sea_status parse_frames(const char *text, long *a, long *b, sea_error *err)
-{
-    const char *colon = strchr(text, ':');
-    char first[64];
-    if (colon == NULL || strchr(colon + 1, ':') != NULL || (size_t)(colon - text) >= sizeof first)
-        return sea_fail(err, SEA_ERR_PARSE, "--frames: expected A:B (two frame numbers), got '%s'",
-                        text);
-    memcpy(first, text, (size_t)(colon - text));
-    first[colon - text] = '\0';
-    double va, vb;
-    sea_status st = sea_cli_parse_number("--frames", first, &RENDER_RANGE_FRAME, &va, err);
-    if (st == SEA_OK)
-        st = sea_cli_parse_number("--frames", colon + 1, &RENDER_RANGE_FRAME, &vb, err);
-    if (st != SEA_OK)
-        return st;
-    if (va != floor(va) || vb != floor(vb))
-        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' must hold integers", text);
-    if (va > vb)
-        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' runs backwards (A:B needs A <= B)",
-                        text);
-    if (vb - va + 1.0 > RENDER_FRAMES_MAX)
-        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' has %.0f frames, more than %d", text,
-                        vb - va + 1.0, RENDER_FRAMES_MAX);
-    *a = (long)va;
-    *b = (long)vb;
-    return SEA_OK;
-}
-
 /* "--aov level,temperature". */
 static sea_status parse_aovs(const char *text, bool aov[AOV_COUNT], sea_error *err)
 {
@@ -185,28 +146,6 @@ static sea_status parse_aovs(const char *text, bool aov[AOV_COUNT], sea_error *e
             return SEA_OK;
         p = end + 1;
     }
-}
-
-/* An integer option in [lo, hi]; def when not given. */
-static sea_status opt_integer(const sea_cli_args *args, const char *name, long lo, long hi,
-                              long def, long *out, sea_error *err)
-{
-    const char *text = sea_cli_args_get(args, name);
-    if (text == NULL) {
-        *out = def;
-        return SEA_OK;
-    }
-    char opt[48];
-    snprintf(opt, sizeof opt, "--%s", name);
-    const sea_cli_range range = {(double)lo, (double)hi, false, false, ""};
-    double v;
-    sea_status st = sea_cli_parse_number(opt, text, &range, &v, err);
-    if (st != SEA_OK)
-        return st;
-    if (v != floor(v))
-        return sea_fail(err, SEA_ERR_DOMAIN, "%s: %s is not an integer", opt, text);
-    *out = (long)v;
-    return SEA_OK;
 }
 
 /* The default output: the scene file's base name, its extension replaced
@@ -234,14 +173,14 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
         return sea_fail(err, SEA_ERR_PARSE, "empty scene file name");
 
     const char *out = sea_cli_args_get(args, "o");
-    if (out != NULL && !has_suffix(out, ".exr"))
+    if (out != NULL && !sea_cli_has_suffix(out, ".exr"))
         return sea_fail(err, SEA_ERR_PARSE, "-o: '%s' must end in .exr", out);
     const char *png = sea_cli_args_get(args, "png");
     s->png = png == NULL || strcmp(png, "none") != 0;
-    if (png != NULL && s->png && !has_suffix(png, ".png"))
+    if (png != NULL && s->png && !sea_cli_has_suffix(png, ".png"))
         return sea_fail(err, SEA_ERR_PARSE, "--png: '%s' must end in .png (or be none)", png);
     long depth;
-    if ((st = opt_integer(args, "png-depth", 8, 16, 8, &depth, err)) != SEA_OK)
+    if ((st = sea_cli_opt_integer(args, "png-depth", 8, 16, 8, &depth, err)) != SEA_OK)
         return st;
     if (depth != 8 && depth != 16)
         return sea_fail(err, SEA_ERR_DOMAIN, "--png-depth: %ld is not 8 or 16", depth);
@@ -255,7 +194,7 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
 
     const char *frames = sea_cli_args_get(args, "frames");
     s->framed = frames != NULL;
-    if (s->framed && (st = parse_frames(frames, &s->frame_a, &s->frame_b, err)) != SEA_OK)
+    if (s->framed && (st = sea_cli_parse_frames(frames, &s->frame_a, &s->frame_b, err)) != SEA_OK)
         return st;
     const char *rate = sea_cli_args_get(args, "frame-rate");
     s->rate = RENDER_FRAME_RATE_DEFAULT;
@@ -267,7 +206,8 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
             return st;
     }
     long threads;
-    if ((st = opt_integer(args, "threads", 1, RENDER_THREADS_MAX, 0, &threads, err)) != SEA_OK)
+    st = sea_cli_opt_integer(args, "threads", 1, RENDER_THREADS_MAX, 0, &threads, err);
+    if (st != SEA_OK)
         return st;
 #ifdef _OPENMP
     if (threads > 0)
@@ -318,30 +258,7 @@ static char *frame_path(const char *stem, bool framed, long frame, const char *m
     return p;
 }
 
-/* Fails before any rendering when the directory of path cannot take a new
- * file (the exporters create their temporary file there). */
-static sea_status check_parent_writable(const char *opt, const char *path, sea_error *err)
-{
-    const char *slash = strrchr(path, '/');
-    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
-    if (dir == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    sea_status st = SEA_OK;
-    if (access(dir, W_OK | X_OK) != 0)
-        st = sea_fail(err, SEA_ERR_IO, "%s: cannot write into directory '%s': %s", opt, dir,
-                      strerror(errno));
-    free(dir);
-    return st;
-}
-
 /* ------------------------------------------------------------- reporting */
-
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* "1,2,512(LR)": facet sizes of the levels prepare chose, finest first. */
 static void levels_text(const sea_render *r, char *buf, size_t size)
@@ -534,7 +451,7 @@ static sea_status check_outputs(const render_setup *s, sea_error *err)
     char *probe = frame_path(s->out_stem, s->framed, s->frame_a, "", s->out_ext);
     if (probe == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    sea_status st = check_parent_writable("-o", probe, err);
+    sea_status st = sea_cli_check_parent_writable("-o", probe, err);
     /* A scene file called x.exr would be its own default output. */
     struct stat a, b;
     if (st == SEA_OK && stat(probe, &a) == 0 && stat(s->scene_path, &b) == 0 &&
@@ -545,7 +462,7 @@ static sea_status check_outputs(const render_setup *s, sea_error *err)
         return st;
     if ((probe = frame_path(s->png_stem, false, 0, "", s->png_ext)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    st = check_parent_writable("--png", probe, err);
+    st = sea_cli_check_parent_writable("--png", probe, err);
     free(probe);
     return st;
 }
@@ -591,7 +508,7 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
                 "render: %s%s%s: %d x %d, levels %s m, %ld frame%s, %.3g s, brightness "
                 "temperature %.2f to %.2f K\n",
                 a, last > first ? " to " : "", last > first ? b : "", s->sc.width, s->sc.height,
-                levels, last - first + 1, last > first ? "s" : "", seconds_now() - start, t_min,
+                levels, last - first + 1, last > first ? "s" : "", sea_cli_seconds() - start, t_min,
                 t_max);
     free(a);
     free(b);
@@ -601,7 +518,7 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
 static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err)
 {
     (void)out; /* the images go to files, the reports to standard error */
-    const double start = seconds_now();
+    const double start = sea_cli_seconds();
     render_setup s;
     sea_render *r = NULL;
     sea_status st = render_parse(args, &s, err);

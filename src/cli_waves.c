@@ -194,59 +194,6 @@ static const char SEA_CLI_HELP_BENCH[] =
 
 /* ------------------------------------------------------- option helpers */
 
-/* Option names in the tables carry no dashes; messages show "--name". */
-static const char *dashed(const char *name, char *buf, size_t size)
-{
-    snprintf(buf, size, "--%s", name);
-    return buf;
-}
-
-static bool given(const sea_cli_args *args, const char *name)
-{
-    return sea_cli_args_get(args, name) != NULL;
-}
-
-static sea_status require(const sea_cli_args *args, const char *name, const char *why,
-                          sea_error *err)
-{
-    if (given(args, name))
-        return SEA_OK;
-    return sea_fail(err, SEA_ERR_DOMAIN, "missing --%s%s", name, why ? why : "");
-}
-
-static sea_status opt_number(const sea_cli_args *args, const char *name, const sea_cli_range *range,
-                             double def, double *out, sea_error *err)
-{
-    char opt[48];
-    const char *text = sea_cli_args_get(args, name);
-    if (!text) {
-        *out = def;
-        return SEA_OK;
-    }
-    return sea_cli_parse_number(dashed(name, opt, sizeof opt), text, range, out, err);
-}
-
-/* An integer option in [lo, hi]. */
-static sea_status opt_integer(const sea_cli_args *args, const char *name, long lo, long hi,
-                              long def, long *out, sea_error *err)
-{
-    const char *text = sea_cli_args_get(args, name);
-    if (!text) {
-        *out = def;
-        return SEA_OK;
-    }
-    char opt[48];
-    const sea_cli_range range = {(double)lo, (double)hi, false, false, ""};
-    double v;
-    sea_status st = sea_cli_parse_number(dashed(name, opt, sizeof opt), text, &range, &v, err);
-    if (st != SEA_OK)
-        return st;
-    if (v != floor(v))
-        return sea_fail(err, SEA_ERR_DOMAIN, "%s: %s is not an integer", opt, text);
-    *out = (long)v;
-    return SEA_OK;
-}
-
 /* --seed: a decimal unsigned integer, read exactly (not through a double). */
 static sea_status opt_seed(const sea_cli_args *args, unsigned long *out, sea_error *err)
 {
@@ -280,16 +227,17 @@ static sea_status opt_facet_method(const sea_cli_args *args, sea_facet_method *m
     *method = (sea_facet_method)m;
     *n = 0;
     if (*method != SEA_METHOD_VARIABLE_STEP_2N) {
-        if (given(args, "n"))
+        if (sea_cli_given(args, "n"))
             return sea_fail(err, SEA_ERR_DOMAIN,
                             "--n applies only to --method variable-step-2n, not %s",
                             sea_facet_method_name(*method));
         return SEA_OK;
     }
     long v;
-    sea_status st = require(args, "n", " (the sub-facet exponent of variable-step-2n)", err);
+    sea_status st =
+        sea_cli_require(args, "n", " (the sub-facet exponent of variable-step-2n)", err);
     if (st == SEA_OK)
-        st = opt_integer(args, "n", 0, SEA_CLI_N_MAX, 0, &v, err);
+        st = sea_cli_opt_integer(args, "n", 0, SEA_CLI_N_MAX, 0, &v, err);
     if (st == SEA_OK)
         *n = (int)v;
     return st;
@@ -299,13 +247,13 @@ static sea_status opt_facet_method(const sea_cli_args *args, sea_facet_method *m
 static sea_status opt_sea_state(const sea_cli_args *args, double *wind, double *fetch,
                                 double *wind_dir_deg, sea_error *err)
 {
-    sea_status st = require(args, "wind", NULL, err);
+    sea_status st = sea_cli_require(args, "wind", NULL, err);
     if (st == SEA_OK)
-        st = opt_number(args, "wind", &SEA_CLI_RANGE_WIND, 0.0, wind, err);
+        st = sea_cli_opt_number(args, "wind", &SEA_CLI_RANGE_WIND, 0.0, wind, err);
     if (st == SEA_OK)
-        st = opt_number(args, "fetch", &SEA_CLI_RANGE_FETCH, INFINITY, fetch, err);
+        st = sea_cli_opt_number(args, "fetch", &SEA_CLI_RANGE_FETCH, INFINITY, fetch, err);
     if (st == SEA_OK)
-        st = opt_number(args, "wind-dir", &SEA_CLI_RANGE_AZIMUTH, 0.0, wind_dir_deg, err);
+        st = sea_cli_opt_number(args, "wind-dir", &SEA_CLI_RANGE_AZIMUTH, 0.0, wind_dir_deg, err);
     return st;
 }
 
@@ -313,7 +261,7 @@ static sea_status opt_sea_state(const sea_cli_args *args, double *wind, double *
 static sea_status opt_threads(const sea_cli_args *args, sea_error *err)
 {
     long n;
-    sea_status st = opt_integer(args, "threads", 1, 1024, 0, &n, err);
+    sea_status st = sea_cli_opt_integer(args, "threads", 1, 1024, 0, &n, err);
     if (st != SEA_OK)
         return st;
 #ifdef _OPENMP
@@ -354,13 +302,6 @@ static double pow2_ceil(double x)
     if (exp2(e) < x)
         e += 1.0;
     return exp2(e);
-}
-
-static double seconds_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* ------------------------------------------------------------------ files */
@@ -441,22 +382,6 @@ static sea_status atomic_commit(atomic_file *af, const char *opt, sea_error *err
     return SEA_OK;
 }
 
-/* Fails early, before any computation, when path's directory cannot take a
- * new file. */
-static sea_status check_parent_writable(const char *opt, const char *path, sea_error *err)
-{
-    const char *slash = strrchr(path, '/');
-    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
-    if (dir == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    sea_status st = SEA_OK;
-    if (access(dir, W_OK | X_OK) != 0)
-        st = sea_fail(err, SEA_ERR_IO, "%s: cannot write into directory '%s': %s", opt, dir,
-                      strerror(errno));
-    free(dir);
-    return st;
-}
-
 /* mkdir -p dir, then checks that it is a writable directory. */
 static sea_status make_dir(const char *opt, const char *dir, sea_error *err)
 {
@@ -489,22 +414,6 @@ static sea_status make_dir(const char *opt, const char *dir, sea_error *err)
         return sea_fail(err, SEA_ERR_IO, "%s: cannot write into directory '%s': %s", opt, dir,
                         strerror(errno));
     return SEA_OK;
-}
-
-/* "dir/name", malloc'ed. */
-static char *path_join(const char *dir, const char *name)
-{
-    size_t len = strlen(dir) + strlen(name) + 2;
-    char *p = malloc(len);
-    if (p != NULL)
-        snprintf(p, len, "%s/%s", dir, name);
-    return p;
-}
-
-static bool has_suffix(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n > m && strcasecmp(s + n - m, suffix) == 0;
 }
 
 /* ================================================================ slopes */
@@ -598,31 +507,32 @@ static sea_status slopes_parse(const sea_cli_args *args, slopes_setup *s, sea_er
 {
     sea_status st = opt_sea_state(args, &s->wind, &s->fetch, &s->wind_dir_deg, err);
     if (st == SEA_OK)
-        st = require(args, "facet", NULL, err);
+        st = sea_cli_require(args, "facet", NULL, err);
     if (st == SEA_OK)
-        st = opt_number(args, "facet", &SEA_CLI_RANGE_LENGTH, 0.0, &s->facet, err);
+        st = sea_cli_opt_number(args, "facet", &SEA_CLI_RANGE_LENGTH, 0.0, &s->facet, err);
     if (st == SEA_OK)
         st = opt_facet_method(args, &s->method, &s->n, err);
     if (st == SEA_OK)
         st = opt_seed(args, &s->seed, err);
     if (st == SEA_OK)
-        st = opt_number(args, "time", &SEA_CLI_RANGE_TIME, 0.0, &s->time, err);
+        st = sea_cli_opt_number(args, "time", &SEA_CLI_RANGE_TIME, 0.0, &s->time, err);
     if (st == SEA_OK)
         st = slopes_size(args, &s->nx, &s->ny, err);
     if (st == SEA_OK)
-        st = opt_number(args, "finest", &SEA_CLI_RANGE_LENGTH, 1.0, &s->finest, err);
+        st = sea_cli_opt_number(args, "finest", &SEA_CLI_RANGE_LENGTH, 1.0, &s->finest, err);
     if (st == SEA_OK)
-        st = opt_number(args, "loop-period", &SEA_CLI_RANGE_LOOP, 0.0, &s->loop_period, err);
+        st = sea_cli_opt_number(args, "loop-period", &SEA_CLI_RANGE_LOOP, 0.0, &s->loop_period,
+                                err);
     if (st != SEA_OK)
         return st;
 
-    s->quiet = given(args, "quiet");
+    s->quiet = sea_cli_given(args, "quiet");
     s->path = sea_cli_args_get(args, "o");
     s->output = SLOPES_STDOUT;
     if (s->path != NULL) {
-        if (has_suffix(s->path, ".csv"))
+        if (sea_cli_has_suffix(s->path, ".csv"))
             s->output = SLOPES_CSV;
-        else if (has_suffix(s->path, ".exr"))
+        else if (sea_cli_has_suffix(s->path, ".exr"))
             s->output = SLOPES_EXR;
         else
             return sea_fail(err, SEA_ERR_PARSE, "-o: '%s' must end in .csv or .exr", s->path);
@@ -788,7 +698,8 @@ static sea_status run_slopes(const sea_cli_args *args, FILE *out, sea_error *err
     const size_t per_facet = sizeof(sea_moments) + (s.output == SLOPES_EXR ? 6 * sizeof(float) : 0);
     if ((st = sea_check_size(np, per_facet, what, err)) != SEA_OK)
         return st;
-    if (s.output != SLOPES_STDOUT && (st = check_parent_writable("-o", s.path, err)) != SEA_OK)
+    if (s.output != SLOPES_STDOUT &&
+        (st = sea_cli_check_parent_writable("-o", s.path, err)) != SEA_OK)
         return st;
     if ((st = sea_spectrum_init(&spec, s.wind, s.fetch, sea_cli_radians(s.wind_dir_deg), err)) !=
         SEA_OK)
@@ -919,20 +830,21 @@ static sea_status conv_sizes(const sea_cli_args *args, int *x1, int *x2, sea_err
 static sea_status conv_parse(const sea_cli_args *args, conv_setup *c, sea_error *err)
 {
     long K;
-    sea_status st = require(args, "wind", NULL, err);
+    sea_status st = sea_cli_require(args, "wind", NULL, err);
     if (st == SEA_OK)
         st = sea_cli_parse_list("--wind", sea_cli_args_get(args, "wind"), &SEA_CLI_RANGE_WIND,
                                 &c->winds, err);
     if (st == SEA_OK)
-        st = opt_number(args, "fetch", &SEA_CLI_RANGE_FETCH, INFINITY, &c->fetch, err);
+        st = sea_cli_opt_number(args, "fetch", &SEA_CLI_RANGE_FETCH, INFINITY, &c->fetch, err);
     if (st == SEA_OK)
-        st = opt_number(args, "wind-dir", &SEA_CLI_RANGE_AZIMUTH, 0.0, &c->wind_dir_deg, err);
+        st = sea_cli_opt_number(args, "wind-dir", &SEA_CLI_RANGE_AZIMUTH, 0.0, &c->wind_dir_deg,
+                                err);
     if (st == SEA_OK)
-        st = require(args, "theta", NULL, err);
+        st = sea_cli_require(args, "theta", NULL, err);
     if (st == SEA_OK)
-        st = opt_number(args, "theta", &SEA_CLI_RANGE_ZENITH, 0.0, &c->theta_deg, err);
+        st = sea_cli_opt_number(args, "theta", &SEA_CLI_RANGE_ZENITH, 0.0, &c->theta_deg, err);
     if (st == SEA_OK)
-        st = opt_number(args, "phi", &SEA_CLI_RANGE_AZIMUTH, 0.0, &c->phi_deg, err);
+        st = sea_cli_opt_number(args, "phi", &SEA_CLI_RANGE_AZIMUTH, 0.0, &c->phi_deg, err);
     if (st != SEA_OK)
         return st;
     /* The default incidence is the specular one of Fig. 6. */
@@ -948,11 +860,11 @@ static sea_status conv_parse(const sea_cli_args *args, conv_setup *c, sea_error 
 
     if ((st = opt_seed(args, &c->seed, err)) != SEA_OK ||
         (st = opt_facet_method(args, &c->method, &c->n, err)) != SEA_OK ||
-        (st = opt_integer(args, "facets", 1, SEA_CLI_CONV_FACETS_MAX, SEA_CLI_CONV_FACETS_DEFAULT,
-                          &K, err)) != SEA_OK ||
+        (st = sea_cli_opt_integer(args, "facets", 1, SEA_CLI_CONV_FACETS_MAX,
+                                  SEA_CLI_CONV_FACETS_DEFAULT, &K, err)) != SEA_OK ||
         (st = conv_sizes(args, &c->x1, &c->x2, err)) != SEA_OK ||
-        (st = opt_number(args, "tolerance", &SEA_CLI_RANGE_TOL, SEA_CLI_CONV_TOL_DEFAULT, &c->tol,
-                         err)) != SEA_OK)
+        (st = sea_cli_opt_number(args, "tolerance", &SEA_CLI_RANGE_TOL, SEA_CLI_CONV_TOL_DEFAULT,
+                                 &c->tol, err)) != SEA_OK)
         return st;
     c->K = K;
     c->dir = sea_cli_args_get(args, "o");
@@ -964,7 +876,7 @@ static sea_status conv_parse(const sea_cli_args *args, conv_setup *c, sea_error 
     c->salinity = sea_cli_args_get(args, "salinity");
     if (c->salinity == NULL)
         c->salinity = "35";
-    c->progress = !given(args, "quiet") && isatty(STDERR_FILENO);
+    c->progress = !sea_cli_given(args, "quiet") && isatty(STDERR_FILENO);
     /* The water table is read last: a typing mistake is reported first. */
     return sea_cli_water(args, &c->wavelength_um, &c->N, err);
 }
@@ -1404,8 +1316,8 @@ static sea_status run_gnuplot(const char *script, bool *absent, sea_error *err)
 static sea_status conv_chart(const conv_setup *c, const conv_row *rows, size_t nrows,
                              size_t per_wind, sea_error *err)
 {
-    char *png = path_join(c->dir, "convergence.png");
-    char *tmp = path_join(c->dir, ".convergence.png.tmp.XXXXXX");
+    char *png = sea_cli_path_join(c->dir, "convergence.png");
+    char *tmp = sea_cli_path_join(c->dir, ".convergence.png.tmp.XXXXXX");
     char *script = NULL;
     sea_status st = SEA_OK;
     int fd = -1;
@@ -1469,7 +1381,7 @@ static sea_status run_convergence(const sea_cli_args *args, FILE *out, sea_error
         goto done;
     if ((st = make_dir("-o", c.dir, err)) != SEA_OK)
         goto done;
-    if ((csv = path_join(c.dir, "convergence.csv")) == NULL) {
+    if ((csv = sea_cli_path_join(c.dir, "convergence.csv")) == NULL) {
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         goto done;
     }
@@ -1539,9 +1451,9 @@ static sea_status bench_facets(const sea_spectrum *spec, sea_waves_kind kind, si
     sea_waves *w = NULL;
     sea_moments *mo = NULL;
     int n;
-    const double t0 = seconds_now();
+    const double t0 = sea_cli_seconds();
     sea_status st = sea_waves_create(spec, &p, &w, err);
-    const double plan = seconds_now() - t0;
+    const double plan = sea_cli_seconds() - t0;
     if (st == SEA_OK)
         st = sea_facet_method_n(w, method, n_arg, SEA_CLI_BENCH_FACET, &n, err);
     if (st == SEA_OK)
@@ -1557,9 +1469,9 @@ static sea_status bench_facets(const sea_spectrum *spec, sea_waves_kind kind, si
     row->facets = side * side;
     row->seconds = INFINITY;
     for (int r = 0; r < reps && st == SEA_OK; ++r) {
-        const double t1 = seconds_now();
+        const double t1 = sea_cli_seconds();
         st = sea_waves_facets(w, &rect, n, 0.0, mo, err);
-        row->seconds = fmin(row->seconds, seconds_now() - t1);
+        row->seconds = fmin(row->seconds, sea_cli_seconds() - t1);
     }
     if (kind == SEA_WAVES_FFT)
         snprintf(row->settings, sizeof row->settings, "fft N=%zu L=%gm n=%d U10=%g plan=%.3gs",
@@ -1606,14 +1518,14 @@ static sea_status bench_fft_vs_sinusoids(const sea_spectrum *spec, size_t N, int
     rows[0] = (bench_row){"fft-sample", "", N * N, INFINITY};
     rows[1] = (bench_row){"sinusoids-sample", "", S * S, INFINITY};
     for (int r = 0; r < reps && st == SEA_OK; ++r) {
-        const double t0 = seconds_now();
+        const double t0 = sea_cli_seconds();
         st = sea_waves_sample(fft, &rf, 0.0, full, full + N * N, full + 2 * N * N, err);
-        rows[0].seconds = fmin(rows[0].seconds, seconds_now() - t0);
+        rows[0].seconds = fmin(rows[0].seconds, sea_cli_seconds() - t0);
     }
     for (int r = 0; r < reps && st == SEA_OK; ++r) {
-        const double t0 = seconds_now();
+        const double t0 = sea_cli_seconds();
         st = sea_waves_sample(sin, &rs, 0.0, sub, sub + S * S, sub + 2 * S * S, err);
-        rows[1].seconds = fmin(rows[1].seconds, seconds_now() - t0);
+        rows[1].seconds = fmin(rows[1].seconds, sea_cli_seconds() - t0);
     }
     if (st != SEA_OK)
         goto done;
@@ -1646,7 +1558,7 @@ done:
 
 static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
 {
-    const bool quick = given(args, "quick");
+    const bool quick = sea_cli_given(args, "quick");
     const char *dir = sea_cli_args_get(args, "o");
     char *csv = NULL;
     atomic_file af = {NULL, NULL, NULL};
@@ -1662,7 +1574,7 @@ static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
         dir = ".";
     if ((st = make_dir("-o", dir, err)) != SEA_OK)
         return st;
-    if ((csv = path_join(dir, "bench.csv")) == NULL)
+    if ((csv = sea_cli_path_join(dir, "bench.csv")) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     const int threads = max_threads(), reps = quick ? 1 : 3;
     const size_t side = quick ? 256 : 1024, patch = quick ? 1024 : 4096, N = quick ? 128 : 256;
