@@ -27,6 +27,7 @@
 #include <sys/stat.h>
 
 #include "seabake.h"
+#include "textfile.h"
 
 static const double SEA_DEG = M_PI / 180.0;  /* degrees -> radians */
 static const double SEA_UM = 1e-6;           /* micrometres -> metres */
@@ -39,48 +40,6 @@ static const long SEA_RESPONSE_BYTES_MAX = 64L << 20;
 enum { SEA_QUOTE_MAX = 60 };
 
 /* ------------------------------------------------------------ text files */
-
-/* Reads a whole text file (no NUL bytes, at most max_bytes) into a
- * NUL-terminated buffer owned by the caller. */
-static sea_status read_text(const char *path, long max_bytes, char **out, sea_error *err)
-{
-    sea_status st = SEA_OK;
-    char *text = NULL;
-    *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return sea_fail(err, SEA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        st = sea_fail(err, SEA_ERR_IO, "%s: not a regular file", path);
-        goto done;
-    }
-    if (sb.st_size > max_bytes) {
-        st = sea_fail(err, SEA_ERR_PARSE, "%s: %lld bytes is larger than the %ld allowed", path,
-                      (long long)sb.st_size, max_bytes);
-        goto done;
-    }
-    size_t size = (size_t)sb.st_size;
-    if ((text = malloc(size + 1)) == NULL) {
-        st = sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
-        goto done;
-    }
-    if (fread(text, 1, size, f) != size) {
-        st = sea_fail(err, SEA_ERR_IO, "%s: read error", path);
-        goto done;
-    }
-    text[size] = '\0';
-    if (strlen(text) != size) {
-        st = sea_fail(err, SEA_ERR_PARSE, "%s: contains a NUL byte: not a text file", path);
-        goto done;
-    }
-    *out = text;
-    text = NULL;
-done:
-    free(text);
-    fclose(f);
-    return st;
-}
 
 /* strtod over the whole string; NaN and values beyond double range are not
  * numbers, infinities are (the range checks decide about them). */
@@ -136,7 +95,7 @@ sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
     long lineno = 0;
     int header = 0, i_wl = 0, any_positive = 0;
     memset(r, 0, sizeof *r);
-    if ((st = read_text(path, SEA_RESPONSE_BYTES_MAX, &text, err)) != SEA_OK)
+    if ((st = sea_read_text(path, SEA_RESPONSE_BYTES_MAX, "text file", &text, err)) != SEA_OK)
         return st;
     for (char *line = text, *next; line != NULL; line = next) {
         next = strchr(line, '\n');
@@ -864,7 +823,7 @@ void sea_scene_defaults(sea_scene *sc)
 sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err)
 {
     char *text = NULL;
-    sea_status st = read_text(path, SEA_SCENE_BYTES_MAX, &text, err);
+    sea_status st = sea_read_text(path, SEA_SCENE_BYTES_MAX, "text file", &text, err);
     if (st != SEA_OK)
         return st;
     loader *ld = calloc(1, sizeof *ld);

@@ -16,6 +16,7 @@
 #include <sys/stat.h>
 
 #include "seabake.h"
+#include "textfile.h"
 #include "water_data.h"
 
 /* Salinity of the standard sea water that the correction table describes. */
@@ -334,40 +335,8 @@ sea_status sea_water_load(const char *path, double salinity, sea_water **out, se
     *out = NULL;
     if ((st = check_salinity(salinity, err)) != SEA_OK)
         return st;
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return sea_fail(err, SEA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        st = sea_fail(err, SEA_ERR_IO, "%s: not a regular file", path);
-        goto done;
-    }
-    long size = -1;
-    if (fseek(f, 0, SEEK_END) == 0)
-        size = ftell(f);
-    if (size < 0 || fseek(f, 0, SEEK_SET) != 0) {
-        st = sea_fail(err, SEA_ERR_IO, "%s: cannot read: %s", path, strerror(errno));
-        goto done;
-    }
-    if (size > SEA_TABLE_BYTES_MAX) {
-        st = sea_fail(err, SEA_ERR_PARSE, "%s: %ld bytes is larger than the %ld allowed", path,
-                      size, SEA_TABLE_BYTES_MAX);
-        goto done;
-    }
-    text = malloc((size_t)size + 1);
-    if (text == NULL) {
-        st = sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
-        goto done;
-    }
-    if (fread(text, 1, (size_t)size, f) != (size_t)size) {
-        st = sea_fail(err, SEA_ERR_IO, "%s: read error", path);
-        goto done;
-    }
-    text[size] = '\0';
-    if (strlen(text) != (size_t)size) {
-        st = sea_fail(err, SEA_ERR_PARSE, "%s: contains a NUL byte: not a CSV text file", path);
-        goto done;
-    }
+    if ((st = sea_read_text(path, SEA_TABLE_BYTES_MAX, "CSV text file", &text, err)) != SEA_OK)
+        return st;
     if ((st = table_parse(text, path, "n", "k", &pure, err)) != SEA_OK)
         goto done;
     for (size_t i = 0; i < pure.len; i++) {
@@ -382,7 +351,6 @@ sea_status sea_water_load(const char *path, double salinity, sea_water **out, se
     st = water_finish(&pure, salinity, path, out, err);
 done:
     free(text);
-    fclose(f);
     return st;
 }
 

@@ -1,0 +1,52 @@
+/* textfile.c - reading a whole text file, for every text input of the
+ * library. */
+#include "config.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "textfile.h"
+
+sea_status sea_read_text(const char *path, long max_bytes, const char *kind, char **out,
+                         sea_error *err)
+{
+    sea_status st = SEA_OK;
+    char *text = NULL;
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return sea_fail(err, SEA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat sb;
+    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        st = sea_fail(err, SEA_ERR_IO, "%s: not a regular file", path);
+        goto done;
+    }
+    if (sb.st_size > max_bytes) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: %lld bytes is larger than the %ld allowed", path,
+                      (long long)sb.st_size, max_bytes);
+        goto done;
+    }
+    const size_t size = (size_t)sb.st_size;
+    if ((text = malloc(size + 1)) == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
+        goto done;
+    }
+    if (fread(text, 1, size, f) != size) {
+        st = sea_fail(err, SEA_ERR_IO, "%s: read error", path);
+        goto done;
+    }
+    text[size] = '\0';
+    if (strlen(text) != size) {
+        st = sea_fail(err, SEA_ERR_PARSE, "%s: contains a NUL byte: not a %s", path, kind);
+        goto done;
+    }
+    *out = text;
+    text = NULL;
+done:
+    free(text);
+    fclose(f);
+    return st;
+}

@@ -1,0 +1,16 @@
+/* textfile.h - library-internal: reading a whole text file (scene files,
+ * response curves, water tables) with the same checks and messages. */
+#ifndef SEABAKE_TEXTFILE_H
+#define SEABAKE_TEXTFILE_H
+
+#include "seabake.h"
+
+/* Reads the regular file path into a NUL-terminated malloc'ed *out.
+ * SEA_ERR_IO when it cannot be opened, is not a regular file or a read
+ * fails; SEA_ERR_PARSE when it is larger than max_bytes or holds a NUL
+ * byte ("contains a NUL byte: not a <kind>", kind e.g. "text file");
+ * SEA_ERR_NOMEM.  Messages start with the path. */
+sea_status sea_read_text(const char *path, long max_bytes, const char *kind, char **out,
+                         sea_error *err);
+
+#endif /* SEABAKE_TEXTFILE_H */
