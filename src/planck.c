@@ -19,6 +19,13 @@ double sea_planck_radiance(double wavelength, double temperature)
     return c1 / pow(wavelength, 5) / expm1(c2 / (wavelength * temperature));
 }
 
+/* dL/dT = L x e^x / (e^x - 1) / T = L x / (1 - e^-x) / T, x = h c / (lambda k T). */
+double sea_planck_radiance_dT(double wavelength, double temperature)
+{
+    const double x = SEA_H * SEA_C / (SEA_KB * wavelength * temperature);
+    return sea_planck_radiance(wavelength, temperature) * x / (-expm1(-x)) / temperature;
+}
+
 /* T = (h c / (lambda k)) / ln(1 + 2 h c^2 / (lambda^5 L)). */
 double sea_planck_brightness_temperature(double wavelength, double radiance)
 {

@@ -244,10 +244,8 @@ static double band_temperature(const sea_render *r, double L)
     for (int it = 0; it < 100; it++) {
         double f = -L, df = 0.0;
         for (size_t i = 0; i < r->nsamp; i++) {
-            const double B = sea_planck_radiance(r->wl[i], T);
-            const double x = 6.62607015e-34 * 299792458.0 / (r->wl[i] * 1.380649e-23 * T);
-            f += r->wt[i] * B;
-            df += r->wt[i] * B * x / (-expm1(-x)) / T;
+            f += r->wt[i] * sea_planck_radiance(r->wl[i], T);
+            df += r->wt[i] * sea_planck_radiance_dT(r->wl[i], T);
         }
         if (f > 0.0)
             hi = T;

@@ -142,6 +142,8 @@ double sea_fresnel_unpolarized(double cos_psi, double complex N);
 
 /* Planck spectral radiance, W m^-2 sr^-1 m^-1, wavelength in m, T in K (> 0). */
 double sea_planck_radiance(double wavelength, double temperature);
+/* Its derivative with respect to temperature, W m^-2 sr^-1 m^-1 K^-1. */
+double sea_planck_radiance_dT(double wavelength, double temperature);
 /* Its inverse: brightness temperature (K) of a spectral radiance > 0. */
 double sea_planck_brightness_temperature(double wavelength, double radiance);
 

@@ -181,6 +181,13 @@ static void test_planck(void)
             double want = 1.191042972e-16 / pow(wl[i], 5) / expm1(1.438776877e-2 / (wl[i] * T[j]));
             ASSERT_REL(L, want, 2e-8, 0);
             ASSERT_REL(sea_planck_brightness_temperature(wl[i], L), T[j], 1e-12, 0);
+            /* dL/dT against a central difference of step h = 1e-4 T: its
+             * truncation error, about (h/T)^2 x^2 / 6 with x = hc/(lambda k T)
+             * up to 19 here, stays below 1e-6 relative */
+            const double h = 1e-4 * T[j];
+            const double fd = (sea_planck_radiance(wl[i], T[j] + h) -
+                               sea_planck_radiance(wl[i], T[j] - h)) / (2.0 * h);
+            ASSERT_REL(sea_planck_radiance_dT(wl[i], T[j]), fd, 1e-5, 0);
         }
     /* Textbook: 9.92 W m^-2 sr^-1 um^-1 at 10 um, 300 K. */
     ASSERT_REL(sea_planck_radiance(10e-6, 300.0) * 1e-6, 9.92, 1e-3, 0);
