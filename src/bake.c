@@ -21,35 +21,9 @@ void sea_bake_free(sea_bake *b)
     for (size_t l = 0; l < b->n_levels; l++) {
         free(b->levels[l].moments);
         free(b->levels[l].optics);
+        free(b->levels[l].view);
     }
     memset(b, 0, sizeof *b);
-}
-
-/* Sea point of map coordinates (x, y) (sensor.c's mapping): world point q
- * and local vertical n.  Flat: (x, y, 0) and +z.  Spherical: the point of
- * the sphere through the nadir point at arc length |(x, y) - nadir| from
- * it, in the direction of (x, y) - nadir (azimuthal equidistant). */
-static void map_point(const sea_camera *c, double x, double y, double q[3], double n[3])
-{
-    if (c->earth == SEA_EARTH_FLAT) {
-        q[0] = x;
-        q[1] = y;
-        q[2] = 0.0;
-        n[0] = n[1] = 0.0;
-        n[2] = 1.0;
-        return;
-    }
-    const double R = SEA_EARTH_RADIUS;
-    const double dx = x - c->pos[0], dy = y - c->pos[1], arc = hypot(dx, dy);
-    const double a = arc / R;
-    const double horiz = R * sin(a);
-    const double pc[3] = { arc > 0.0 ? horiz * dx / arc : 0.0, arc > 0.0 ? horiz * dy / arc : 0.0,
-                           R * cos(a) }; /* from the centre */
-    q[0] = c->pos[0] + pc[0];
-    q[1] = c->pos[1] + pc[1];
-    q[2] = pc[2] - R;
-    for (int i = 0; i < 3; i++)
-        n[i] = pc[i] / R;
 }
 
 /* Directions from the sea point (x, y) toward the sensor and the sun, in
@@ -60,7 +34,7 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
     sea_pixel_geom g;
     memset(&g, 0, sizeof g);
     double q[3];
-    map_point(c, x, y, q, g.normal);
+    sea_camera_sea_point(c, x, y, q, g.normal);
     double d[3] = { c->pos[0] - q[0], c->pos[1] - q[1], c->pos[2] - q[2] };
     const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (int i = 0; i < 3; i++)
@@ -69,57 +43,85 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
     *sun = sea_camera_local_dir(&g, sun_vec);
 }
 
-/* One high-resolution level: moments, flipped north-up, then optics. */
-static sea_status bake_level(const sea_render *r, double t, sea_bake_level *bl, sea_error *err)
+/* The facet moments of one high-resolution level, rows south first as
+ * sea_waves_facets gives them, and north first in bl->moments. */
+static sea_status level_moments(const sea_render *r, double t, sea_bake_level *bl,
+                                sea_moments **south, sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
-    const size_t nx = lv->nx, ny = lv->ny, n = nx * ny;
-    sea_status st = sea_check_size(n, sizeof(sea_moments) + sizeof(sea_moments) +
-                                          sizeof(sea_facet_optics),
+    const size_t nx = lv->nx, ny = lv->ny, n = nx * ny, k2 = bl->view_k * bl->view_k;
+    sea_status st = sea_check_size(n, 2 * sizeof(sea_moments) + (1 + k2) * sizeof(sea_facet_optics),
                                    "bake level", err);
     if (st != SEA_OK)
         return st;
-    sea_moments *south = malloc(n * sizeof *south);
+    *south = malloc(n * sizeof **south);
     bl->moments = malloc(n * sizeof *bl->moments);
     bl->optics = malloc(n * sizeof *bl->optics);
-    if (south == NULL || bl->moments == NULL || bl->optics == NULL) {
-        free(south);
+    bl->view = malloc(n * k2 * sizeof *bl->view);
+    if (*south == NULL || bl->moments == NULL || bl->optics == NULL || bl->view == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for level %d (%zu x %zu texels)",
                         lv->level, nx, ny);
-    }
     const sea_rect rect = { lv->facet, lv->i0, lv->j0, nx, ny };
-    st = sea_waves_facets(sea_render_waves(r), &rect, lv->sub_n, t, south, err);
-    if (st != SEA_OK) {
-        free(south);
+    st = sea_waves_facets(sea_render_waves(r), &rect, lv->sub_n, t, *south, err);
+    if (st != SEA_OK)
         return st;
-    }
     for (size_t row = 0; row < ny; row++)
-        memcpy(bl->moments + row * nx, south + (ny - 1 - row) * nx, nx * sizeof *south);
-    free(south);
+        memcpy(bl->moments + row * nx, *south + (ny - 1 - row) * nx, nx * sizeof **south);
+    return SEA_OK;
+}
 
+static sea_status texel_optics(const sea_render *r, const sea_moments *m, sea_dir obs, sea_dir sun,
+                               sea_facet_optics *o, const sea_bake_level *bl, size_t i,
+                               size_t row, sea_error *err)
+{
+    const sea_slope_stats s = sea_moments_stats(m);
+    sea_status st = sea_render_facet_optics(r, &s, obs, sun, o, err);
+    if (st == SEA_OK && !(isfinite(o->radiance) && isfinite(o->reflectivity)))
+        st = sea_fail(err, SEA_ERR_NUMERIC, "radiance %g at texel (%zu, %zu) of level %d",
+                      o->radiance, i, row, bl->level.level);
+    return st;
+}
+
+/* The optics of one high-resolution level: of its own facets, and of what
+ * the sensor sees on its view grid (south: every level's moments). */
+static sea_status level_optics(const sea_render *r,
+                               const sea_moments *const south[SEA_CLIP_MAX_LEVELS],
+                               sea_bake_level *bl, sea_error *err)
+{
+    const sea_clip_level *lv = &bl->level;
+    const size_t nx = lv->nx, ny = lv->ny, k = bl->view_k;
+    const size_t vx = k * nx, vy = k * ny;
     const sea_scene *sc = sea_render_scene(r);
     const sea_camera *cam = sea_render_camera(r);
     const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                                 sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
     int failed = 0;
     sea_error first = { { 0 } };
+    /* rows 0 .. ny - 1: the facets; then vy rows of view texels */
 #pragma omp parallel for schedule(dynamic, 1)
-    for (size_t row = 0; row < ny; row++) {
+    for (size_t row = 0; row < ny + vy; row++) {
         if (failed)
             continue;
-        const double y = ((double)(lv->j0 + (long)(ny - 1 - row)) + 0.5) * lv->facet;
-        for (size_t i = 0; i < nx; i++) {
-            const size_t q = row * nx + i;
-            const double x = ((double)(lv->i0 + (long)i) + 0.5) * lv->facet;
+        const int facets = row < ny;
+        const size_t R = facets ? row : row - ny, cols = facets ? nx : vx;
+        const double cell = facets ? lv->facet : lv->facet / (double)k;
+        const double y = (double)lv->j0 * lv->facet + ((double)((facets ? ny : vy) - R) - 0.5) * cell;
+        for (size_t i = 0; i < cols; i++) {
+            const double x = (double)lv->i0 * lv->facet + ((double)i + 0.5) * cell;
             sea_dir obs, sun;
             texel_dirs(cam, sun_vec, x, y, &obs, &sun);
-            const sea_slope_stats s = sea_moments_stats(&bl->moments[q]);
             sea_error e1;
-            sea_status s1 = sea_render_facet_optics(r, &s, obs, sun, &bl->optics[q], &e1);
-            if (s1 == SEA_OK && !(isfinite(bl->optics[q].radiance) &&
-                                  isfinite(bl->optics[q].reflectivity)))
-                s1 = sea_fail(&e1, SEA_ERR_NUMERIC, "radiance %g at texel (%zu, %zu) of level %d",
-                              bl->optics[q].radiance, i, row, lv->level);
+            sea_status s1;
+            if (facets) {
+                s1 = texel_optics(r, &bl->moments[R * nx + i], obs, sun, &bl->optics[R * nx + i],
+                                  bl, i, R, &e1);
+            } else {
+                sea_moments vm;
+                int dom;
+                s1 = sea_render_view_moments(r, south, x, y, lv->level, &vm, &dom, &e1);
+                if (s1 == SEA_OK)
+                    s1 = texel_optics(r, &vm, obs, sun, &bl->view[R * vx + i], bl, i, R, &e1);
+            }
             if (s1 != SEA_OK) {
 #pragma omp critical(sea_bake_error)
                 {
@@ -139,11 +141,15 @@ static sea_status bake_level(const sea_render *r, double t, sea_bake_level *bl, 
     return SEA_OK;
 }
 
-sea_status sea_bake_frame(const sea_render *r, double t, sea_bake *out, sea_error *err)
+sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
+                          sea_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!isfinite(t))
         return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if (view_k < 1 || view_k > SEA_BAKE_VIEW_K_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "view texels per facet %d (allowed: 1 to %d)", view_k,
+                        SEA_BAKE_VIEW_K_MAX);
     out->time = t;
     const sea_clip_level *lv;
     const size_t n = sea_render_levels(r, &lv);
@@ -164,22 +170,26 @@ sea_status sea_bake_frame(const sea_render *r, double t, sea_bake *out, sea_erro
     if (st != SEA_OK)
         return st;
     out->n_levels = n;
-    for (size_t l = 0; l < n; l++) {
+    sea_moments *south[SEA_CLIP_MAX_LEVELS] = { NULL };
+    for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
         bl->level = lv[l];
         bl->lr_moments = lrm;
         bl->lr_optics = lro;
         bl->lr_obs = lr_obs;
         bl->lr_sun = lr_sun;
-        if (lv[l].low_res)
-            continue;
-        st = bake_level(r, t, bl, err);
-        if (st != SEA_OK) {
-            sea_bake_free(out);
-            return st;
-        }
+        bl->view_k = (size_t)view_k;
+        if (!lv[l].low_res)
+            st = level_moments(r, t, bl, &south[lv[l].level], err);
     }
-    return SEA_OK;
+    for (size_t l = 0; l < n && st == SEA_OK; l++)
+        if (!lv[l].low_res)
+            st = level_optics(r, (const sea_moments *const *)south, &out->levels[l], err);
+    for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++)
+        free(south[l]);
+    if (st != SEA_OK)
+        sea_bake_free(out);
+    return st;
 }
 
 void sea_bake_normal(const sea_moments *m, double n[3])

@@ -365,6 +365,40 @@ static void to_moments(const sea_slope_stats *st, sea_moments *m)
     m->h = 0.0;
 }
 
+/* The levels a footprint of log2(L / L0) = lam reads: the nearest level,
+ * blended with its neighbour (weight alpha, up to 1/2 at the midpoint)
+ * within BLEND_HALF of the midpoint between them.  Every low-resolution
+ * level is the same surface (m = 0, C = C_LR), so levels from first_lr on
+ * are first_lr; a neighbour equal to the level is none (-1, alpha 0). */
+static void choose_levels(const sea_render *r, double lam, int *level, int *neighbour,
+                          double *alpha)
+{
+    const double c = fmin(fmax(lam, 0.0), (double)LEVEL_MAX);
+    int l = (int)lround(c);
+    const double d = lam - l;
+    int nb = -1;
+    double a = 0.0;
+    if (fabs(d) > 0.5 - BLEND_HALF) {
+        nb = l + (d > 0.0 ? 1 : -1);
+        a = fmin(0.5 * (fabs(d) - (0.5 - BLEND_HALF)) / BLEND_HALF, 0.5);
+        if (nb < 0 || nb > LEVEL_MAX) {
+            nb = -1;
+            a = 0.0;
+        }
+    }
+    if (l > r->first_lr)
+        l = r->first_lr;
+    if (nb > r->first_lr)
+        nb = r->first_lr;
+    if (nb == l) {
+        nb = -1;
+        a = 0.0;
+    }
+    *level = l;
+    *neighbour = nb;
+    *alpha = a;
+}
+
 sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err)
 {
     *out = NULL;
@@ -405,38 +439,6 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                                 sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
     const double L0 = sc->finest;
-#pragma omp parallel for schedule(dynamic, 8)
-    for (size_t j = 0; j < H; j++) {
-        for (size_t i = 0; i < W; i++) {
-            pixel *p = &r->px[j * W + i];
-            sea_pixel_geom g;
-            sea_camera_pixel(&r->cam, (double)i + 0.5, (double)j + 0.5, &g);
-            p->hit = g.hit;
-            p->x = g.x;
-            p->y = g.y;
-            p->obs = g.obs;
-            p->sun = sea_camera_local_dir(&g, sun_vec);
-            p->sun_up = g.hit && p->sun.theta < M_PI / 2.0;
-            p->lam = isfinite(g.footprint) ? log2(g.footprint / L0) : (double)LEVEL_MAX;
-            const double lam = fmin(fmax(p->lam, 0.0), (double)LEVEL_MAX);
-            p->level = (int)lround(lam);
-            const double d = p->lam - p->level;
-            p->neighbour = -1;
-            p->alpha = 0.0;
-            p->need = g.hit ? (uint32_t)1 << p->level : 0;
-            if (fabs(d) > 0.5 - BLEND_HALF) {
-                const int nb = p->level + (d > 0.0 ? 1 : -1);
-                if (nb >= 0 && nb <= LEVEL_MAX) {
-                    p->neighbour = nb;
-                    p->alpha = 0.5 * (fabs(d) - (0.5 - BLEND_HALF)) / BLEND_HALF;
-                    if (p->alpha > 0.5)
-                        p->alpha = 0.5;
-                    if (g.hit)
-                        p->need |= (uint32_t)1 << nb;
-                }
-            }
-        }
-    }
 
     /* low-resolution threshold */
     const double tr_lr = lr.xx + lr.yy;
@@ -452,24 +454,26 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
             r->first_lr = l;
     }
 
-    /* Every low-resolution level is the same surface (m = 0, C = C_LR):
-     * pixels that want any of them read the first one. */
-    for (size_t q = 0; q < r->npix; q++) {
-        pixel *p = &r->px[q];
-        if (!p->hit)
-            continue;
-        if (p->level >= r->first_lr) {
-            p->need &= ~((uint32_t)1 << p->level);
-            p->level = r->first_lr;
-            p->need |= (uint32_t)1 << r->first_lr;
-        }
-        if (p->neighbour >= r->first_lr) {
-            p->need &= ~((uint32_t)1 << p->neighbour);
-            p->neighbour = p->neighbour == p->level ? -1 : r->first_lr;
-            if (p->neighbour < 0)
-                p->alpha = 0.0;
-            else
-                p->need |= (uint32_t)1 << r->first_lr;
+#pragma omp parallel for schedule(dynamic, 8)
+    for (size_t j = 0; j < H; j++) {
+        for (size_t i = 0; i < W; i++) {
+            pixel *p = &r->px[j * W + i];
+            sea_pixel_geom g;
+            sea_camera_pixel(&r->cam, (double)i + 0.5, (double)j + 0.5, &g);
+            p->hit = g.hit;
+            p->x = g.x;
+            p->y = g.y;
+            p->obs = g.obs;
+            p->sun = sea_camera_local_dir(&g, sun_vec);
+            p->sun_up = g.hit && p->sun.theta < M_PI / 2.0;
+            p->lam = isfinite(g.footprint) ? log2(g.footprint / L0) : (double)LEVEL_MAX;
+            choose_levels(r, p->lam, &p->level, &p->neighbour, &p->alpha);
+            p->need = 0;
+            if (g.hit) {
+                p->need = (uint32_t)1 << p->level;
+                if (p->neighbour >= 0)
+                    p->need |= (uint32_t)1 << p->neighbour;
+            }
         }
     }
 
@@ -703,6 +707,49 @@ static void chain_sample(const sea_render *r, const level_data *ld, int l, doubl
     }
 }
 
+/* The moments a pixel reads at (x, y): level l blended with neighbour nb
+ * (weight alpha), each faded into coarser levels where its window ends;
+ * *dominant gets the level of largest weight. */
+static void mix_levels(const sea_render *r, const level_data *ld, int l, int nb, double alpha,
+                       double x, double y, sea_moments *o, int *dominant)
+{
+    *dominant = l;
+    chain_sample(r, ld, l, x, y, o, dominant);
+    if (nb >= 0 && alpha > 0.0) {
+        sea_moments mn;
+        int domn = nb;
+        chain_sample(r, ld, nb, x, y, &mn, &domn);
+        sea_moments b = { 0 };
+        axpy(&b, 1.0 - alpha, o);
+        axpy(&b, alpha, &mn);
+        *o = b;
+    }
+}
+
+sea_status sea_render_view_moments(const sea_render *r,
+                                   const sea_moments *const south[SEA_CLIP_MAX_LEVELS],
+                                   double x, double y, int own, sea_moments *out, int *level,
+                                   sea_error *err)
+{
+    if (own < 0 || own >= SEA_CLIP_MAX_LEVELS || !r->used[own])
+        return sea_fail(err, SEA_ERR_DOMAIN, "level %d is not a level of this view", own);
+    level_data ld;
+    for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++)
+        ld.m[l] = l < r->first_lr && r->used[l] ? (sea_moments *)south[l] : NULL;
+    double q[3], n[3], u, v;
+    sea_camera_sea_point(&r->cam, x, y, q, n);
+    int l = own, nb = -1;
+    double alpha = 0.0;
+    if (sea_camera_project(&r->cam, q, &u, &v)) {
+        sea_pixel_geom g;
+        sea_camera_pixel(&r->cam, u, v, &g);
+        if (g.hit && isfinite(g.footprint) && g.footprint > 0.0)
+            choose_levels(r, log2(g.footprint / r->sc.finest), &l, &nb, &alpha);
+    }
+    mix_levels(r, &ld, l, nb, alpha, x, y, out, level);
+    return SEA_OK;
+}
+
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err)
 {
@@ -753,16 +800,9 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                 img->emissivity[q] = img->reflectivity[q] = 0.0f;
                 continue;
             }
-            sea_moments m, mn;
-            int dom = p->level, domn = 0;
-            chain_sample(r, &ld, p->level, p->x, p->y, &m, &dom);
-            if (p->neighbour >= 0 && p->alpha > 0.0) {
-                chain_sample(r, &ld, p->neighbour, p->x, p->y, &mn, &domn);
-                sea_moments b = { 0 };
-                axpy(&b, 1.0 - p->alpha, &m);
-                axpy(&b, p->alpha, &mn);
-                m = b;
-            }
+            sea_moments m;
+            int dom;
+            mix_levels(r, &ld, p->level, p->neighbour, p->alpha, p->x, p->y, &m, &dom);
             const sea_slope_stats s = sea_moments_stats(&m);
             double L, e, rho;
             sea_error e1;

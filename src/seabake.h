@@ -453,6 +453,10 @@ sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3]);
 /* Image point (u, v) where the world point p projects; returns 0 if p is
  * behind the camera. */
 int sea_camera_project(const sea_camera *c, const double p[3], double *u, double *v);
+/* World point q and local vertical n of the sea point at map coordinates
+ * (x, y), the inverse of sea_camera_pixel's (x, y): flat, (x, y, 0) and +z;
+ * spherical, azimuthal equidistant from the nadir point. */
+void sea_camera_sea_point(const sea_camera *c, double x, double y, double q[3], double n[3]);
 
 /* ------------------------------------------------------- scenes (issue 4) */
 
@@ -624,7 +628,22 @@ typedef struct {
 sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
                                    sea_dir sun, sea_facet_optics *out, sea_error *err);
 
+/* The moments seabake render reads at sea point (x, y) of the map: the
+ * level (and blend) chosen by the footprint of the image point where the
+ * sensor sees (x, y), faded into coarser levels outside their windows, as
+ * sea_render_frame does for a pixel there.  south[l]: the moments of level
+ * l (indexed by level exponent) as sea_waves_facets gives them for that
+ * level's window (rows south first), NULL for levels not computed; points
+ * the sensor does not see read level `own` (a used level).  *level gets the
+ * level of largest weight. */
+sea_status sea_render_view_moments(const sea_render *r,
+                                   const sea_moments *const south[SEA_CLIP_MAX_LEVELS],
+                                   double x, double y, int own, sea_moments *out, int *level,
+                                   sea_error *err);
+
 /* ---------------------------------------------------------------- baking */
+
+enum { SEA_BAKE_VIEW_K_MAX = 7 };
 
 /* Maps of one clipmap level at one time.  A texel is a facet: texel (i, r)
  * of an nx x ny level, r = 0 the top (north) row, is facet (i0 + i,
@@ -636,6 +655,11 @@ typedef struct {
     sea_clip_level level;
     sea_moments *moments;     /* nx ny, from sea_waves_facets with level.sub_n */
     sea_facet_optics *optics; /* nx ny, toward the sensor from each texel centre */
+    size_t view_k;            /* view texels per facet side */
+    sea_facet_optics *view;   /* (k nx) x (k ny), rows north first: what the sensor
+                                 sees at the centre of view texel (I, R), i.e. the
+                                 optics of sea_render_view_moments at map point
+                                 ((i0 + (I + 1/2)/k) L, (j0 + ny - (R + 1/2)/k) L) */
     sea_moments lr_moments;
     sea_facet_optics lr_optics;
     sea_dir lr_obs, lr_sun;   /* the directions lr_optics was computed for */
@@ -651,10 +675,17 @@ typedef struct {
  * those of its facet seen from the sensor: the direction from the texel
  * centre (x, y) on the sea (flat: (x, y, 0); spherical: the azimuthal
  * equidistant map point of sensor.c placed on the sphere) to the sensor, in
- * the local frame there, and the sun's direction in that frame.  Threads:
+ * the local frame there, and the sun's direction in that frame.  The view
+ * optics are the same toward the same directions, of the moments seabake
+ * render reads there (so a renderer showing each level's view map inside
+ * its window, finest on top, reproduces seabake render), on a grid of
+ * view_k x view_k (1 to 7) view texels per facet: radiance is not linear in
+ * the moments, so a renderer's bilinear lookup of the view map matches
+ * seabake render's bilinear moments better on a finer grid.  Threads:
  * OpenMP, the result independent of their number.  On failure *out holds
  * nothing to free.  Free with sea_bake_free. */
-sea_status sea_bake_frame(const sea_render *r, double t, sea_bake *out, sea_error *err);
+sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
+                          sea_error *err);
 void sea_bake_free(sea_bake *b);
 
 /* Tangent-space normal of the mean slope (+x east, +y north, +z up):

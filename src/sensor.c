@@ -196,3 +196,30 @@ int sea_camera_project(const sea_camera *c, const double p[3], double *u, double
     *v = 0.5 * c->height - c->focal * dot3(d, c->up) / z;
     return 1;
 }
+
+/* Sea point of map coordinates (x, y) (sea_camera_pixel's mapping): world point q
+ * and local vertical n.  Flat: (x, y, 0) and +z.  Spherical: the point of
+ * the sphere through the nadir point at arc length |(x, y) - nadir| from
+ * it, in the direction of (x, y) - nadir (azimuthal equidistant). */
+void sea_camera_sea_point(const sea_camera *c, double x, double y, double q[3], double n[3])
+{
+    if (c->earth == SEA_EARTH_FLAT) {
+        q[0] = x;
+        q[1] = y;
+        q[2] = 0.0;
+        n[0] = n[1] = 0.0;
+        n[2] = 1.0;
+        return;
+    }
+    const double R = SEA_EARTH_RADIUS;
+    const double dx = x - c->pos[0], dy = y - c->pos[1], arc = hypot(dx, dy);
+    const double a = arc / R;
+    const double horiz = R * sin(a);
+    const double pc[3] = { arc > 0.0 ? horiz * dx / arc : 0.0, arc > 0.0 ? horiz * dy / arc : 0.0,
+                           R * cos(a) }; /* from the centre */
+    q[0] = c->pos[0] + pc[0];
+    q[1] = c->pos[1] + pc[1];
+    q[2] = pc[2] - R;
+    for (int i = 0; i < 3; i++)
+        n[i] = pc[i] / R;
+}

@@ -1058,8 +1058,33 @@ check bake.rebake_manifest grep -q '"compression":[[:space:]]*"none"' "$BDIR/out
 check_eq bake.rebake_leftovers "$(bake_leftovers)" 0
 check_match bake.half_channels "$(exr_header "$BDIR/out/optics_$l0.exr")" "410001000000.*520001000000"
 
+# The emission maps have K x K texels per facet (3 by default).
+if command -v python3 >/dev/null 2>&1; then
+    etex=$(python3 -c 'import json, sys
+m = json.load(open(sys.argv[1]))
+print(" ".join("%d/%d" % (l["emission_texels"][0], l["texels"][0]) for l in m["levels"] if not l["low_res"]))' \
+        "$BDIR/out/manifest.json")
+    check_match bake.emission_texels "$etex" '^[0-9]+/[0-9]+'
+    for pair in $etex; do
+        check_eq "bake.emission_k3.$pair" "$(( ${pair%/*} ))" "$(( 3 * ${pair#*/} ))"
+    done
+    ewidth=$(python3 -c 'import struct, sys
+d = open(sys.argv[1], "rb").read()
+i = d.index(b"dataWindow\0box2i\0")
+x0, y0, x1, y1 = struct.unpack("<4i", d[i + 21:i + 37])
+print(x1 - x0 + 1)' "$BDIR/out/emission_$l0.exr")
+    check_eq bake.emission_width "$ewidth" "$(( ${etex%%/*} ))"
+fi
+sb_run bake "$RSCENE" -o "$BDIR/k5" --emission-texels 5 --quiet
+check_rc bake.k5 0
+check bake.k5_manifest grep -q '"emission_texels"' "$BDIR/k5/manifest.json"
+
 # Failures leave DIR exactly as it was, and nothing beside it.
 before=$(bake_state "$BDIR/out")
+sb_run bake "$RSCENE" -o "$BDIR/out" --emission-texels 2
+check_error bake.even_k 2 "--emission-texels: 2 is even \(allowed: odd, 1 to 7"
+sb_run bake "$RSCENE" -o "$BDIR/out" --emission-texels 9
+check_error bake.big_k 2 "--emission-texels: 9 is outside \\[1, 7\\]"
 sb_run bake "$RSCENE" -o "$BDIR/out" --format nonsense
 check_error bake.bad_format 2 "--format: 'nonsense' is not float or half"
 sb_run bake "$RSCENE" -o "$BDIR/out" --compression lzw

@@ -345,6 +345,10 @@ static int do_compare(const char *ref, const char *level, const char *povimg, do
     }
     double sum2 = 0.0, max_rel = 0.0;
     size_t n = 0;
+    /* per level (the level AOV holds the facet size, a power of two) */
+    enum { NL = SEA_CLIP_MAX_LEVELS + 8 };
+    double lsum2[NL] = { 0 }, lmax[NL] = { 0 }, lsize[NL] = { 0 };
+    size_t ln[NL] = { 0 };
     for (size_t i = 0; i < (size_t)a.width * (size_t)a.height; i++) {
         if (pl[i] == 0.0f)
             continue;
@@ -352,10 +356,21 @@ static int do_compare(const char *ref, const char *level, const char *povimg, do
         sum2 += rel * rel;
         max_rel = fmax(max_rel, rel);
         n++;
+        const long k = lround(log2(pl[i])) + 4;
+        if (k >= 0 && k < NL) {
+            lsum2[k] += rel * rel;
+            lmax[k] = fmax(lmax[k], rel);
+            lsize[k] = pl[i];
+            ln[k]++;
+        }
     }
     const double rms = n ? sqrt(sum2 / (double)n) : INFINITY;
     printf("seabake render vs POV-Ray of the bake: %zu sea pixels, relative RMS %.3g, max %.3g\n",
            n, rms, max_rel);
+    for (int k = 0; k < NL; k++)
+        if (ln[k])
+            printf("  pixels of the %g m level: %zu, relative RMS %.3g, max %.3g\n", lsize[k],
+                   ln[k], sqrt(lsum2[k] / (double)ln[k]), lmax[k]);
     rc = rms < max_rms ? 0 : 1;
     if (rc)
         fprintf(stderr, "FAIL: relative RMS %.3g >= %.3g\n", rms, max_rms);

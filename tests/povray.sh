@@ -78,38 +78,53 @@ pov_run nadir
 # the horizon and sky pixels.
 pov_run oblique
 
-# The real export: seabake bake --pov of a nadir scene with the sun in the
-# glint and a cold sky, rendered by POV-Ray, against seabake render of the
-# same scene: relative RMS over the sea pixels below 2 % (the texel optics
-# interpolated by POV-Ray against the per-pixel optics of the renderer).
-dir="$SB_TMP/bake_nadir"
-scene="$top_srcdir/tests/scenes/pov_glint.ini"
-SB_CMD="seabake render $scene"
-$SEABAKE_WRAPPER "$SEABAKE" render "$scene" -o "$SB_TMP/ref.exr" --aov level --png none \
-    --quiet 2>"$SB_TMP/err"
-SB_RC=$?
-SB_ERR=$(cat "$SB_TMP/err")
-check_rc "bake_nadir.render.rc" 0
-SB_CMD="seabake bake $scene --pov"
-$SEABAKE_WRAPPER "$SEABAKE" bake "$scene" -o "$dir" --pov --quiet 2>"$SB_TMP/err"
-SB_RC=$?
-SB_ERR=$(cat "$SB_TMP/err")
-check_rc "bake_nadir.bake.rc" 0
-for f in scene.pov scene.ini seabake.inc manifest.json emission_0.exr; do
-    check "bake_nadir.bake.$f" test -s "$dir/$f"
-done
-SB_CMD="(cd $dir && povray scene.ini)"
-(cd "$dir" && povray scene.ini) >"$SB_TMP/pov.out" 2>&1
-SB_RC=$?
-SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
-check_rc "bake_nadir.povray.rc" 0
-scale=$(sed -n 's/^#declare Seabake_Radiance_Scale = \(.*\);/\1/p' "$dir/scene.pov")
-SB_CMD="pov_driver compare"
-"$POV_DRIVER" compare "$SB_TMP/ref.exr" "$SB_TMP/ref.level.exr" "$dir/scene.exr" "$scale" 0.02 \
-    >"$SB_TMP/cmp.out" 2>"$SB_TMP/cmp.err"
-SB_RC=$?
-SB_ERR=$(cat "$SB_TMP/cmp.err")
-sed "s/^/bake_nadir: /" "$SB_TMP/cmp.out"
-check_rc "bake_nadir.compare" 0
+# The real export: seabake bake --pov of a scene rendered by POV-Ray against
+# seabake render of the same scene: relative RMS over the sea pixels below
+# 2 % (the issue's bound).  The emission maps hold what the sensor sees (the
+# moments seabake render reads there) on 3 x 3 texels per facet; what is
+# left is POV-Ray's bilinear lookup of radiance against seabake's bilinear
+# lookup of moments (0.23 % nadir, 0.61 % oblique when measured).
+# bake_run NAME SCENE
+bake_run() {
+    local name=$1 scene=$2 dir="$SB_TMP/bake_$1" scale start end
+    SB_CMD="seabake render $scene"
+    $SEABAKE_WRAPPER "$SEABAKE" render "$scene" -o "$SB_TMP/ref.exr" --aov level --png none \
+        --quiet 2>"$SB_TMP/err"
+    SB_RC=$?
+    SB_ERR=$(cat "$SB_TMP/err")
+    check_rc "$name.render.rc" 0
+    SB_CMD="seabake bake $scene --pov"
+    $SEABAKE_WRAPPER "$SEABAKE" bake "$scene" -o "$dir" --pov --quiet 2>"$SB_TMP/err"
+    SB_RC=$?
+    SB_ERR=$(cat "$SB_TMP/err")
+    check_rc "$name.bake.rc" 0
+    for f in scene.pov scene.ini seabake.inc manifest.json emission_0.exr; do
+        check "$name.bake.$f" test -s "$dir/$f"
+    done
+    SB_CMD="(cd $dir && povray scene.ini)"
+    start=$(date +%s.%N)
+    (cd "$dir" && povray scene.ini) >"$SB_TMP/pov.out" 2>&1
+    SB_RC=$?
+    end=$(date +%s.%N)
+    SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
+    check_rc "$name.povray.rc" 0
+    echo "$name: povray render took $(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.2f", b - a }') s"
+    scale=$(sed -n 's/^#declare Seabake_Radiance_Scale = \(.*\);/\1/p' "$dir/scene.pov")
+    SB_CMD="pov_driver compare"
+    "$POV_DRIVER" compare "$SB_TMP/ref.exr" "$SB_TMP/ref.level.exr" "$dir/scene.exr" "$scale" 0.02 \
+        >"$SB_TMP/cmp.out" 2>"$SB_TMP/cmp.err"
+    SB_RC=$?
+    SB_ERR=$(cat "$SB_TMP/cmp.err")
+    sed "s/^/$name: /" "$SB_TMP/cmp.out"
+    check_rc "$name.compare" 0
+}
+
+# Nadir, the sun (30 deg) in the glint, a 250 K sky: one ring and the
+# low-resolution one.
+bake_run bake_nadir "$top_srcdir/tests/scenes/pov_glint.ini"
+# 70 deg from nadir toward the sun (40 deg): three high-resolution rings
+# whose windows overlap rather than nest, so a point inside a finer ring is
+# read by seabake render at a coarser level.
+bake_run bake_slant "$top_srcdir/tests/scenes/pov_slant.ini"
 
 finish

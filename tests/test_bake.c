@@ -43,7 +43,7 @@ static sea_render *prepare(const sea_scene *sc)
 static void bake(const sea_render *r, double t, sea_bake *b)
 {
     sea_error err;
-    sea_status st = sea_bake_frame(r, t, b, &err);
+    sea_status st = sea_bake_frame(r, t, 1, b, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  bake: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
@@ -262,13 +262,108 @@ static void test_roughness_convention(void)
 /* The texel optics are those the renderer gives a pixel looking at the
  * texel centre: a spherical-earth bake far out agrees with the flat one
  * near the sensor, and a bad time is refused. */
+/* The view maps reproduce seabake render: at the sea point of a pixel
+ * centre, sea_render_view_moments gives the moments the renderer read for
+ * that pixel (its footprint's level, blends and window fades), so their
+ * optics toward that pixel's directions give the pixel's radiance.
+ * Tolerance 1e-5 relative: the image is float (6e-8), and the point comes
+ * back through sea_camera_project to within 1e-6 px of the centre, which
+ * moves the bilinear moments by about 1e-6 of a facet-to-facet step.  The
+ * grid is 64 facets, so several levels are capped windows with fades.
+ * And the view texel at a facet centre (the middle one of K = 3) holds
+ * the facet's own optics wherever that level alone is read. */
+static void test_view_matches_render(void)
+{
+    const sea_scene sc = bake_scene();
+    sea_render *r = prepare(&sc);
+    sea_error err;
+    sea_image img;
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, sc.width, sc.height, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 0.0, &img, NULL, NULL, &err), SEA_OK);
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    sea_moments *south[SEA_CLIP_MAX_LEVELS] = { NULL };
+    for (size_t l = 0; l < n; l++) {
+        if (lv[l].low_res)
+            continue;
+        south[lv[l].level] = malloc(lv[l].nx * lv[l].ny * sizeof(sea_moments));
+        CU_ASSERT_PTR_NOT_NULL_FATAL(south[lv[l].level]);
+        const sea_rect rect = { lv[l].facet, lv[l].i0, lv[l].j0, lv[l].nx, lv[l].ny };
+        CU_ASSERT_EQUAL_FATAL(sea_waves_facets(sea_render_waves(r), &rect, lv[l].sub_n, 0.0,
+                                               south[lv[l].level], &err),
+                              SEA_OK);
+    }
+    const sea_camera *cam = sea_render_camera(r);
+    const double sun[3] = { sin(sc.sun_zenith) * cos(sc.sun_azimuth),
+                            sin(sc.sun_zenith) * sin(sc.sun_azimuth), cos(sc.sun_zenith) };
+    double worst = 0.0;
+    size_t checked = 0, mixed = 0;
+    for (int j = 0; j < sc.height; j++)
+        for (int i = 0; i < sc.width; i++) {
+            sea_pixel_geom g;
+            sea_camera_pixel(cam, i + 0.5, j + 0.5, &g);
+            if (!g.hit)
+                continue;
+            sea_moments m;
+            int dom = -1;
+            CU_ASSERT_EQUAL_FATAL(sea_render_view_moments(r, (const sea_moments *const *)south,
+                                                          g.x, g.y, lv[0].level, &m, &dom, &err),
+                                  SEA_OK);
+            const size_t q = (size_t)j * (size_t)sc.width + (size_t)i;
+            const sea_slope_stats st = sea_moments_stats(&m);
+            sea_facet_optics o;
+            CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &st, g.obs,
+                                                          sea_camera_local_dir(&g, sun), &o,
+                                                          &err),
+                                  SEA_OK);
+            worst = fmax(worst, fabs(o.radiance - img.radiance[q]) / img.radiance[q]);
+            worst = fmax(worst, fabs(o.emissivity - img.emissivity[q]));
+            checked++;
+            mixed += img.level[q] != (float)lv[0].facet;
+        }
+    printf("\n    view moments vs render: %zu pixels (%zu not on the finest level), "
+           "max relative radiance or emissivity difference %.2g ",
+           checked, mixed, worst);
+    CU_ASSERT(checked > 1000);
+    CU_ASSERT(mixed > 100);
+    CU_ASSERT(worst < 1e-5);
+
+    /* the bake: the middle view texel of each facet */
+    sea_bake b;
+    CU_ASSERT_EQUAL_FATAL(sea_bake_frame(r, 0.0, 3, &b, &err), SEA_OK);
+    size_t same = 0, total = 0;
+    for (size_t l = 0; l < b.n_levels; l++) {
+        const sea_bake_level *bl = &b.levels[l];
+        if (bl->level.low_res)
+            continue;
+        CU_ASSERT_EQUAL(bl->view_k, 3);
+        const size_t nx = bl->level.nx, ny = bl->level.ny;
+        for (size_t row = 0; row < ny; row++)
+            for (size_t i = 0; i < nx; i++) {
+                const sea_facet_optics *v = &bl->view[(3 * row + 1) * 3 * nx + 3 * i + 1];
+                const sea_facet_optics *f = &bl->optics[row * nx + i];
+                CU_ASSERT(isfinite(v->radiance) && v->radiance > 0.0);
+                same += v->radiance == f->radiance;
+                total++;
+            }
+    }
+    printf("%zu of %zu middle view texels are their facet's ", same, total);
+    CU_ASSERT(same > total / 4);
+    CU_ASSERT(same < total);
+    sea_bake_free(&b);
+    for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++)
+        free(south[l]);
+    sea_image_free(&img);
+    sea_render_free(r);
+}
+
 static void test_errors_and_earth(void)
 {
     sea_scene sc = bake_scene();
     sea_render *r = prepare(&sc);
     sea_bake b;
     sea_error err;
-    CU_ASSERT_EQUAL(sea_bake_frame(r, NAN, &b, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_bake_frame(r, NAN, 1, &b, &err), SEA_ERR_DOMAIN);
     CU_ASSERT(strstr(err.msg, "time") != NULL);
     CU_ASSERT_EQUAL(b.n_levels, 0);
     bake(r, 0.0, &b);
@@ -300,5 +395,6 @@ int test_bake_register(void)
            !CU_add_test(s, "LEAN averaging across levels", test_lean_across_levels) ||
            !CU_add_test(s, "normal, roughness, optics, Eq 23", test_derived_maps) ||
            !CU_add_test(s, "roughness convention", test_roughness_convention) ||
+           !CU_add_test(s, "view maps reproduce seabake render", test_view_matches_render) ||
            !CU_add_test(s, "errors, spherical earth", test_errors_and_earth);
 }
