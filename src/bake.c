@@ -82,45 +82,99 @@ static sea_status texel_optics(const sea_render *r, const sea_moments *m, sea_di
     return st;
 }
 
-/* The optics of one high-resolution level: of its own facets, and of what
- * the sensor sees on its view grid (south: every level's moments). */
+/* Where the view texels are worth computing: those the sensor sees (their
+ * centre projects into the image, onto the sea) outside the hole (x0, y0,
+ * x1, y1: the next finer level's rectangle, shown instead), and within
+ * VIEW_MARGIN texels of them, which a renderer's bilinear lookup reaches. */
+enum { VIEW_MARGIN = 2 };
+static unsigned char *view_mask(const sea_camera *cam, const sea_clip_level *lv, size_t k,
+                                const double hole[4])
+{
+    const size_t vx = k * lv->nx, vy = k * lv->ny;
+    unsigned char *seen = calloc(vx * vy, 1), *mask = calloc(vx * vy, 1);
+    if (seen == NULL || mask == NULL) {
+        free(seen);
+        free(mask);
+        return NULL;
+    }
+    const double cell = lv->facet / (double)k;
+#pragma omp parallel for schedule(static)
+    for (size_t R = 0; R < vy; R++) {
+        const double y = (double)lv->j0 * lv->facet + ((double)(vy - R) - 0.5) * cell;
+        for (size_t i = 0; i < vx; i++) {
+            const double x = (double)lv->i0 * lv->facet + ((double)i + 0.5) * cell;
+            if (hole != NULL && x > hole[0] && x < hole[2] && y > hole[1] && y < hole[3])
+                continue;
+            double q[3], n[3], u, v;
+            sea_camera_sea_point(cam, x, y, q, n);
+            if (!sea_camera_project(cam, q, &u, &v) || !(u >= 0.0 && u <= cam->width) ||
+                !(v >= 0.0 && v <= cam->height))
+                continue;
+            sea_pixel_geom g;
+            sea_camera_pixel(cam, u, v, &g);
+            seen[R * vx + i] = (unsigned char)g.hit;
+        }
+    }
+#pragma omp parallel for schedule(static)
+    for (size_t R = 0; R < vy; R++) {
+        const size_t r0 = R >= VIEW_MARGIN ? R - VIEW_MARGIN : 0;
+        const size_t r1 = R + VIEW_MARGIN < vy ? R + VIEW_MARGIN : vy - 1;
+        for (size_t i = 0; i < vx; i++) {
+            const size_t i0 = i >= VIEW_MARGIN ? i - VIEW_MARGIN : 0;
+            const size_t i1 = i + VIEW_MARGIN < vx ? i + VIEW_MARGIN : vx - 1;
+            unsigned char any = 0;
+            for (size_t rr = r0; rr <= r1 && !any; rr++)
+                for (size_t ii = i0; ii <= i1 && !any; ii++)
+                    any = seen[rr * vx + ii];
+            mask[R * vx + i] = any;
+        }
+    }
+    free(seen);
+    return mask;
+}
+
+/* The optics of one high-resolution level: of its own facets (view 0), or
+ * of what the sensor sees on its view grid (view 1; south: every level's
+ * moments; where the mask is 0, the facet's own optics). */
 static sea_status level_optics(const sea_render *r,
                                const sea_moments *const south[SEA_CLIP_MAX_LEVELS],
-                               sea_bake_level *bl, sea_error *err)
+                               sea_bake_level *bl, int view, const unsigned char *mask,
+                               sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
-    const size_t nx = lv->nx, ny = lv->ny, k = bl->view_k;
-    const size_t vx = k * nx, vy = k * ny;
+    const size_t nx = lv->nx, ny = lv->ny, k = view ? bl->view_k : 1;
+    const size_t cols = k * nx, rows = k * ny;
+    const double cell = lv->facet / (double)k;
     const sea_scene *sc = sea_render_scene(r);
     const sea_camera *cam = sea_render_camera(r);
     const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                                 sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
     int failed = 0;
     sea_error first = { { 0 } };
-    /* rows 0 .. ny - 1: the facets; then vy rows of view texels */
 #pragma omp parallel for schedule(dynamic, 1)
-    for (size_t row = 0; row < ny + vy; row++) {
+    for (size_t R = 0; R < rows; R++) {
         if (failed)
             continue;
-        const int facets = row < ny;
-        const size_t R = facets ? row : row - ny, cols = facets ? nx : vx;
-        const double cell = facets ? lv->facet : lv->facet / (double)k;
-        const double y = (double)lv->j0 * lv->facet + ((double)((facets ? ny : vy) - R) - 0.5) * cell;
+        const double y = (double)lv->j0 * lv->facet + ((double)(rows - R) - 0.5) * cell;
         for (size_t i = 0; i < cols; i++) {
+            const size_t q = R * cols + i;
+            sea_error e1;
+            sea_status s1 = SEA_OK;
+            if (view && !mask[q]) {
+                bl->view[q] = bl->optics[(R / k) * nx + i / k];
+                continue;
+            }
             const double x = (double)lv->i0 * lv->facet + ((double)i + 0.5) * cell;
             sea_dir obs, sun;
             texel_dirs(cam, sun_vec, x, y, &obs, &sun);
-            sea_error e1;
-            sea_status s1;
-            if (facets) {
-                s1 = texel_optics(r, &bl->moments[R * nx + i], obs, sun, &bl->optics[R * nx + i],
-                                  bl, i, R, &e1);
+            if (!view) {
+                s1 = texel_optics(r, &bl->moments[q], obs, sun, &bl->optics[q], bl, i, R, &e1);
             } else {
                 sea_moments vm;
                 int dom;
                 s1 = sea_render_view_moments(r, south, x, y, lv->level, &vm, &dom, &e1);
                 if (s1 == SEA_OK)
-                    s1 = texel_optics(r, &vm, obs, sun, &bl->view[R * vx + i], bl, i, R, &e1);
+                    s1 = texel_optics(r, &vm, obs, sun, &bl->view[q], bl, i, R, &e1);
             }
             if (s1 != SEA_OK) {
 #pragma omp critical(sea_bake_error)
@@ -182,9 +236,30 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
         if (!lv[l].low_res)
             st = level_moments(r, t, bl, &south[lv[l].level], err);
     }
-    for (size_t l = 0; l < n && st == SEA_OK; l++)
-        if (!lv[l].low_res)
-            st = level_optics(r, (const sea_moments *const *)south, &out->levels[l], err);
+    const sea_moments *const *sm = (const sea_moments *const *)south;
+    for (size_t l = 0; l < n && st == SEA_OK; l++) {
+        sea_bake_level *bl = &out->levels[l];
+        if (lv[l].low_res)
+            continue;
+        double hole[4];
+        const int has_hole = l > 0 && !lv[l - 1].low_res;
+        if (has_hole) {
+            hole[0] = (double)lv[l - 1].i0 * lv[l - 1].facet;
+            hole[1] = (double)lv[l - 1].j0 * lv[l - 1].facet;
+            hole[2] = hole[0] + (double)lv[l - 1].nx * lv[l - 1].facet;
+            hole[3] = hole[1] + (double)lv[l - 1].ny * lv[l - 1].facet;
+        }
+        unsigned char *mask = view_mask(cam, &lv[l], bl->view_k, has_hole ? hole : NULL);
+        if (mask == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the view mask of level %d",
+                          lv[l].level);
+            break;
+        }
+        st = level_optics(r, sm, bl, 0, NULL, err);
+        if (st == SEA_OK)
+            st = level_optics(r, sm, bl, 1, mask, err);
+        free(mask);
+    }
     for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++)
         free(south[l]);
     if (st != SEA_OK)

@@ -320,6 +320,10 @@ static void explain(const render_setup *s, const sea_render *r)
             "  a pixel of footprint F reads level round(log2(F / %g m)), or a coarser one outside "
             "that level's window; \"pixels\" counts the pixels whose footprint chose it\n",
             sc->finest);
+    if (sc->windows == SEA_WINDOWS_CLIPMAP)
+        fprintf(stderr, "  windows = clipmap: every high-resolution level is %d x %d facets "
+                        "around the point the optical axis meets, whether pixels read it or not\n",
+                sc->grid, sc->grid);
     const double *wl, *wt;
     const size_t k = sea_render_samples(r, &wl, &wt);
     if (sc->wavelength > 0.0) {

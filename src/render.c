@@ -486,6 +486,17 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
             r->lev[r->px[q].level].pixels++;
     size_t fft_cells = 2;
     int any_hr = 0;
+    /* The centre of clipmap windows: where the optical axis meets the sea,
+     * else the nadir point. */
+    double look_x = sc->sensor_x, look_y = sc->sensor_y;
+    {
+        sea_pixel_geom g;
+        sea_camera_pixel(&r->cam, 0.5 * sc->width, 0.5 * sc->height, &g);
+        if (g.hit) {
+            look_x = g.x;
+            look_y = g.y;
+        }
+    }
     for (int l = 0; l <= LEVEL_MAX; l++) {
         sea_clip_level *lv = &r->lev[l];
         const uint32_t bit = (uint32_t)1 << l;
@@ -499,7 +510,8 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
             ymin = fmin(ymin, p->y);
             ymax = fmax(ymax, p->y);
         }
-        if (!(xmin <= xmax))
+        const int clipmap = sc->windows == SEA_WINDOWS_CLIPMAP && l < r->first_lr;
+        if (!(xmin <= xmax) && !clipmap)
             continue;
         r->used[l] = 1;
         lv->low_res = l >= r->first_lr;
@@ -514,7 +526,13 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
         const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
         long i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
         long j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
-        if ((size_t)(i_hi - i_lo + 1) > grid || (size_t)(j_hi - j_lo + 1) > grid) {
+        if (clipmap) {
+            /* concentric: grid x grid facets around the look point */
+            i_lo = (long)floor(look_x / L) - (long)grid / 2;
+            j_lo = (long)floor(look_y / L) - (long)grid / 2;
+            i_hi = i_lo + (long)grid - 1;
+            j_hi = j_lo + (long)grid - 1;
+        } else if ((size_t)(i_hi - i_lo + 1) > grid || (size_t)(j_hi - j_lo + 1) > grid) {
             /* capped: centre on the median ground point of the pixels whose
              * footprint chose this level (the bounding box also holds
              * pixels pushed up from finer windows) */

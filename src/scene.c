@@ -218,9 +218,18 @@ typedef enum {
     K_SKY_RADIANCE, K_SKY_TEMPERATURE,
     K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
     K_WAVELENGTH, K_BAND, K_RESPONSE, K_SAMPLES,
-    K_METHOD, K_N, K_FINEST, K_GRID, K_EMISSIVITY, K_EARTH, K_TOLERANCE,
+    K_METHOD, K_N, K_FINEST, K_GRID, K_EMISSIVITY, K_EARTH, K_WINDOWS, K_TOLERANCE,
     K_COUNT
 } key_id;
+
+static int windows_from_name(const char *name)
+{
+    if (strcmp(name, "view") == 0)
+        return SEA_WINDOWS_VIEW;
+    if (strcmp(name, "clipmap") == 0)
+        return SEA_WINDOWS_CLIPMAP;
+    return -1;
+}
 
 static int earth_from_name(const char *name)
 {
@@ -312,6 +321,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_EMISSIVITY] = CHOICE(SEC_MODEL, "emissivity", sea_emis_method_from_name,
                             "auto, fast, full", emissivity_method),
     [K_EARTH] = CHOICE(SEC_MODEL, "earth", earth_from_name, "flat, spherical", earth),
+    [K_WINDOWS] = CHOICE(SEC_MODEL, "windows", windows_from_name, "view, clipmap", windows),
     [K_TOLERANCE] = REAL(SEC_MODEL, "tolerance", 0.0, 0.1, LO_OPEN, 1.0, "", tolerance),
 };
 
@@ -817,6 +827,7 @@ void sea_scene_defaults(sea_scene *sc)
     sc->grid = 256;
     sc->emissivity_method = SEA_EMIS_AUTO;
     sc->earth = SEA_EARTH_FLAT;
+    sc->windows = SEA_WINDOWS_VIEW;
     sc->tolerance = 1e-3;
 }
 

@@ -460,6 +460,13 @@ void sea_camera_sea_point(const sea_camera *c, double x, double y, double q[3], 
 
 /* ------------------------------------------------------- scenes (issue 4) */
 
+/* Clipmap windows: `view`, each level as large as the pixels that read it
+ * need (at most grid x grid facets); `clipmap`, every high-resolution level
+ * grid x grid facets, concentric around the point the optical axis meets
+ * (the nadir point if it meets the sky), for maps a 3-D program can view
+ * from anywhere near the sensor. */
+typedef enum { SEA_WINDOWS_VIEW = 0, SEA_WINDOWS_CLIPMAP } sea_windows;
+
 /* A scene file (INI, man/seabake-scene.5) after validation.  Angles are
  * stored in radians, lengths in metres, wavelengths in metres, temperatures
  * in kelvin; radiances are spectral (W m^-2 sr^-1 m^-1) and irradiances
@@ -525,6 +532,7 @@ typedef struct {
     int grid;                  /* grid, clipmap level size in facets, even [16, 4096]; 256 */
     int emissivity_method;     /* emissivity = auto | fast | full; auto */
     sea_earth earth;           /* earth = flat | spherical; flat */
+    sea_windows windows;       /* windows = view | clipmap; view */
     double tolerance;          /* tolerance, relative, (0, 0.1]; 1e-3 */
 } sea_scene;
 

@@ -258,6 +258,59 @@ static void test_levels_and_seams(void)
     sea_image_free(&img);
 }
 
+/* windows = clipmap: every high-resolution level is grid x grid facets,
+ * concentric (each inside the next coarser one), used whether pixels read
+ * it or not.  Facets sit on one lattice per level and come from the same
+ * waves, so where every pixel is inside its level's window at full weight
+ * in both modes (grid large enough) the image is the view-window image to
+ * float precision (1e-6 relative). */
+static void test_clipmap_windows(void)
+{
+    sea_scene sc = base_scene(64);
+    sc.look_zenith = 50.0 * DEG;
+    sc.altitude = 60.0;
+    sc.grid = 512;
+    sea_image a, b;
+    render(&sc, 0.0, &a);
+    sc.windows = SEA_WINDOWS_CLIPMAP;
+    sea_render *r = NULL;
+    sea_error err;
+    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    int hr = 0, unread = 0;
+    for (size_t l = 0; l < n; l++) {
+        if (lv[l].low_res)
+            continue;
+        hr++;
+        unread += lv[l].pixels == 0;
+        CU_ASSERT_EQUAL(lv[l].nx, 512);
+        CU_ASSERT_EQUAL(lv[l].ny, 512);
+        CU_ASSERT_EQUAL(lv[l].level, (int)l); /* every level from the finest */
+        if (l + 1 < n && !lv[l + 1].low_res) {
+            const double L = lv[l].facet, L2 = lv[l + 1].facet;
+            CU_ASSERT(lv[l + 1].i0 * L2 <= lv[l].i0 * L);
+            CU_ASSERT(lv[l + 1].j0 * L2 <= lv[l].j0 * L);
+            CU_ASSERT((lv[l + 1].i0 + 512) * L2 >= (lv[l].i0 + 512) * L);
+            CU_ASSERT((lv[l + 1].j0 + 512) * L2 >= (lv[l].j0 + 512) * L);
+        }
+    }
+    CU_ASSERT(hr >= 5);
+    CU_ASSERT(unread >= 1); /* levels no pixel chose are still there */
+    sea_render_free(r);
+    render(&sc, 0.0, &b);
+    double worst = 0.0;
+    for (size_t i = 0; i < 64 * 64; i++) {
+        CU_ASSERT(a.level[i] == b.level[i]);
+        worst = fmax(worst, fabs(a.radiance[i] - b.radiance[i]) / a.radiance[i]);
+    }
+    CU_ASSERT(worst < 1e-6);
+    MEASURED("clipmap vs view windows: %d high-resolution levels, max relative difference %.2g\n",
+             hr, worst);
+    sea_image_free(&a);
+    sea_image_free(&b);
+}
+
 /* The paper's three figure scenes (examples/fig7-9.ini) read exactly the
  * levels of its Fig. 10: 1 and 2 m; 2, 4 and 8 m; 8, 16 and 32 m. */
 static void test_figure_levels(void)
@@ -331,5 +384,6 @@ int test_render_register(void)
            !CU_add_test(s, "determinism and time", test_determinism_and_time) ||
            !CU_add_test(s, "levels and seams", test_levels_and_seams) ||
            !CU_add_test(s, "low-resolution levels", test_low_resolution_levels) ||
+           !CU_add_test(s, "clipmap windows", test_clipmap_windows) ||
            !CU_add_test(s, "Fig. 7-9 level sets", test_figure_levels);
 }

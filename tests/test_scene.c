@@ -107,6 +107,7 @@ static void test_full_file(void)
     CU_ASSERT(sc.grid == 512);
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_FAST);
     CU_ASSERT(sc.earth == SEA_EARTH_SPHERICAL);
+    CU_ASSERT(sc.windows == SEA_WINDOWS_CLIPMAP);
     CU_ASSERT(sc.tolerance == 1e-4);
 }
 
@@ -164,6 +165,7 @@ static void test_defaults(void)
     CU_ASSERT(sc.method == SEA_METHOD_VARIABLE_STEP && sc.n == 1);
     CU_ASSERT(sc.finest == 1.0 && sc.grid == 256);
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_AUTO && sc.earth == SEA_EARTH_FLAT);
+    CU_ASSERT(sc.windows == SEA_WINDOWS_VIEW);
     CU_ASSERT(sc.tolerance == 1e-3);
     /* Every optional field of the loaded scene is the default's. */
     def.wind_speed = sc.wind_speed;
@@ -244,6 +246,8 @@ static const error_case CASES[] = {
       "(allowed: auto, fast, full)" },
     { BASE "[model]\nearth = round\n", SEA_ERR_PARSE, 10, "[model] earth",
       "(allowed: flat, spherical)" },
+    { BASE "[model]\nwindows = nested\n", SEA_ERR_PARSE, 10,
+      "[model] windows: unknown name 'nested'", "(allowed: view, clipmap)" },
     { BASE "[sea]\nwater = hale-query\n", SEA_ERR_PARSE, 10,
       "[sea] water: unknown table 'hale-query'", "(allowed: hale-querry, segelstein, or" },
     { "[sensor]\nband = 3-5\n", SEA_ERR_PARSE, 2, "[sensor] band: '3-5' is not A:B",
