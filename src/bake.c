@@ -196,7 +196,7 @@ static sea_status level_optics(const sea_render *r,
 }
 
 sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
-                          sea_error *err)
+                          sea_progress_fn progress, void *ctx, sea_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!isfinite(t))
@@ -224,6 +224,18 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
     if (st != SEA_OK)
         return st;
     out->n_levels = n;
+    /* progress: facets synthesised, facet optics and view optics (the
+     * view texels' count is an upper bound of their work) */
+    double work = 0.0, done = 0.0;
+    for (size_t l = 0; l < n; l++)
+        if (!lv[l].low_res)
+            work += (double)(lv[l].nx * lv[l].ny) * (2.0 + (double)(view_k * view_k));
+#define PROGRESS(w)                                                                               \
+    do {                                                                                          \
+        done += (w);                                                                              \
+        if (progress != NULL && work > 0.0)                                                       \
+            progress(ctx, done / work);                                                           \
+    } while (0)
     sea_moments *south[SEA_CLIP_MAX_LEVELS] = { NULL };
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
@@ -233,8 +245,10 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
         bl->lr_obs = lr_obs;
         bl->lr_sun = lr_sun;
         bl->view_k = (size_t)view_k;
-        if (!lv[l].low_res)
+        if (!lv[l].low_res) {
             st = level_moments(r, t, bl, &south[lv[l].level], err);
+            PROGRESS((double)(lv[l].nx * lv[l].ny));
+        }
     }
     const sea_moments *const *sm = (const sea_moments *const *)south;
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
@@ -256,10 +270,13 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
             break;
         }
         st = level_optics(r, sm, bl, 0, NULL, err);
+        PROGRESS((double)(lv[l].nx * lv[l].ny));
         if (st == SEA_OK)
             st = level_optics(r, sm, bl, 1, mask, err);
+        PROGRESS((double)(lv[l].nx * lv[l].ny * bl->view_k * bl->view_k));
         free(mask);
     }
+#undef PROGRESS
     for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++)
         free(south[l]);
     if (st != SEA_OK)

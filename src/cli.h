@@ -173,6 +173,18 @@ sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_
 /* Monotonic wall-clock seconds. */
 double sea_cli_seconds(void);
 
+/* A progress bar on standard error (callers show it only on a terminal):
+ * "WHAT: [####....]  42% frame 2/5", redrawn when the percentage changes.
+ * index: the frame being done, of count. */
+typedef struct {
+    const char *what;
+    size_t index, count;
+    int shown; /* last percentage printed, -1 none */
+} sea_cli_progress;
+/* A sea_progress_fn: fraction of the current frame done; ctx a
+ * sea_cli_progress. */
+void sea_cli_progress_bar(void *ctx, double fraction);
+
 /* The complex refractive index of the water at --wavelength (required, um)
  * from --water (table name or CSV file, default hale-querry), --salinity
  * (default 35 g/kg) and, if the subcommand has it, --index.  The same

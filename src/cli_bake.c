@@ -143,7 +143,7 @@ static const char BAKE_HELP[] =
     "  --emission-texels K emission texels per facet side, odd, 1 to 7 (default 3)\n"
     "  --pov               also a POV-Ray scene: DIR/scene.pov, scene.ini, seabake.inc\n"
     "  --blender           also the Blender import (not implemented yet)\n"
-    "  --quiet             no summary line\n";
+    "  --quiet             no progress bar and no summary line\n";
 
 /* ------------------------------------------------------------- the setup */
 
@@ -767,8 +767,28 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
 }
 
 /* Bakes every frame into tmp and writes the manifest there. */
+/* What a bake did: facets baked, seconds computing and writing. */
+typedef struct {
+    size_t texels;
+    double compute, write;
+} bake_stats;
+
+/* The progress bar of a frame: the computation is its first COMPUTE_SHARE,
+ * the files the rest. */
+static const double COMPUTE_SHARE = 0.9;
+typedef struct {
+    sea_cli_progress bar;
+    bool on;
+} bake_progress;
+
+static void bake_progress_compute(void *ctx, double fraction)
+{
+    bake_progress *p = ctx;
+    sea_cli_progress_bar(&p->bar, COMPUTE_SHARE * fraction);
+}
+
 static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
-                           size_t *texels, sea_error *err)
+                           bake_stats *stats, sea_error *err)
 {
     const sea_clip_level *lv;
     const size_t nlev = sea_render_levels(r, &lv);
@@ -787,12 +807,20 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     cJSON *manifest = NULL;
     double scale = 1.0;
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
-    *texels = 0;
+    memset(stats, 0, sizeof *stats);
+    bake_progress prog = {{"bake", 0, (size_t)(last - first + 1), -1},
+                          !s->quiet && isatty(STDERR_FILENO)};
     for (long f = first; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
         sea_bake b;
-        if ((st = sea_bake_frame(r, t, (int)s->view_k, &b, err)) != SEA_OK)
+        prog.bar.index = (size_t)(f - first);
+        double t0 = sea_cli_seconds();
+        st = sea_bake_frame(r, t, (int)s->view_k, &b, prog.on ? bake_progress_compute : NULL,
+                            &prog, err);
+        stats->compute += sea_cli_seconds() - t0;
+        if (st != SEA_OK)
             break;
+        t0 = sea_cli_seconds();
         if (manifest == NULL) {
             scale = emission_scale(&b);
             manifest = manifest_json(s, r, &b, scale);
@@ -816,14 +844,25 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             cJSON_AddItemToArray(cJSON_GetObjectItem(cJSON_GetArrayItem(levels, (int)l), "frames"),
                                  entry);
             st = write_level(s, tmp, &b.levels[l], f, t, scale, buf, files, err);
-            *texels += b.levels[l].level.nx * b.levels[l].level.ny;
+            stats->texels += b.levels[l].level.nx * b.levels[l].level.ny;
+            if (prog.on)
+                sea_cli_progress_bar(&prog.bar, COMPUTE_SHARE + (1.0 - COMPUTE_SHARE) *
+                                                                    (double)(l + 1) /
+                                                                    (double)b.n_levels);
         }
         if (st == SEA_OK && s->pov && f == first)
             st = write_pov(s, r, &b, tmp, scale, err);
         sea_bake_free(&b);
+        stats->write += sea_cli_seconds() - t0;
+        if (prog.on && st == SEA_OK)
+            sea_cli_progress_bar(&prog.bar, 1.0);
     }
+    if (prog.on)
+        fputc('\n', stderr);
+    const double t0 = sea_cli_seconds();
     if (st == SEA_OK)
         st = write_manifest(tmp, manifest, err);
+    stats->write += sea_cli_seconds() - t0;
     cJSON_Delete(manifest);
     for (size_t c = 0; c < GROUP_CH_MAX; c++)
         free(buf[c]);
@@ -837,7 +876,8 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     bake_setup s;
     sea_render *r = NULL;
     char *tmp = NULL;
-    size_t texels = 0;
+    bake_stats stats = {0, 0.0, 0.0};
+    double prepare = 0.0;
     sea_status st = bake_parse(args, &s, err);
     if (st == SEA_OK)
         st = check_dir(s.dir, err);
@@ -861,18 +901,24 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot set the permissions of '%s': %s", tmp,
                           strerror(errno));
     }
-    if (st == SEA_OK)
+    if (st == SEA_OK) {
+        const double t0 = sea_cli_seconds();
         st = sea_render_prepare(&s.sc, &r, err);
+        prepare = sea_cli_seconds() - t0;
+    }
     if (st == SEA_OK)
-        st = bake_all(&s, r, tmp, &texels, err);
+        st = bake_all(&s, r, tmp, &stats, err);
     if (st == SEA_OK)
         st = commit_dir(tmp, s.dir, err);
     if (st != SEA_OK && tmp != NULL)
         remove_tree(tmp);
     if (st == SEA_OK && !s.quiet) {
         const double secs = sea_cli_seconds() - start;
-        fprintf(stderr, "bake: %s: %zu texels in %.3g s (%.3g texels/s)\n", s.dir, texels, secs,
-                secs > 0.0 ? (double)texels / secs : 0.0);
+        fprintf(stderr,
+                "bake: %s: %zu texels in %.3g s (%.3g texels/s): prepare %.3g s, maps %.3g s, "
+                "files %.3g s\n",
+                s.dir, stats.texels, secs, secs > 0.0 ? (double)stats.texels / secs : 0.0,
+                prepare, stats.compute, stats.write);
     }
     sea_render_free(r);
     free(tmp);

@@ -39,8 +39,6 @@ static const double RENDER_FRAME_RATE_DEFAULT = 25.0; /* Hz */
  * glint pixels do not flatten the rest of the image. */
 static const double RENDER_PNG_CLIP = 0.005;
 #define RENDER_THREADS_MAX 1024
-/* Width of the progress bar, characters. */
-enum { RENDER_BAR = 30 };
 /* Wavelengths listed by --explain before "...". */
 enum { RENDER_EXPLAIN_SAMPLES = 16 };
 
@@ -339,32 +337,6 @@ static void explain(const render_setup *s, const sea_render *r)
     fprintf(stderr, "%s um\n", k > RENDER_EXPLAIN_SAMPLES ? ", ..." : "");
 }
 
-/* The progress bar, over all frames: frame index and count in ctx. */
-typedef struct {
-    size_t index, count;
-    int shown; /* last percentage printed, -1 none */
-} render_progress;
-
-static void progress_bar(void *ctx, double fraction)
-{
-    render_progress *p = ctx;
-    const double done = ((double)p->index + fmin(fmax(fraction, 0.0), 1.0)) / (double)p->count;
-    const int pct = (int)floor(100.0 * done);
-    if (pct == p->shown)
-        return;
-    p->shown = pct;
-    char bar[RENDER_BAR + 1];
-    const int full = (int)floor(RENDER_BAR * done);
-    for (int i = 0; i < RENDER_BAR; ++i)
-        bar[i] = i < full ? '#' : '.';
-    bar[RENDER_BAR] = '\0';
-    if (p->count > 1)
-        fprintf(stderr, "\rrender: [%s] %3d%% frame %zu/%zu", bar, pct, p->index + 1, p->count);
-    else
-        fprintf(stderr, "\rrender: [%s] %3d%%", bar, pct);
-    fflush(stderr);
-}
-
 /* ---------------------------------------------------------------- frames */
 
 /* Writes every file of one frame; on a failure removes those it wrote. */
@@ -482,13 +454,13 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
     char levels[SEA_CLIP_MAX_LEVELS * 24];
     levels_text(r, levels, sizeof levels);
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
-    render_progress prog = {0, (size_t)(last - first + 1), -1};
+    sea_cli_progress prog = {"render", 0, (size_t)(last - first + 1), -1};
     const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
     double t_min = INFINITY, t_max = -INFINITY;
     for (long f = first; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
         prog.index = (size_t)(f - first);
-        st = sea_render_frame(r, t, &img, s->progress ? progress_bar : NULL, &prog, err);
+        st = sea_render_frame(r, t, &img, s->progress ? sea_cli_progress_bar : NULL, &prog, err);
         if (st == SEA_OK)
             st = write_frame(s, &img, f, t, levels, err);
         if (st != SEA_OK)
@@ -498,7 +470,7 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
             t_max = fmax(t_max, img.temperature[q]);
         }
         if (s->progress)
-            progress_bar(&prog, 1.0);
+            sea_cli_progress_bar(&prog, 1.0);
     }
     if (s->progress)
         fputc('\n', stderr);

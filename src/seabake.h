@@ -690,10 +690,11 @@ typedef struct {
  * view_k x view_k (1 to 7) view texels per facet: radiance is not linear in
  * the moments, so a renderer's bilinear lookup of the view map matches
  * seabake render's bilinear moments better on a finer grid.  Threads:
- * OpenMP, the result independent of their number.  On failure *out holds
+ * OpenMP, the result independent of their number.  progress (may be NULL)
+ * gets the fraction done, from the calling thread.  On failure *out holds
  * nothing to free.  Free with sea_bake_free. */
 sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
-                          sea_error *err);
+                          sea_progress_fn progress, void *ctx, sea_error *err);
 void sea_bake_free(sea_bake *b);
 
 /* Tangent-space normal of the mean slope (+x east, +y north, +z up):

@@ -43,7 +43,7 @@ static sea_render *prepare(const sea_scene *sc)
 static void bake(const sea_render *r, double t, sea_bake *b)
 {
     sea_error err;
-    sea_status st = sea_bake_frame(r, t, 1, b, &err);
+    sea_status st = sea_bake_frame(r, t, 1, b, NULL, NULL, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  bake: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
@@ -330,7 +330,7 @@ static void test_view_matches_render(void)
 
     /* the bake: the middle view texel of each facet */
     sea_bake b;
-    CU_ASSERT_EQUAL_FATAL(sea_bake_frame(r, 0.0, 3, &b, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_bake_frame(r, 0.0, 3, &b, NULL, NULL, &err), SEA_OK);
     size_t same = 0, total = 0;
     for (size_t l = 0; l < b.n_levels; l++) {
         const sea_bake_level *bl = &b.levels[l];
@@ -363,7 +363,7 @@ static void test_errors_and_earth(void)
     sea_render *r = prepare(&sc);
     sea_bake b;
     sea_error err;
-    CU_ASSERT_EQUAL(sea_bake_frame(r, NAN, 1, &b, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_bake_frame(r, NAN, 1, &b, NULL, NULL, &err), SEA_ERR_DOMAIN);
     CU_ASSERT(strstr(err.msg, "time") != NULL);
     CU_ASSERT_EQUAL(b.n_levels, 0);
     bake(r, 0.0, &b);
