@@ -50,7 +50,8 @@ static sea_status level_moments(const sea_render *r, double t, sea_bake_level *b
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, n = nx * ny, k2 = bl->view_k * bl->view_k;
-    sea_status st = sea_check_size(n, 2 * sizeof(sea_moments) + (1 + k2) * sizeof(sea_facet_optics),
+    sea_status st = sea_check_size(n, 2 * sizeof(sea_moments) + sizeof(sea_facet_optics) +
+                                          k2 * (sizeof(double) + 2),
                                    "bake level", err);
     if (st != SEA_OK)
         return st;
@@ -161,7 +162,7 @@ static sea_status level_optics(const sea_render *r,
             sea_error e1;
             sea_status s1 = SEA_OK;
             if (view && !mask[q]) {
-                bl->view[q] = bl->optics[(R / k) * nx + i / k];
+                bl->view[q] = bl->optics[(R / k) * nx + i / k].radiance;
                 continue;
             }
             const double x = (double)lv->i0 * lv->facet + ((double)i + 0.5) * cell;
@@ -173,8 +174,10 @@ static sea_status level_optics(const sea_render *r,
                 sea_moments vm;
                 int dom;
                 s1 = sea_render_view_moments(r, south, x, y, lv->level, &vm, &dom, &e1);
+                sea_facet_optics o;
                 if (s1 == SEA_OK)
-                    s1 = texel_optics(r, &vm, obs, sun, &bl->view[q], bl, i, R, &e1);
+                    s1 = texel_optics(r, &vm, obs, sun, &o, bl, i, R, &e1);
+                bl->view[q] = o.radiance;
             }
             if (s1 != SEA_OK) {
 #pragma omp critical(sea_bake_error)

@@ -341,7 +341,7 @@ static double texel_value(const sea_bake_level *bl, size_t q, bake_quantity k, d
     case Q_ROTATION:
         sea_bake_roughness(m, &r[0], &r[1], &r[2]);
         return r[k - Q_ROUGHNESS];
-    case Q_EMISSION: return bl->view[q].radiance * scale;
+    case Q_EMISSION: return bl->view[q] * scale;
     }
     return 0.0;
 }
@@ -696,7 +696,7 @@ static double emission_scale(const sea_bake *b)
         for (size_t q = 0; q < bl->level.nx * bl->level.ny; q++)
             top = fmax(top, bl->optics[q].radiance);
         for (size_t q = 0; q < bl->level.nx * bl->level.ny * bl->view_k * bl->view_k; q++)
-            top = fmax(top, bl->view[q].radiance);
+            top = fmax(top, bl->view[q]);
     }
     if (!(top > 0.0) || !isfinite(top))
         return 1.0;
