@@ -193,6 +193,37 @@ void sea_cli_progress_bar(void *ctx, double fraction);
 sea_status sea_cli_water(const sea_cli_args *args, double *wavelength_um, double complex *N,
                          sea_error *err);
 
+/* ------------------------------------------------- bench (cli_bench.c) */
+
+/* One row of bench.csv: a time per call and, where there is a reference,
+ * the largest and RMS absolute error against it over the conditions (NAN:
+ * nothing to compare).  settings and conditions hold no commas. */
+typedef struct {
+    const char *quantity; /* waves, emissivity, reflectivity, energy */
+    char method[24];
+    char settings[128];
+    double seconds, max_err, rms_err;
+    char conditions[224];
+} sea_cli_bench_row;
+
+/* The figures the bench's summary quotes. */
+typedef struct {
+    size_t conditions;
+    double full_seconds, auto_seconds, auto_max, auto_rms, fast_seconds, fast_max, fast_rms;
+} sea_cli_bench_summary;
+
+/* Emissivity (reference, Eq 12, default, fixed rules), reflectivity and
+ * energy rows over the fixed condition set (smaller with quick): a
+ * malloc'ed array of *nrows rows. */
+sea_status sea_cli_bench_optics(bool quick, sea_cli_bench_row **rows, size_t *nrows,
+                                sea_cli_bench_summary *sum, sea_error *err);
+/* The row is a reference (its errors are 0 by definition). */
+bool sea_cli_bench_is_reference(const sea_cli_bench_row *r);
+/* gnuplot script of the emissivity rows: log-log seconds per call against
+ * the max error, one labelled point per setting, the Pareto front as a
+ * line, drawn into png.  malloc'ed; NULL when out of memory. */
+char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows, const char *png);
+
 /* The subcommand called name, or NULL. */
 const sea_cli_command *sea_cli_command_find(const char *name);
 /* The general usage: synopsis, subcommands, exit codes. */

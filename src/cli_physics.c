@@ -79,7 +79,8 @@ static const sea_cli_range SEA_CLI_RANGE_DIRECTION[2] = {
     "                      or --facet\n"
 
 #define SEA_CLI_HELP_METHOD \
-    "  --method M          auto (default: Eq 7, fixed Gauss rule), fast (Eq 12)\n" \
+    "  --method M          auto (default: Eq 7, Gauss rule sized from the slope\n" \
+    "                      spreads, within 1e-4 of full to 85 deg), fast (Eq 12)\n" \
     "                      or full (Eq 7, adaptive reference quadrature)\n"
 
 #define SEA_CLI_HELP_GRID \

@@ -6,7 +6,8 @@
  * - convergence: the paper's Fig. 5-6 study, high-resolution emissivity and
  *   reflectivity of growing facets against the low-resolution values, with a
  *   CSV table and a gnuplot chart;
- * - bench: speed of the wave generators.
+ * - bench: speed of the wave generators, and speed against accuracy of the
+ *   optics (cli_bench.c).
  *
  * Every option is validated before anything is allocated or written; sizes
  * that cannot fit in memory are refused with sea_check_size.  Files are
@@ -183,14 +184,19 @@ static const char SEA_CLI_HELP_BENCH[] =
     "\n"
     "Speed of the large-scale wave generators (best of 3 runs, 1 with --quick):\n"
     "facets per second of each method at U10 = 10 m/s, L = 4 m, and the cost of\n"
-    "an FFT plan's waves summed as sinusoids against the FFT itself.  Prints a\n"
-    "table and writes DIR/bench.csv.\n"
+    "an FFT plan's waves summed as sinusoids against the FFT itself.  Then the\n"
+    "optics on one thread over a fixed set of conditions (896; 56 with --quick):\n"
+    "seconds per call and max/RMS error against the adaptive Eq 7 reference of\n"
+    "the emissivity by full, fast (Eq 12), auto (the default) and fixed product\n"
+    "rules GL 8..128 x GH 4..16, of the reflectivity and of the energy balance.\n"
+    "Prints a table and writes DIR/bench.csv and DIR/speed_accuracy.png (gnuplot).\n"
     "\n"
-    "  --quick             smaller sizes, one run each\n"
+    "  --quick             smaller sizes and condition set, fewer runs\n"
     "  -o DIR              output directory, created if missing; default .\n"
     "  --threads N         OpenMP threads, 1..1024; default: the OpenMP default\n"
     "\n"
-    "CSV columns: section,method,settings,facets,seconds,facets_per_s,threads\n";
+    "CSV columns: quantity,method,settings,seconds_per_call,max_error,rms_error,\n"
+    "  conditions (waves: seconds per facet or cell; empty errors: no reference).\n";
 
 /* ------------------------------------------------------- option helpers */
 
@@ -1156,10 +1162,19 @@ static void conv_table(FILE *out, const conv_setup *c, const conv_row *rows, siz
     }
 }
 
+typedef struct {
+    const conv_setup *c;
+    const conv_row *rows;
+    size_t nrows, per_wind;
+} conv_chart;
+
 /* The gnuplot script: two panels, one curve set per wind, the data inline. */
-static char *conv_script(const conv_setup *c, const conv_row *rows, size_t nrows,
-                         size_t per_wind, const char *png)
+static char *conv_script(const void *ctx, const char *png)
 {
+    const conv_chart *cc = ctx;
+    const conv_setup *c = cc->c;
+    const conv_row *rows = cc->rows;
+    const size_t nrows = cc->nrows, per_wind = cc->per_wind;
     char *text = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&text, &len);
@@ -1312,12 +1327,19 @@ static sea_status run_gnuplot(const char *script, bool *absent, sea_error *err)
     return SEA_OK;
 }
 
-/* DIR/convergence.png through a temporary name. */
-static sea_status conv_chart(const conv_setup *c, const conv_row *rows, size_t nrows,
-                             size_t per_wind, sea_error *err)
+/* A chart's gnuplot script, drawing into png. */
+typedef char *(*chart_script_fn)(const void *ctx, const char *png);
+
+/* DIR/NAME.png drawn by gnuplot through a temporary name; csv names the
+ * table already written, for the message when gnuplot is missing. */
+static sea_status write_chart(const char *dir, const char *name, chart_script_fn script_fn,
+                              const void *ctx, const char *csv, sea_error *err)
 {
-    char *png = sea_cli_path_join(c->dir, "convergence.png");
-    char *tmp = sea_cli_path_join(c->dir, ".convergence.png.tmp.XXXXXX");
+    char file[64], tmpl[80];
+    snprintf(file, sizeof file, "%s.png", name);
+    snprintf(tmpl, sizeof tmpl, ".%s.png.tmp.XXXXXX", name);
+    char *png = sea_cli_path_join(dir, file);
+    char *tmp = sea_cli_path_join(dir, tmpl);
     char *script = NULL;
     sea_status st = SEA_OK;
     int fd = -1;
@@ -1326,7 +1348,7 @@ static sea_status conv_chart(const conv_setup *c, const conv_row *rows, size_t n
         goto done;
     }
     if ((fd = mkstemp(tmp)) < 0) {
-        st = sea_fail(err, SEA_ERR_IO, "-o: cannot create a file in '%s': %s", c->dir,
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot create a file in '%s': %s", dir,
                       strerror(errno));
         free(tmp);
         tmp = NULL;
@@ -1336,15 +1358,15 @@ static sea_status conv_chart(const conv_setup *c, const conv_row *rows, size_t n
     mode_t mask = umask(0);
     umask(mask);
     chmod(tmp, 0666 & ~mask);
-    if ((script = conv_script(c, rows, nrows, per_wind, tmp)) == NULL) {
+    if ((script = script_fn(ctx, tmp)) == NULL) {
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the gnuplot script");
         goto done;
     }
     bool absent;
     if ((st = run_gnuplot(script, &absent, err)) != SEA_OK) {
         if (absent)
-            st = sea_fail(err, SEA_ERR_NUMERIC,
-                          "gnuplot not found: convergence.csv written, chart not drawn");
+            st = sea_fail(err, SEA_ERR_NUMERIC, "gnuplot not found: %s written, chart not drawn",
+                          csv);
         goto done;
     }
     struct stat sb;
@@ -1408,7 +1430,8 @@ static sea_status run_convergence(const sea_cli_args *args, FILE *out, sea_error
         st = sea_fail(err, SEA_ERR_IO, "cannot write to standard output");
         goto done;
     }
-    st = conv_chart(&c, rows, nrows, per_wind, err);
+    const conv_chart cc = {&c, rows, nrows, per_wind};
+    st = write_chart(c.dir, "convergence", conv_script, &cc, "convergence.csv", err);
 done:
     sea_optics_free(optics);
     sea_cli_list_free(&c.winds);
@@ -1556,6 +1579,17 @@ done:
     return st;
 }
 
+typedef struct {
+    const sea_cli_bench_row *rows;
+    size_t n;
+} bench_chart;
+
+static char *bench_chart_script(const void *ctx, const char *png)
+{
+    const bench_chart *bc = ctx;
+    return sea_cli_bench_chart_script(bc->rows, bc->n, png);
+}
+
 static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
 {
     const bool quick = sea_cli_given(args, "quick");
@@ -1567,6 +1601,9 @@ static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
     size_t nrows = 0;
     double diff = 0.0;
     sea_spectrum spec;
+    sea_cli_bench_row *orows = NULL;
+    size_t nopt = 0;
+    sea_cli_bench_summary sum;
     sea_status st = opt_threads(args, err);
     if (st != SEA_OK)
         return st;
@@ -1608,18 +1645,61 @@ static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
             "cell, sinusoids %.3g s per cell, ratio %.4g; max |difference| %.3g relative\n",
             N, per_fft, per_sin, per_sin / per_fft, diff);
 
+    /* The optics: speed against accuracy, one thread. */
+    fputs("\nOptics, one thread, errors against the adaptive Eq 7 reference (full):\n", out);
+    fprintf(out, "%-12s %-11s %-52s %10s %10s %10s\n", "quantity", "method", "settings",
+            "s/call", "max err", "rms err");
+    if ((st = sea_cli_bench_optics(quick, &orows, &nopt, &sum, err)) != SEA_OK)
+        goto done;
+    for (size_t i = 0; i < nopt; ++i) {
+        const sea_cli_bench_row *r = &orows[i];
+        fprintf(out, "%-12s %-11s %-52s %10.3g %10.3g %10.3g\n", r->quantity, r->method,
+                r->settings, r->seconds, r->max_err, r->rms_err);
+    }
+    fprintf(out,
+            "\nDefault emissivity (auto) over %zu conditions, theta <= 85 deg: %.3g s per call, "
+            "%.4g times faster than full (%.3g s); max |error| %.3g, RMS %.3g\n"
+            "Eq 12 (fast): %.3g s per call, %.4g times faster than full; max |error| %.3g, "
+            "RMS %.3g\n",
+            sum.conditions, sum.auto_seconds, sum.full_seconds / sum.auto_seconds,
+            sum.full_seconds, sum.auto_max, sum.auto_rms, sum.fast_seconds,
+            sum.full_seconds / sum.fast_seconds, sum.fast_max, sum.fast_rms);
+    fflush(out);
+
     if ((st = atomic_open(&af, "-o", csv, err)) != SEA_OK)
         goto done;
-    fputs("section,method,settings,facets,seconds,facets_per_s,threads\n", af.f);
-    for (size_t i = 0; i < nrows; ++i)
-        fprintf(af.f, "waves,%s,%s,%zu,%.6g,%.6g,%d\n", rows[i].method, rows[i].settings,
-                rows[i].facets, rows[i].seconds, (double)rows[i].facets / rows[i].seconds,
-                threads);
-    st = atomic_commit(&af, "-o", err);
-    if (st == SEA_OK && ferror(out))
+    fputs("quantity,method,settings,seconds_per_call,max_error,rms_error,conditions\n", af.f);
+    for (size_t i = 0; i < nrows; ++i) {
+        /* Per facet (per cell for the samplers); the one error is the
+         * sinusoids' largest difference from the FFT on the same cells. */
+        fprintf(af.f, "waves,%s,%s %zu facets,%.6g,", rows[i].method, rows[i].settings,
+                rows[i].facets, rows[i].seconds / (double)rows[i].facets);
+        if (i == 5)
+            fprintf(af.f, "%.6g,", diff);
+        else
+            fputs(",", af.f);
+        fprintf(af.f, ",U10=%g m/s; %d threads\n", SEA_CLI_BENCH_WIND, threads);
+    }
+    for (size_t i = 0; i < nopt; ++i) {
+        const sea_cli_bench_row *r = &orows[i];
+        fprintf(af.f, "%s,%s,%s,%.6g,", r->quantity, r->method, r->settings, r->seconds);
+        if (isnan(r->max_err))
+            fputs(",,", af.f);
+        else
+            fprintf(af.f, "%.6g,%.6g,", r->max_err, r->rms_err);
+        fprintf(af.f, "%s\n", r->conditions);
+    }
+    if ((st = atomic_commit(&af, "-o", err)) != SEA_OK)
+        goto done;
+    const bench_chart bc = {orows, nopt};
+    if ((st = write_chart(dir, "speed_accuracy", bench_chart_script, &bc, "bench.csv", err)) !=
+        SEA_OK)
+        goto done;
+    if (ferror(out))
         st = sea_fail(err, SEA_ERR_IO, "cannot write to standard output");
 done:
     atomic_abort(&af);
+    free(orows);
     free(csv);
     return st;
 }
@@ -1634,7 +1714,8 @@ const sea_cli_command sea_cli_waves_commands[] = {
     {"convergence", "high- to low-resolution convergence (paper Fig. 5-6)",
      SEA_CLI_HELP_CONVERGENCE, SEA_CLI_CONVERGENCE_OPTIONS,
      SEA_CLI_COUNT(SEA_CLI_CONVERGENCE_OPTIONS), run_convergence},
-    {"bench", "speed of the wave generators", SEA_CLI_HELP_BENCH, SEA_CLI_BENCH_OPTIONS,
+    {"bench", "speed of the wave generators; speed against accuracy of the optics",
+     SEA_CLI_HELP_BENCH, SEA_CLI_BENCH_OPTIONS,
      SEA_CLI_COUNT(SEA_CLI_BENCH_OPTIONS), run_bench},
 };
 const size_t sea_cli_waves_n_commands = SEA_CLI_COUNT(sea_cli_waves_commands);

@@ -34,17 +34,22 @@
 
 #include "seabake.h"
 
-/* Gauss-Legendre nodes across the visible-slope weight, and Gauss-Hermite
- * nodes across the conditional gamma_Y of the default rule.  Chosen so the
- * auto rule stays within 1e-6 of the adaptive reference over the property
- * sweep of tests/test_optics.c (measured worst case quoted there). */
-enum { SEA_GL_NODES = 64, SEA_GH_NODES = 8 };
 /* Gauss-Legendre nodes of the reflectance's inner (gamma_Y) integral: a
  * smooth integrand over the exact mirror-up window, vanishing linearly at
  * its ends, for which 128 nodes reach round-off. */
 enum { SEA_GL_INNER_NODES = 128 };
 /* The standard normal weight is cut at |t| = 10: phi(10) = 7.7e-23. */
 static const double SEA_T_CUT = 10.0;
+/* The fixed product rules of sea_emissivity_rule and the default cut it at
+ * |t| = 6 instead: the tail beyond holds 2e-9 of the weight, so the cut
+ * moves an average of values in [0, 1] by less than that, and the nodes are
+ * not spent on a tail that does not count at a 1e-4 target. */
+static const double SEA_RULE_T_CUT = 6.0;
+/* Orders of the default rule as functions of the slope spreads (see
+ * sea_emissivity_auto_rule): Gauss-Legendre nodes n_gl = ceil(A + B s_X),
+ * Gauss-Hermite nodes n_gh = ceil(C + D s + E s^2), s = s_Y|X. */
+static const double SEA_AUTO_GL_A = 16.0, SEA_AUTO_GL_B = 12.0;
+static const double SEA_AUTO_GH_C = 2.0, SEA_AUTO_GH_D = 6.0, SEA_AUTO_GH_E = 16.0;
 /* A slope standard deviation below this is a delta distribution: the
  * rules could not resolve a narrower one in double precision. */
 static const double SEA_S_DELTA = 1e-13;
@@ -69,11 +74,15 @@ enum { SEA_REF_LIMIT = 256 };
 /* Zenith angles below this are nadir (see shadow.c). */
 static const double SEA_NADIR_THETA = 1e-12;
 
+/* Node tables of every order up to the maxima, the rule of order n at
+ * offset n (n - 1)/2: a fixed rule then costs no allocation per call. */
+#define SEA_TRI(n) ((n) * ((n) + 1) / 2)
 struct sea_optics {
-    gsl_integration_glfixed_table *gl;
     gsl_integration_glfixed_table *gl_inner;
-    double gh_x[SEA_GH_NODES]; /* probabilists' Hermite nodes */
-    double gh_w[SEA_GH_NODES]; /* normalised weights (sum 1) */
+    double gl_x[SEA_TRI(SEA_EMIS_GL_MAX)]; /* Gauss-Legendre nodes on [-1, 1] */
+    double gl_w[SEA_TRI(SEA_EMIS_GL_MAX)];
+    double gh_x[SEA_TRI(SEA_EMIS_GH_MAX)]; /* probabilists' Hermite nodes */
+    double gh_w[SEA_TRI(SEA_EMIS_GH_MAX)]; /* normalised weights (sum 1) */
 };
 
 sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
@@ -82,36 +91,46 @@ sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
     sea_optics *p = calloc(1, sizeof *p);
     if (p == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    p->gl = gsl_integration_glfixed_table_alloc(SEA_GL_NODES);
     p->gl_inner = gsl_integration_glfixed_table_alloc(SEA_GL_INNER_NODES);
-    gsl_integration_fixed_workspace *gh =
-        gsl_integration_fixed_alloc(gsl_integration_fixed_hermite, SEA_GH_NODES, 0.0, 0.5, 0.0,
-                                    0.0);
-    if (p->gl == NULL || p->gl_inner == NULL || gh == NULL) {
+    if (p->gl_inner == NULL)
+        goto nomem;
+    for (int n = 1; n <= SEA_EMIS_GL_MAX; n++) {
+        gsl_integration_glfixed_table *gl = gsl_integration_glfixed_table_alloc((size_t)n);
+        if (gl == NULL)
+            goto nomem;
+        for (int i = 0; i < n; i++)
+            gsl_integration_glfixed_point(-1.0, 1.0, (size_t)i, &p->gl_x[SEA_TRI(n - 1) + i],
+                                          &p->gl_w[SEA_TRI(n - 1) + i], gl);
+        gsl_integration_glfixed_table_free(gl);
+    }
+    for (int n = 1; n <= SEA_EMIS_GH_MAX; n++) {
+        gsl_integration_fixed_workspace *gh =
+            gsl_integration_fixed_alloc(gsl_integration_fixed_hermite, (size_t)n, 0.0, 0.5, 0.0,
+                                        0.0);
+        if (gh == NULL)
+            goto nomem;
+        const double *x = gsl_integration_fixed_nodes(gh);
+        const double *w = gsl_integration_fixed_weights(gh);
+        double sum = 0.0;
+        for (int i = 0; i < n; i++)
+            sum += w[i];
+        for (int i = 0; i < n; i++) {
+            p->gh_x[SEA_TRI(n - 1) + i] = x[i];
+            p->gh_w[SEA_TRI(n - 1) + i] = w[i] / sum;
+        }
         gsl_integration_fixed_free(gh);
-        sea_optics_free(p);
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory (quadrature tables)");
     }
-    const double *x = gsl_integration_fixed_nodes(gh);
-    const double *w = gsl_integration_fixed_weights(gh);
-    double sum = 0.0;
-    for (int i = 0; i < SEA_GH_NODES; i++)
-        sum += w[i];
-    for (int i = 0; i < SEA_GH_NODES; i++) {
-        p->gh_x[i] = x[i];
-        p->gh_w[i] = w[i] / sum;
-    }
-    gsl_integration_fixed_free(gh);
     *out = p;
     return SEA_OK;
+nomem:
+    sea_optics_free(p);
+    return sea_fail(err, SEA_ERR_NOMEM, "out of memory (quadrature tables)");
 }
 
 void sea_optics_free(sea_optics *p)
 {
     if (p == NULL)
         return;
-    if (p->gl != NULL)
-        gsl_integration_glfixed_table_free(p->gl);
     if (p->gl_inner != NULL)
         gsl_integration_glfixed_table_free(p->gl_inner);
     free(p);
@@ -154,6 +173,17 @@ typedef struct {
     int delta;            /* s_X below SEA_S_DELTA */
 } view_frame;
 
+/* Where the weight lives, for a standard normal cut at |t| = t_cut.  Upper
+ * end: the visibility limit z, or the cut.  Lower end: the cut, or for
+ * z < 0 the point where (z - t) phi(t) has fallen by exp(-t_cut^2/2) from
+ * the edge: with t = z - u, log decay |z| u + u^2/2 = t_cut^2/2. */
+static void view_window(const view_frame *f, double t_cut, double *t_lo, double *t_hi)
+{
+    *t_hi = fmin(f->z, t_cut);
+    const double az = fabs(f->z);
+    *t_lo = isinf(f->z) ? -t_cut : fmin(-t_cut, f->z - (sqrt(az * az + t_cut * t_cut) - az));
+}
+
 static void view_frame_init(const sea_slope_stats *st, sea_dir v, view_frame *f)
 {
     const double c = cos(v.phi), s = sin(v.phi);
@@ -180,12 +210,7 @@ static void view_frame_init(const sea_slope_stats *st, sea_dir v, view_frame *f)
     } else {
         f->z = (f->cos_th / f->sin_th - f->m_X) / f->s_X;
     }
-    /* Upper end: the visibility limit z, or the Gaussian cut.  Lower end: the
-     * Gaussian cut, or for z < 0 the point where (z - t) phi(t) has fallen by
-     * e^-50 from the edge: with t = z - u, log decay |z| u + u^2/2 = 50. */
-    f->t_hi = fmin(f->z, SEA_T_CUT);
-    const double az = fabs(f->z);
-    f->t_lo = isinf(f->z) ? -SEA_T_CUT : fmin(-SEA_T_CUT, f->z - (sqrt(az * az + 100.0) - az));
+    view_window(f, SEA_T_CUT, &f->t_lo, &f->t_hi);
 }
 
 /* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant. */
@@ -205,45 +230,50 @@ static double cos_psi_of(const view_frame *f, double gX, double gY)
     return (f->cos_th - gX * f->sin_th) / sqrt(1.0 + gX * gX + gY * gY);
 }
 
-/* Eq 12 (fast) or Eq 7 (auto) with fixed product rules.  fast replaces
- * gamma_Y by m_Y in psi (Eq 11); auto averages over the conditional gamma_Y
- * with Gauss-Hermite nodes. */
-static double expect_fixed(const sea_optics *p, const view_frame *f, int use_gh, facet_fn fn,
+/* A fixed product rule: n_gl Gauss-Legendre nodes in t over the window of
+ * the cut t_cut, and n_gh Gauss-Hermite nodes over the conditional gamma_Y
+ * (Eq 7), or n_gh = 0 for gamma_Y = m_Y in psi (Eq 11-12). */
+typedef struct {
+    int n_gl, n_gh;
+    double t_cut;
+} fixed_rule;
+
+/* Average of fn over the conditional gamma_Y given gamma_X = gX, at
+ * conditional mean mY; the plain value at m_Y for Eq 12. */
+static double fixed_inner(const sea_optics *p, const view_frame *f, int n_gh, double gX,
+                          double mY, facet_fn fn, void *ctx)
+{
+    if (n_gh == 0)
+        return fn(f, gX, f->m_Y, cos_psi_of(f, gX, f->m_Y), ctx);
+    const double *x = &p->gh_x[SEA_TRI(n_gh - 1)], *w = &p->gh_w[SEA_TRI(n_gh - 1)];
+    double acc = 0.0;
+    for (int j = 0; j < n_gh; j++) {
+        const double gY = mY + f->s_Y_given_X * x[j];
+        acc += w[j] * fn(f, gX, gY, cos_psi_of(f, gX, gY), ctx);
+    }
+    return acc;
+}
+
+static double expect_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, facet_fn fn,
                            void *ctx)
 {
     if (f->delta) {
         if (f->cos_th - f->m_X * f->sin_th <= 0.0)
             return 0.0; /* every facet turned away: the limit of a sliver at grazing */
-        const double gX = f->m_X;
-        if (!use_gh)
-            return fn(f, gX, f->m_Y, cos_psi_of(f, gX, f->m_Y), ctx);
-        double acc = 0.0;
-        for (int j = 0; j < SEA_GH_NODES; j++) {
-            const double gY = f->m_Y + f->s_Y_given_X * p->gh_x[j];
-            acc += p->gh_w[j] * fn(f, gX, gY, cos_psi_of(f, gX, gY), ctx);
-        }
-        return acc;
+        return fixed_inner(p, f, r.n_gh, f->m_X, f->m_Y, fn, ctx);
     }
+    double t_lo, t_hi;
+    view_window(f, r.t_cut, &t_lo, &t_hi);
+    const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
+    const double *x = &p->gl_x[SEA_TRI(r.n_gl - 1)], *wx = &p->gl_w[SEA_TRI(r.n_gl - 1)];
     double num = 0.0, den = 0.0;
-    for (int i = 0; i < SEA_GL_NODES; i++) {
-        double t, wi;
-        gsl_integration_glfixed_point(f->t_lo, f->t_hi, (size_t)i, &t, &wi, p->gl);
-        const double w = wi * view_weight(f, t);
+    for (int i = 0; i < r.n_gl; i++) {
+        const double t = mid + half * x[i];
+        const double w = wx[i] * view_weight(f, t);
         if (w <= 0.0)
             continue;
         const double gX = f->m_X + f->s_X * t;
-        double val;
-        if (!use_gh) {
-            val = fn(f, gX, f->m_Y, cos_psi_of(f, gX, f->m_Y), ctx);
-        } else {
-            const double mY = f->m_Y + f->b_YX * t;
-            val = 0.0;
-            for (int j = 0; j < SEA_GH_NODES; j++) {
-                const double gY = mY + f->s_Y_given_X * p->gh_x[j];
-                val += p->gh_w[j] * fn(f, gX, gY, cos_psi_of(f, gX, gY), ctx);
-            }
-        }
-        num += w * val;
+        num += w * fixed_inner(p, f, r.n_gh, gX, f->m_Y + f->b_YX * t, fn, ctx);
         den += w;
     }
     /* den == 0 only when every node lies on turned-away facets, i.e. the
@@ -391,16 +421,28 @@ done:
     return st;
 }
 
+/* The default's orders, from the spreads of the view frame: see
+ * sea_emissivity_auto_rule. */
+static sea_emis_rule auto_rule(const view_frame *f)
+{
+    const double s = f->s_Y_given_X;
+    const double n_gl = ceil(SEA_AUTO_GL_A + SEA_AUTO_GL_B * f->s_X);
+    const double n_gh = ceil(SEA_AUTO_GH_C + SEA_AUTO_GH_D * s + SEA_AUTO_GH_E * s * s);
+    return (sea_emis_rule){ (int)fmin(n_gl, SEA_EMIS_GL_MAX), (int)fmin(n_gh, SEA_EMIS_GH_MAX) };
+}
+
 static sea_status expect(const sea_optics *p, sea_emis_method method, const view_frame *f,
                          facet_fn fn, void *ctx, double *out, sea_error *err)
 {
     switch (method) {
     case SEA_EMIS_FAST:
-        *out = expect_fixed(p, f, 0, fn, ctx);
+        *out = expect_fixed(p, f, (fixed_rule){64, 0, SEA_T_CUT}, fn, ctx);
         return SEA_OK;
-    case SEA_EMIS_AUTO:
-        *out = expect_fixed(p, f, 1, fn, ctx);
+    case SEA_EMIS_AUTO: {
+        const sea_emis_rule r = auto_rule(f);
+        *out = expect_fixed(p, f, (fixed_rule){r.n_gl, r.n_gh, SEA_RULE_T_CUT}, fn, ctx);
         return SEA_OK;
+    }
     case SEA_EMIS_FULL:
         return expect_reference(p, f, fn, ctx, 0, out, err);
     }
@@ -434,6 +476,33 @@ sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double co
     view_frame_init(st, v, &f);
     double complex n = N;
     return expect(p, method, &f, emissivity_fn, &n, out, err);
+}
+
+sea_emis_rule sea_emissivity_auto_rule(const sea_slope_stats *st, sea_dir v)
+{
+    view_frame f;
+    view_frame_init(st, v, &f);
+    return auto_rule(&f);
+}
+
+sea_status sea_emissivity_rule(const sea_optics *p, sea_emis_rule rule, double complex N,
+                               const sea_slope_stats *st, sea_dir v, double *out, sea_error *err)
+{
+    sea_status s;
+    if (rule.n_gl < 1 || rule.n_gl > SEA_EMIS_GL_MAX || rule.n_gh < 0 ||
+        rule.n_gh > SEA_EMIS_GH_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "product rule %d x %d is outside 1..%d Gauss-Legendre x 0..%d "
+                        "Gauss-Hermite nodes",
+                        rule.n_gl, rule.n_gh, SEA_EMIS_GL_MAX, SEA_EMIS_GH_MAX);
+    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
+        return s;
+    view_frame f;
+    view_frame_init(st, v, &f);
+    double complex n = N;
+    *out = expect_fixed(p, &f, (fixed_rule){rule.n_gl, rule.n_gh, SEA_RULE_T_CUT}, emissivity_fn,
+                        &n);
+    return SEA_OK;
 }
 
 /* ---------------------------------------------------------- reflectivity */

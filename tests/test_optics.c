@@ -2,18 +2,20 @@
 #include <string.h>
 
 #include <gsl/gsl_integration.h>
+#include <gsl/gsl_rng.h>
 
 #include "unit.h"
 
 static sea_optics *P;
-static double complex N4; /* sea water at 4 um, salinity 35 (Hale & Querry) */
+static double complex N4, N10; /* sea water at 4 and 10 um, salinity 35 (Hale & Querry) */
 
 static int setup(void)
 {
     sea_water *w = NULL;
     if (sea_optics_alloc(&P, NULL) != SEA_OK ||
         sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) != SEA_OK ||
-        sea_water_index(w, 4e-6, &N4, NULL) != SEA_OK)
+        sea_water_index(w, 4e-6, &N4, NULL) != SEA_OK ||
+        sea_water_index(w, 10e-6, &N10, NULL) != SEA_OK)
         return 1;
     sea_water_free(w);
     return 0;
@@ -172,24 +174,117 @@ static void test_eq12_vs_eq7_paper_example(void)
     CU_ASSERT(worst < 0.01);
 }
 
-/* The default rule against the adaptive reference across the property
- * sweep: within 1e-6 absolute. */
+/* The default against the adaptive reference over a deterministic sample of
+ * the domain the default is sized for: theta <= 85 deg, any azimuth, |m| <= 2,
+ * slope variances 1e-5..1 (log-uniform) with anisotropy to 20:1 and
+ * correlation |r| <= 0.9, at 4 and 10 um.  Tolerance 1e-4, the accuracy the
+ * default promises (issue 6); its orders were fitted to reach 1e-5 (see
+ * sea_emissivity_auto_rule), so this fails on a regression of 6x or more
+ * while leaving room for conditions between the fitting sweep's points. */
 static void test_auto_vs_full(void)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 6);
+    const int n = UNIT_QUICK ? 12 : 400;
+    double worst = 0.0, at[5] = { 0 };
+    for (int k = 0; k < n; k++) {
+        const double th = 85 * DEG * gsl_rng_uniform(rng), ph = 2 * M_PI * gsl_rng_uniform(rng);
+        const double mm = 2.0 * gsl_rng_uniform(rng), ma = 2 * M_PI * gsl_rng_uniform(rng);
+        const double var = pow(10.0, -5.0 + 5.0 * gsl_rng_uniform(rng));
+        const double ratio = pow(20.0, gsl_rng_uniform(rng)), r = 0.9 * (2 * gsl_rng_uniform(rng) - 1);
+        const double cr = cos(2 * M_PI * gsl_rng_uniform(rng)), sr = sqrt(1 - cr * cr);
+        /* Principal variances var and var/ratio, rotated, then correlated
+         * by at most r (positive semi-definite by construction). */
+        const double a = var, b = var / ratio;
+        sea_slope_stats st = { { mm * cos(ma), mm * sin(ma) },
+                               { a * cr * cr + b * sr * sr, a * sr * sr + b * cr * cr, 0 } };
+        st.cov.xy = (a - b) * cr * sr + r * 0.1 * sqrt(st.cov.xx * st.cov.yy);
+        double complex N = k % 2 ? N10 : N4;
+        double e_auto, e_full;
+        sea_dir v = { th, ph };
+        CU_ASSERT_FATAL(sea_emissivity(P, SEA_EMIS_AUTO, N, &st, v, &e_auto, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_emissivity(P, SEA_EMIS_FULL, N, &st, v, &e_full, NULL) == SEA_OK);
+        if (fabs(e_auto - e_full) > worst) {
+            worst = fabs(e_auto - e_full);
+            at[0] = th / DEG, at[1] = ph / DEG, at[2] = mm, at[3] = var, at[4] = ratio;
+        }
+    }
+    gsl_rng_free(rng);
+    MEASURED("auto vs adaptive reference, %d sampled conditions (theta <= 85 deg): max |diff| %.3g "
+             "at theta %.1f phi %.0f |m| %.2f var %.2g anisotropy %.1f\n",
+             n, worst, at[0], at[1], at[2], at[3], at[4]);
+    CU_ASSERT(worst <= 1e-4);
+}
+
+/* A fixed product rule of 64 x 8 nodes (the previous default) within 1e-6 of
+ * the reference over the conditions it was sized on, and the orders of the
+ * default chosen from the spreads: growing with them, within the caps. */
+static void test_fixed_rules(void)
 {
     const sea_slope_stats sts[] = {
         { { 0, 0 }, { 0.036, 0.025, 0 } },        { { 0.15, -0.15 }, { 0.036, 0.025, 0.0 } },
         { { 0.5, 0.3 }, { 0.01, 0.02, -0.005 } }, { { -1.0, 0.2 }, { 0.08, 0.06, 0.01 } },
         { { 0.0, 0.0 }, { 1e-8, 1e-8, 0 } },      { { 0.1, 0.0 }, { 2e-3, 0.05, 0 } },
     };
+    const sea_emis_rule r64x8 = { 64, 8 };
     double worst = 0.0;
+    const double step = UNIT_QUICK ? 40 : 10;
     for (size_t k = 0; k < sizeof sts / sizeof sts[0]; k++)
-        for (double th = 0.0; th < 89.995 * DEG; th += (th < 80 * DEG ? 10 : 3) * DEG)
-            for (double ph = 0.2; ph < 2 * M_PI; ph += 1.3) {
-                double d = fabs(emis(SEA_EMIS_AUTO, &sts[k], th, ph) - emis(SEA_EMIS_FULL, &sts[k], th, ph));
-                worst = fmax(worst, d);
+        for (double th = 0.0; th < 89.995 * DEG; th += (th < 80 * DEG ? step : 3) * DEG)
+            for (double ph = 0.2; ph < 2 * M_PI; ph += UNIT_QUICK ? 3.1 : 1.3) {
+                double e;
+                sea_dir v = { th, ph };
+                CU_ASSERT(sea_emissivity_rule(P, r64x8, N4, &sts[k], v, &e, NULL) == SEA_OK);
+                worst = fmax(worst, fabs(e - emis(SEA_EMIS_FULL, &sts[k], th, ph)));
             }
-    MEASURED("auto (Eq 7, 64x8 product rule) vs adaptive reference: max |diff| %.3g\n", worst);
+    MEASURED("64 x 8 product rule vs adaptive reference: max |diff| %.3g\n", worst);
     CU_ASSERT(worst < 1e-6);
+
+    sea_emis_rule prev = { 0, 0 };
+    for (double var = 1e-6; var < 1e3; var *= 3) {
+        sea_slope_stats st = { { 0.1, 0.2 }, { var, 0.5 * var, 0.1 * var } };
+        sea_emis_rule r = sea_emissivity_auto_rule(&st, (sea_dir){ 0.6174, 0.3 });
+        CU_ASSERT(r.n_gl >= prev.n_gl && r.n_gh >= prev.n_gh);
+        CU_ASSERT(r.n_gl >= 1 && r.n_gl <= SEA_EMIS_GL_MAX && r.n_gh >= 1 && r.n_gh <= SEA_EMIS_GH_MAX);
+        prev = r;
+    }
+    CU_ASSERT(prev.n_gl == SEA_EMIS_GL_MAX && prev.n_gh == SEA_EMIS_GH_MAX);
+}
+
+/* Stress points of the default and of the fixed rules: theta to 89.99 deg,
+ * sigma -> 0 (down to exactly 0 and to a singular covariance), |m| to 2, very
+ * rough seas: every value finite and in [0, 1]. */
+static void test_rule_stress(void)
+{
+    const double vars[] = { 0.0, 1e-30, 1e-14, 1e-9, 1e-5, 0.05, 0.2, 1.0, 10.0 };
+    const double ms[][2] = { { 0, 0 }, { 2, 0 }, { -1.2, 1.6 }, { 0.3, -1.97 } };
+    const double ths[] = { 0.0, 1e-9, 60 * DEG, 85 * DEG, 89 * DEG, 89.9 * DEG, 89.99 * DEG };
+    const sea_emis_rule rules[] = { { 1, 0 }, { 1, 1 }, { 8, 4 }, { 128, 16 } };
+    long n = 0, bad = 0;
+    for (int a = 0; a < 9; a++)
+        for (int c = 0; c < 4; c++)
+            for (int singular = 0; singular < 2; singular++) {
+                /* Singular: gamma_y = gamma_x / 2 exactly, C_xy^2 = C_xx C_yy. */
+                sea_slope_stats st = { { ms[c][0], ms[c][1] },
+                                       { vars[a], singular ? 0.25 * vars[a] : 0.6 * vars[a],
+                                         singular ? 0.5 * vars[a] : -0.2 * vars[a] } };
+                for (int t = 0; t < 7; t++)
+                    for (double ph = 0.1; ph < 6.28; ph += UNIT_QUICK ? 2.1 : 0.7) {
+                        sea_dir v = { ths[t], ph };
+                        double e = NAN;
+                        sea_status s = sea_emissivity(P, SEA_EMIS_AUTO, N4, &st, v, &e, NULL);
+                        n++;
+                        bad += !(s == SEA_OK && isfinite(e) && e >= 0.0 && e <= 1.0);
+                        for (int r = 0; r < 4; r++) {
+                            e = NAN;
+                            s = sea_emissivity_rule(P, rules[r], N10, &st, v, &e, NULL);
+                            n++;
+                            bad += !(s == SEA_OK && isfinite(e) && e >= 0.0 && e <= 1.0);
+                        }
+                    }
+            }
+    MEASURED("stress points of the default and fixed rules: %ld values, %ld not finite in [0, 1]\n", n, bad);
+    CU_ASSERT(bad == 0);
 }
 
 /* Mirror symmetry: (phi, m_y, sigma_xy) -> (-phi, -m_y, -sigma_xy) leaves every
@@ -371,6 +466,13 @@ static void test_errors(void)
     CU_ASSERT(sea_emissivity(P, SEA_EMIS_AUTO, N4, &ok, h, &e, &err) == SEA_ERR_DOMAIN);
     CU_ASSERT(sea_emis_method_from_name("bogus") == -1);
     CU_ASSERT(sea_emis_method_from_name("fast") == SEA_EMIS_FAST);
+    const sea_emis_rule wrong[] = { { 0, 4 }, { SEA_EMIS_GL_MAX + 1, 4 }, { 16, -1 }, { 16, SEA_EMIS_GH_MAX + 1 } };
+    for (int i = 0; i < 4; i++) {
+        CU_ASSERT(sea_emissivity_rule(P, wrong[i], N4, &ok, v, &e, &err) == SEA_ERR_DOMAIN);
+        CU_ASSERT(strstr(err.msg, "product rule") != NULL);
+    }
+    CU_ASSERT(sea_emissivity_rule(P, (sea_emis_rule){ 16, 4 }, N4, &ok, h, &e, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(sea_emissivity_rule(P, (sea_emis_rule){ 16, 4 }, N4, &bad, v, &e, &err) == SEA_ERR_DOMAIN);
     sea_optics_free(NULL);
 }
 
@@ -383,7 +485,9 @@ int test_optics_register(void)
            !CU_add_test(s, "unit index -> emissivity 1", test_unit_index) ||
            !CU_add_test(s, "fast/full vs the paper's Eq 12/7", test_against_paper_formulas) ||
            !CU_add_test(s, "Eq 12 vs Eq 7 within 1 % (paper example)", test_eq12_vs_eq7_paper_example) ||
-           !CU_add_test(s, "auto vs adaptive reference", test_auto_vs_full) ||
+           !CU_add_test(s, "auto vs adaptive reference (1e-4)", test_auto_vs_full) ||
+           !CU_add_test(s, "fixed product rules, the default's orders", test_fixed_rules) ||
+           !CU_add_test(s, "default and fixed rules at stress points", test_rule_stress) ||
            !CU_add_test(s, "mirror symmetry, signed zenith", test_symmetry) ||
            !CU_add_test(s, "reciprocity at m = 0", test_reciprocity) ||
            !CU_add_test(s, "reflectance: angular vs slope space", test_reflectance_angular_vs_slope_space) ||
