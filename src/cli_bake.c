@@ -19,6 +19,7 @@
 #include <errno.h>
 #include <ftw.h>
 #include <math.h>
+#include <signal.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -767,6 +768,24 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
 }
 
 /* Bakes every frame into tmp and writes the manifest there. */
+/* SIGINT, SIGTERM or SIGHUP during a bake: the signal, 0 none.  The bake
+ * stops at the next map it would write (or frame it would compute), removes
+ * its temporary directory, and then dies of the signal, DIR untouched. */
+static volatile sig_atomic_t bake_signal = 0;
+static const int BAKE_SIGNALS[] = {SIGINT, SIGTERM, SIGHUP};
+enum { BAKE_N_SIGNALS = sizeof BAKE_SIGNALS / sizeof BAKE_SIGNALS[0] };
+
+static void bake_on_signal(int sig)
+{
+    bake_signal = sig;
+}
+
+static sea_status bake_interrupted(sea_error *err)
+{
+    return sea_fail(err, SEA_ERR_IO, "interrupted by signal %d: the output directory is left as "
+                                     "it was", (int)bake_signal);
+}
+
 /* What a bake did: facets baked, seconds computing and writing. */
 typedef struct {
     size_t texels;
@@ -818,6 +837,10 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         st = sea_bake_frame(r, t, (int)s->view_k, &b, prog.on ? bake_progress_compute : NULL,
                             &prog, err);
         stats->compute += sea_cli_seconds() - t0;
+        if (st == SEA_OK && bake_signal != 0) {
+            sea_bake_free(&b);
+            st = bake_interrupted(err);
+        }
         if (st != SEA_OK)
             break;
         t0 = sea_cli_seconds();
@@ -843,7 +866,8 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             cJSON *files = cJSON_AddObjectToObject(entry, "files");
             cJSON_AddItemToArray(cJSON_GetObjectItem(cJSON_GetArrayItem(levels, (int)l), "frames"),
                                  entry);
-            st = write_level(s, tmp, &b.levels[l], f, t, scale, buf, files, err);
+            st = bake_signal != 0 ? bake_interrupted(err)
+                                  : write_level(s, tmp, &b.levels[l], f, t, scale, buf, files, err);
             stats->texels += b.levels[l].level.nx * b.levels[l].level.ny;
             if (prog.on)
                 sea_cli_progress_bar(&prog.bar, COMPUTE_SHARE + (1.0 - COMPUTE_SHARE) *
@@ -906,12 +930,35 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
         st = sea_render_prepare(&s.sc, &r, err);
         prepare = sea_cli_seconds() - t0;
     }
+    struct sigaction on, saved[BAKE_N_SIGNALS];
+    memset(&on, 0, sizeof on);
+    on.sa_handler = bake_on_signal;
+    sigemptyset(&on.sa_mask);
+    bake_signal = 0;
+    for (size_t i = 0; i < BAKE_N_SIGNALS; i++) {
+        /* a signal ignored on entry (nohup) stays ignored */
+        sigaction(BAKE_SIGNALS[i], NULL, &saved[i]);
+        if (saved[i].sa_handler != SIG_IGN)
+            sigaction(BAKE_SIGNALS[i], &on, NULL);
+    }
     if (st == SEA_OK)
         st = bake_all(&s, r, tmp, &stats, err);
+    if (st == SEA_OK && bake_signal != 0)
+        st = bake_interrupted(err);
     if (st == SEA_OK)
         st = commit_dir(tmp, s.dir, err);
     if (st != SEA_OK && tmp != NULL)
         remove_tree(tmp);
+    for (size_t i = 0; i < BAKE_N_SIGNALS; i++)
+        sigaction(BAKE_SIGNALS[i], &saved[i], NULL);
+    if (bake_signal != 0 && st != SEA_OK) {
+        /* the temporary directory is gone: die of the signal, as asked */
+        fprintf(stderr, "seabake: error: %s\n", err->msg);
+        sea_render_free(r);
+        free(tmp);
+        free(s.dir);
+        raise(bake_signal);
+    }
     if (st == SEA_OK && !s.quiet) {
         const double secs = sea_cli_seconds() - start;
         fprintf(stderr,

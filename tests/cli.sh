@@ -1137,22 +1137,83 @@ check_error bake.no_scene 3 "no-such.ini"
 check_eq bake.failures_keep_dir "$(bake_state "$BDIR/out")" "$before"
 sb_run bake "$RSCENE" -o "$BDIR/no/such/parent/out"
 check_error bake.no_parent 3 "-o: cannot create '.*no/such/parent/out.tmp.XXXXXX'"
-if [ "$(id -u)" -ne 0 ]; then
+# An unwritable parent.  Root may write anywhere: as root the bake runs as
+# nobody (setpriv), for whom the directory is read-only.
+as_user=""
+if [ "$(id -u)" -eq 0 ]; then
+    if command -v setpriv >/dev/null 2>&1 && id nobody >/dev/null 2>&1; then
+        as_user="setpriv --reuid=nobody --regid=$(id -g nobody) --clear-groups"
+    fi
+fi
+if [ "$(id -u)" -ne 0 ] || [ -n "$as_user" ]; then
     mkdir -p "$BDIR/ro/out" && : >"$BDIR/ro/out/keep" && chmod 555 "$BDIR/ro"
+    [ -n "$as_user" ] && chmod 755 "$BDIR" "$SB_TMP" "$(dirname "$RSCENE")" && \
+        chmod o+r "$RSCENE"
     ro_before=$(bake_state "$BDIR/ro/out")
-    sb_run bake "$RSCENE" -o "$BDIR/ro/out"
+    SB_CMD="$as_user seabake bake $RSCENE -o $BDIR/ro/out"
+    # shellcheck disable=SC2086
+    $as_user $SEABAKE_WRAPPER "$SEABAKE" bake "$RSCENE" -o "$BDIR/ro/out" >"$SB_TMP/out" \
+        2>"$SB_TMP/err"
+    SB_RC=$? SB_OUT=$(cat "$SB_TMP/out") SB_ERR=$(cat "$SB_TMP/err")
     check_error bake.unwritable_parent 3 "-o: cannot create"
     check_eq bake.unwritable_keeps "$(bake_state "$BDIR/ro/out")" "$ro_before"
     check_eq bake.unwritable_leftovers "$(find "$BDIR/ro" -maxdepth 1 -name 'out.*' | grep -c '')" 0
     chmod 755 "$BDIR/ro"
 else
-    echo "cli.sh: running as root: the unwritable-parent bake is not tested" >&2
+    echo "cli.sh: running as root without setpriv: the unwritable-parent bake is not tested" >&2
 fi
 printf 'not a directory\n' >"$BDIR/plain"
 sb_run bake "$RSCENE" -o "$BDIR/plain"
 check_error bake.dir_is_file 2 "-o: '.*plain' exists and is not a directory"
 check_eq bake.file_kept "$(cat "$BDIR/plain")" "not a directory"
 check_eq bake.failures_leftovers "$(bake_leftovers)" 0
+
+# Injected failures.  Disk full: a file size limit (ulimit -f, SIGXFSZ
+# ignored so that write fails with EFBIG as on a full disk) stops the first
+# map; DIR is left as it was and nothing is left beside it.
+mkdir -p "$BDIR/inj/out" && : >"$BDIR/inj/out/keep"
+inj_before=$(bake_state "$BDIR/inj/out")
+SB_CMD="seabake bake (ulimit -f 64)"
+# shellcheck disable=SC2086
+(trap '' XFSZ; ulimit -f 64 && exec $SEABAKE_WRAPPER "$SEABAKE" bake "$RSCENE" -o "$BDIR/inj/out") \
+    >"$SB_TMP/out" 2>"$SB_TMP/err"
+SB_RC=$? SB_OUT=$(cat "$SB_TMP/out") SB_ERR=$(cat "$SB_TMP/err")
+check_error bake.disk_full 3 "cannot write .*: File too large"
+check_eq bake.disk_full_keeps "$(bake_state "$BDIR/inj/out")" "$inj_before"
+check_eq bake.disk_full_leftovers "$(find "$BDIR/inj" -maxdepth 1 -name 'out.*' | grep -c '')" 0
+
+# bake_then_signal SIG: a long bake (many frames) into $BDIR/inj/out, sent
+# SIG once its temporary directory exists; sets SB_RC.
+bake_then_signal() {
+    # shellcheck disable=SC2086
+    $SEABAKE_WRAPPER "$SEABAKE" bake "$RSCENE" -o "$BDIR/inj/out" --frames 0:999 \
+        >"$SB_TMP/out" 2>"$SB_TMP/err" &
+    local pid=$! n=0
+    while ! find "$BDIR/inj" -maxdepth 1 -name 'out.tmp.*' | grep -q . && [ $n -lt 600 ]; do
+        sleep 0.1
+        n=$((n + 1))
+    done
+    sleep 0.5
+    kill "-$1" "$pid"
+    wait "$pid"
+    SB_RC=$? SB_OUT=$(cat "$SB_TMP/out") SB_ERR=$(cat "$SB_TMP/err")
+}
+# SIGTERM (and SIGINT, SIGHUP): the bake removes its temporary directory,
+# then dies of the signal (exit status 128 + 15 from the shell).
+SB_CMD="seabake bake --frames 0:999, then SIGTERM"
+bake_then_signal TERM
+check_rc bake.sigterm 143
+check_match bake.sigterm_message "$SB_ERR" "interrupted by signal 15: the output directory is left"
+check_eq bake.sigterm_keeps "$(bake_state "$BDIR/inj/out")" "$inj_before"
+check_eq bake.sigterm_leftovers "$(find "$BDIR/inj" -maxdepth 1 -name 'out.*' | grep -c '')" 0
+# SIGKILL cannot be caught: DIR is untouched and the temporary directory
+# stays behind, as the man page says.
+SB_CMD="seabake bake --frames 0:999, then SIGKILL"
+bake_then_signal KILL
+check_rc bake.sigkill 137
+check_eq bake.sigkill_keeps "$(bake_state "$BDIR/inj/out")" "$inj_before"
+check_eq bake.sigkill_temp_left "$(find "$BDIR/inj" -maxdepth 1 -name 'out.tmp.*' | grep -c '')" 1
+rm -rf "$BDIR"/inj/out.tmp.*
 
 # Frames: every map of every HR level once per frame, numbered.
 sb_run bake "$RSCENE" -o "$BDIR/frames" --frames 0:1 --frame-rate 10 --quiet
