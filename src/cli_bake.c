@@ -434,7 +434,6 @@ static double sky_radiance(const sea_render *r)
     return sc->wavelength > 0.0 ? 1e-6 * L : L;
 }
 
-
 static cJSON *number_or_null(double v)
 {
     return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
@@ -618,10 +617,10 @@ static cJSON *blender_json(const sea_render *r, double scale)
 {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "script", SEA_BLENDER_SCRIPT);
-    cJSON_AddStringToObject(o, "command", "blender -b --factory-startup --python " SEA_BLENDER_SCRIPT
-                                          " -- manifest.json [--frame F] [--material "
-                                          "emission|visible] [--save FILE.blend] [--render "
-                                          "OUT.exr]");
+    cJSON_AddStringToObject(o, "command",
+                            "blender -b --factory-startup --python " SEA_BLENDER_SCRIPT
+                            " -- manifest.json [--frame F] [--material emission|visible] "
+                            "[--save FILE.blend] [--render OUT.exr]");
     cJSON *written = cJSON_AddArrayToObject(o, "written");
     cJSON_AddItemToArray(written, cJSON_CreateString(SEA_BLENDER_SCRIPT));
     /* As the POV-Ray scene's sky: band-weighted, in the maps' units. */

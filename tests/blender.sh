@@ -30,7 +30,8 @@ POV_DRIVER=${POV_DRIVER:-$(dirname "$SEABAKE")/../tests/pov_driver}
 CHECK_PY="$top_srcdir/tests/blender_check.py"
 
 if ! command -v blender >/dev/null 2>&1; then
-    echo "blender: SKIP: blender is not installed (Debian package blender; scripts/setup installs it)"
+    echo "blender: SKIP: blender is not installed" \
+        "(Debian package blender; scripts/setup installs it)"
     exit 77
 fi
 if [ ! -x "$POV_DRIVER" ]; then
@@ -90,7 +91,8 @@ check_in_blender() {
 bake glint pov_glint
 bake oblique pov_oblique
 bake half pov_glint --format half
-check_match half.bake.pixel_type "$(cat "$SB_TMP/half/manifest.json")" '"pixel_type":[[:space:]]*"half"'
+check_match half.bake.pixel_type "$(cat "$SB_TMP/half/manifest.json")" \
+    '"pixel_type":[[:space:]]*"half"'
 
 # The import's command line, as a user runs it: save and render.
 dir="$SB_TMP/glint"
@@ -146,5 +148,6 @@ check_match import.no_map.msg "$(cat "$SB_TMP/no_map.out")" \
     'seabake_import: error: .*normal_0.exr: map not found'
 
 end_all=$(date +%s.%N)
-echo "blender: whole test took $(awk -v a="$start_all" -v b="$end_all" 'BEGIN { printf "%.1f", b - a }') s"
+secs=$(awk -v a="$start_all" -v b="$end_all" 'BEGIN { printf "%.1f", b - a }')
+echo "blender: whole test took $secs s"
 finish
