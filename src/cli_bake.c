@@ -31,6 +31,7 @@
 
 #include "cli.h"
 #include "config.h"
+#include "blender.h"
 #include "exr.h"
 #include "povray.h"
 #include "preview.h"
@@ -143,7 +144,9 @@ static const char BAKE_HELP[] =
     "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
     "  --emission-texels K emission texels per facet side, odd, 1 to 7 (default 3)\n"
     "  --pov               also a POV-Ray scene: DIR/scene.pov, scene.ini, seabake.inc\n"
-    "  --blender           also the Blender import (not implemented yet)\n"
+    "  --blender           also the Blender import: DIR/seabake_import.py, run as\n"
+    "                      blender -b --factory-startup --python DIR/seabake_import.py\n"
+    "                        -- DIR/manifest.json [--save FILE.blend] [--render OUT.exr]\n"
     "  --quiet             no progress bar and no summary line\n";
 
 /* ------------------------------------------------------------- the setup */
@@ -159,6 +162,7 @@ typedef struct {
     bool quiet;
     bool pov;
     long view_k; /* emission texels per facet side */
+    bool blender;
 } bake_setup;
 
 static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error *err)
@@ -220,10 +224,7 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
                         "--emission-texels: %ld is even (allowed: odd, 1 to %d: the texels must "
                         "hold the facet centres)",
                         s->view_k, SEA_BAKE_VIEW_K_MAX);
-    /* The Blender exporter is not there yet: refuse the flag rather than
-     * silently writing less than asked. */
-    if (sea_cli_args_get(args, "blender") != NULL)
-        return sea_fail(err, SEA_ERR_DOMAIN, "--blender: not implemented yet");
+    s->blender = sea_cli_args_get(args, "blender") != NULL;
     s->quiet = sea_cli_args_get(args, "quiet") != NULL;
     if ((st = sea_scene_load(s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
@@ -446,6 +447,20 @@ static sea_status write_level(const bake_setup *s, const char *tmp, const sea_ba
 
 /* ------------------------------------------------------------- manifest */
 
+/* Radiance of the sky in the maps' units (per um for one wavelength,
+ * in-band for a band), as sea_render_frame computes it. */
+static double sky_radiance(const sea_render *r)
+{
+    const sea_scene *sc = sea_render_scene(r);
+    const double *wl, *wt;
+    const size_t n = sea_render_samples(r, &wl, &wt);
+    double L = 0.0;
+    for (size_t i = 0; i < n; i++)
+        L += wt[i] * (sc->sky_radiance >= 0.0 ? sc->sky_radiance
+                                              : sea_planck_radiance(wl[i], sc->sky_temperature));
+    return sc->wavelength > 0.0 ? 1e-6 * L : L;
+}
+
 static cJSON *number_or_null(double v)
 {
     return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
@@ -626,6 +641,31 @@ static cJSON *levels_json(const bake_setup *s, const sea_bake *b)
     return arr;
 }
 
+/* What --blender adds: the import script and the values it needs that the
+ * rest of the manifest does not give directly. */
+static cJSON *blender_json(const sea_render *r, double scale)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "script", SEA_BLENDER_SCRIPT);
+    cJSON_AddStringToObject(o, "command",
+                            "blender -b --factory-startup --python " SEA_BLENDER_SCRIPT
+                            " -- manifest.json [--frame F] [--material emission|visible] "
+                            "[--save FILE.blend] [--render OUT.exr]");
+    cJSON *written = cJSON_AddArrayToObject(o, "written");
+    cJSON_AddItemToArray(written, cJSON_CreateString(SEA_BLENDER_SCRIPT));
+    /* As the POV-Ray scene's sky: band-weighted, in the maps' units. */
+    cJSON_AddNumberToObject(o, "sky_radiance", sky_radiance(r));
+    cJSON_AddNumberToObject(o, "sky_emission", sky_radiance(r) * scale);
+    /* The normal maps need no Blender-specific copy: (n + 1) / 2 with +x
+     * east and +y north is the Normal Map node's tangent space for UVs
+     * that run east and north, as the import's do. */
+    cJSON_AddStringToObject(o, "normal_map", "normal");
+    cJSON_AddStringToObject(o, "normal_map_encoding",
+                            "tangent space of the UV map (u east, v north): colour = 0.5 + 0.5 n, "
+                            "Non-Color, as Blender's Normal Map node reads it");
+    return o;
+}
+
 static cJSON *manifest_json(const bake_setup *s, const sea_render *r, const sea_bake *b,
                             double scale)
 {
@@ -657,13 +697,16 @@ static cJSON *manifest_json(const bake_setup *s, const sea_render *r, const sea_
                             "(Beckmann-equivalent width), roughness = sqrt(alpha); anisotropy = "
                             "(l1 - l2) / (l1 + l2); rotation = major-axis angle from east / 2 pi");
     cJSON_AddItemToObject(m, "levels", levels_json(s, b));
+    if (s->blender)
+        cJSON_AddItemToObject(m, "blender", blender_json(r, scale));
     return m;
 }
 
-static sea_status write_manifest(const char *tmp, cJSON *m, sea_error *err)
+/* Writes text to tmp/name (a plain write: the directory as a whole is
+ * what appears atomically). */
+static sea_status write_text(const char *tmp, const char *name, const char *text, sea_error *err)
 {
-    char *text = cJSON_Print(m);
-    char *path = sea_cli_path_join(tmp, "manifest.json");
+    char *path = sea_cli_path_join(tmp, name);
     sea_status st = SEA_OK;
     if (text == NULL || path == NULL) {
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
@@ -672,13 +715,24 @@ static sea_status write_manifest(const char *tmp, cJSON *m, sea_error *err)
         if (f == NULL) {
             st = sea_fail(err, SEA_ERR_IO, "cannot create '%s': %s", path, strerror(errno));
         } else {
-            const bool ok = fputs(text, f) >= 0 && fputc('\n', f) != EOF;
+            const bool ok = fputs(text, f) >= 0;
             if (fclose(f) != 0 || !ok)
                 st = sea_fail(err, SEA_ERR_IO, "cannot write '%s': %s", path, strerror(errno));
         }
     }
-    free(text);
     free(path);
+    return st;
+}
+
+static sea_status write_manifest(const char *tmp, cJSON *m, sea_error *err)
+{
+    char *text = cJSON_Print(m);
+    char *line = NULL;
+    if (text != NULL && (line = malloc(strlen(text) + 2)) != NULL)
+        snprintf(line, strlen(text) + 2, "%s\n", text);
+    sea_status st = write_text(tmp, "manifest.json", line, err);
+    free(text);
+    free(line);
     return st;
 }
 
@@ -702,20 +756,6 @@ static double emission_scale(const sea_bake *b)
     if (!(top > 0.0) || !isfinite(top))
         return 1.0;
     return pow(10.0, floor(log10(BAKE_EMISSION_TARGET / top)));
-}
-
-/* Radiance of the sky in the maps' units (per um for one wavelength,
- * in-band for a band), as sea_render_frame computes it. */
-static double sky_radiance(const sea_render *r)
-{
-    const sea_scene *sc = sea_render_scene(r);
-    const double *wl, *wt;
-    const size_t n = sea_render_samples(r, &wl, &wt);
-    double L = 0.0;
-    for (size_t i = 0; i < n; i++)
-        L += wt[i] * (sc->sky_radiance >= 0.0 ? sc->sky_radiance
-                                              : sea_planck_radiance(wl[i], sc->sky_temperature));
-    return sc->wavelength > 0.0 ? 1e-6 * L : L;
 }
 
 /* The POV-Ray scene of the first frame: one ring per level (finest first),
@@ -881,6 +921,8 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         if (prog.on && st == SEA_OK)
             sea_cli_progress_bar(&prog.bar, 1.0);
     }
+    if (st == SEA_OK && s->blender)
+        st = write_text(tmp, SEA_BLENDER_SCRIPT, sea_blender_import_text, err);
     if (prog.on)
         fputc('\n', stderr);
     const double t0 = sea_cli_seconds();

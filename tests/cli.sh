@@ -1128,8 +1128,17 @@ for f in scene.pov scene.ini seabake.inc; do
     check "bake.pov.$f" test -s "$BDIR/pov/$f"
 done
 check_match bake.pov.camera "$(cat "$BDIR/pov/scene.pov")" 'camera'
-sb_run bake "$RSCENE" -o "$BDIR/out" --blender
-check_error bake.blender 2 "--blender: not implemented yet"
+# --blender adds the import script (the installed copy, byte for byte) and
+# the manifest's "blender" object; without it neither is there.
+sb_run bake "$RSCENE" -o "$BDIR/blender" --blender --quiet
+check_rc bake.blender.rc 0
+check bake.blender.script cmp -s "$BDIR/blender/seabake_import.py" \
+    "$top_srcdir/exporters/blender/seabake_import.py"
+check bake.blender.manifest grep -q '"script":[[:space:]]*"seabake_import.py"' \
+    "$BDIR/blender/manifest.json"
+check bake.blender.sky grep -qE '"sky_emission":[[:space:]]*[0-9]' "$BDIR/blender/manifest.json"
+check bake.no_blender.script test ! -e "$BDIR/pov/seabake_import.py"
+check_no_match bake.no_blender.manifest "$(cat "$BDIR/pov/manifest.json")" '"blender"'
 sb_run bake "$RSCENE"
 check_error bake.no_dir 2 "missing -o DIR"
 sb_run bake "$BDIR/no-such.ini" -o "$BDIR/out"

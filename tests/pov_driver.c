@@ -1,10 +1,14 @@
-/* pov_driver.c - the test driver of tests/povray.sh: exports a scene with
- * sea_pov_write and checks POV-Ray's render of it against seabake's own.
+/* pov_driver.c - the test driver of tests/povray.sh (and tests/blender.sh):
+ * exports a scene with sea_pov_write and checks POV-Ray's render of it
+ * against seabake's own.
  *
  *   pov_driver export SCENE.ini DIR   writes DIR/scene.pov, scene.ini,
  *                                     seabake.inc, level_<l>.exr, render.exr
  *   pov_driver check SCENE.ini DIR    compares DIR/scene.exr (POV-Ray) with
  *                                     seabake's render; prints the numbers
+ *   pov_driver compare ...            seabake render against a renderer's
+ *                                     image of a bake (below)
+ *   pov_driver dump MAP.exr OUT.raw   a map's texels as seabake reads them
  *
  * The scene must render to a uniform radiance (pov_nadir.ini: sun below the
  * horizon, sky as warm as the sea), so that each clipmap level's emission
@@ -319,12 +323,58 @@ static int do_check(const char *dir, setup *s)
     return fails ? 1 : 0;
 }
 
-/* compare REF.exr LEVEL.exr POV.exr: seabake render's radiance (channel
- * Y) against POV-Ray's image of the baked export (channel R, divided by the
- * scale that scene.pov declares, passed as SCALE) over the sea pixels
- * (level > 0); fails when the relative RMS difference exceeds MAX. */
+/* dump MAP.exr OUT.raw: the file's R, G, B, A channels as seabake's EXR
+ * reader gives them, float32 in native byte order, RGBA interleaved, row 0
+ * at the top; a file without A gets 1 there (as Blender shows an RGB image).
+ * Prints "WIDTH HEIGHT CHANNELS".  For tests/blender_check.py. */
+static int do_dump(const char *map, const char *raw)
+{
+    sea_exr_image img;
+    sea_error err;
+    if (sea_exr_read(map, &img, &err) != SEA_OK)
+        return die(map, &err);
+    static const char *const names[4] = { "R", "G", "B", "A" };
+    const float *ch[4];
+    int n = 0;
+    for (int c = 0; c < 4; c++)
+        if ((ch[c] = sea_exr_image_channel(&img, names[c])) != NULL)
+            n = c + 1;
+    int rc = 0;
+    if (n < 3 || ch[0] == NULL || ch[1] == NULL || ch[2] == NULL) {
+        fprintf(stderr, "pov_driver: %s: no R, G and B channels\n", map);
+        rc = 99;
+    }
+    FILE *f = rc ? NULL : fopen(raw, "wb");
+    if (rc == 0 && f == NULL) {
+        perror(raw);
+        rc = 99;
+    }
+    const size_t npix = (size_t)img.width * (size_t)img.height;
+    for (size_t q = 0; q < npix && f != NULL && rc == 0; q++) {
+        const float px[4] = { ch[0][q], ch[1][q], ch[2][q], n == 4 ? ch[3][q] : 1.0f };
+        if (fwrite(px, sizeof px, 1, f) != 1) {
+            perror(raw);
+            rc = 99;
+        }
+    }
+    if (f != NULL && fclose(f) != 0 && rc == 0) {
+        perror(raw);
+        rc = 99;
+    }
+    if (rc == 0)
+        printf("%d %d %d\n", img.width, img.height, n);
+    sea_exr_image_free(&img);
+    return rc;
+}
+
+/* compare REF.exr LEVEL.exr POV.exr SCALE MAX [RENDERER]: seabake render's
+ * radiance (channel Y) against another renderer's image of the baked export
+ * (POV-Ray's or Cycles', channel R, divided by the emission scale, passed
+ * as SCALE) over the sea pixels (level > 0); fails when the relative RMS
+ * difference exceeds MAX.  RENDERER names it in the report (default
+ * POV-Ray). */
 static int do_compare(const char *ref, const char *level, const char *povimg, double scale,
-                      double max_rms)
+                      double max_rms, const char *renderer)
 {
     sea_exr_image a, l, b;
     sea_error err;
@@ -365,8 +415,8 @@ static int do_compare(const char *ref, const char *level, const char *povimg, do
         }
     }
     const double rms = n ? sqrt(sum2 / (double)n) : INFINITY;
-    printf("seabake render vs POV-Ray of the bake: %zu sea pixels, relative RMS %.3g, max %.3g\n",
-           n, rms, max_rel);
+    printf("seabake render vs %s of the bake: %zu sea pixels, relative RMS %.3g, max %.3g\n",
+           renderer, n, rms, max_rel);
     for (int k = 0; k < NL; k++)
         if (ln[k])
             printf("  pixels of the %g m level: %zu, relative RMS %.3g, max %.3g\n", lsize[k],
@@ -384,11 +434,16 @@ done:
 int main(int argc, char **argv)
 {
     sea_init();
-    if (argc == 7 && strcmp(argv[1], "compare") == 0)
-        return do_compare(argv[2], argv[3], argv[4], atof(argv[5]), atof(argv[6]));
+    if ((argc == 7 || argc == 8) && strcmp(argv[1], "compare") == 0)
+        return do_compare(argv[2], argv[3], argv[4], atof(argv[5]), atof(argv[6]),
+                          argc == 8 ? argv[7] : "POV-Ray");
+    if (argc == 4 && strcmp(argv[1], "dump") == 0)
+        return do_dump(argv[2], argv[3]);
     if (argc != 4 || (strcmp(argv[1], "export") != 0 && strcmp(argv[1], "check") != 0)) {
         fprintf(stderr, "usage: pov_driver export|check SCENE.ini DIR\n"
-                        "       pov_driver compare REF.exr LEVEL.exr POV.exr SCALE MAX_RMS\n");
+                        "       pov_driver compare REF.exr LEVEL.exr POV.exr SCALE MAX_RMS "
+                        "[RENDERER]\n"
+                        "       pov_driver dump MAP.exr OUT.raw\n");
         return 99;
     }
     setup s;

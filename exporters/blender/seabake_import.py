@@ -1,0 +1,486 @@
+# seabake_import.py - builds a Blender 3.4 scene from a directory that
+# `seabake bake --blender` wrote (a copy of this script sits in it).
+#
+#   blender -b --factory-startup --python seabake_import.py -- DIR/manifest.json
+#           [--frame F] [--material emission|visible] [--save FILE.blend]
+#           [--render OUT.exr]
+#
+# What it builds, mirroring the POV-Ray export (scene.pov):
+#   - one mesh per clipmap level, a flat ring at sea level: the level's
+#     rectangle minus the next finer level's ("hole" in the manifest); the
+#     low-resolution level reaches 1000 sensor altitudes from the sensor.
+#     Each coarser level sits 1e-3 finest facets lower, so that where two
+#     windows overlap the finer level is the one seen.  UVs map a level's
+#     rectangle onto its maps: u = (x - x0) / w, v = (y - y0) / h, so
+#     (0, 0) is the south-west corner (Blender's image origin is the bottom
+#     row, and the maps' row 0 is the north edge).
+#   - two materials per level: "Emission" (the infrared radiance x
+#     emission_scale of the emission map, emitted with strength 1, the one
+#     used by default) and "Visible" (Principled BSDF with the normal map and
+#     the GGX roughness, anisotropy and rotation of the roughness map, for
+#     visible-light renders with your own lights).
+#   - every map of the chosen frame loaded as a Non-Color image (4-channel
+#     maps CHANNEL_PACKED), kept in the .blend even when not wired.
+#   - the sensor's camera, the sky as a constant World background and Cycles
+#     settings that reproduce the emission exactly (view transform Standard,
+#     no pixel filter, no bounces, 32-bit EXR output).
+#
+# World axes are seabake's: x east, y north, z up, metres.  Pixel values of
+# a render are radiances times the manifest's emission_scale.
+#
+# Errors (unreadable manifest, wrong format or version, a missing map) print
+# "seabake_import: error: ..." naming the file and exit with status 1.
+
+import argparse
+import json
+import math
+import os
+import sys
+import traceback
+
+import bpy
+from mathutils import Matrix
+
+FORMAT = "seabake-bake"
+VERSION = 1
+# Each coarser level sits this many finest facets below the next finer one
+# (as SEA_POV_LAYER in exporters/povray.c).
+LAYER = 1e-3
+# The low-resolution ring reaches this many sensor altitudes from the sensor.
+LR_REACH = 1000.0
+# Emission is all there is, and every camera ray ends on an emitter or the
+# World: a few samples only average the (tiny) pixel footprint.
+SAMPLES = 4
+
+
+class ImportError_(Exception):
+    """A user-facing error: printed without a traceback, exit status 1."""
+
+
+def fail(msg):
+    raise ImportError_(msg)
+
+
+# ----------------------------------------------------------------- manifest
+
+def load_manifest(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            m = json.load(f)
+    except OSError as e:
+        fail("%s: cannot read: %s" % (path, e.strerror))
+    except ValueError as e:
+        fail("%s: not JSON: %s" % (path, e))
+    if not isinstance(m, dict) or m.get("format") != FORMAT:
+        fail('%s: not a seabake bake manifest (format is not "%s")' % (path, FORMAT))
+    if m.get("version") != VERSION:
+        fail("%s: manifest version %r, this script reads version %d"
+             % (path, m.get("version"), VERSION))
+    for key in ("camera", "levels", "emission_scale", "frames"):
+        if key not in m:
+            fail("%s: no \"%s\" in the manifest" % (path, key))
+    return m
+
+
+def frame_entry(level, frame, path):
+    """The level's files of frame `frame` (None: the first frame)."""
+    frames = level.get("frames") or []
+    if not frames:
+        fail("%s: level %s has no frames" % (path, level.get("index")))
+    if frame is None:
+        return frames[0]
+    for fr in frames:
+        if fr.get("frame") == frame:
+            return fr
+    fail("%s: level %s has no frame %d (frames %s)"
+         % (path, level.get("index"), frame, [fr.get("frame") for fr in frames]))
+
+
+def sky_scaled(m, path):
+    """The sky radiance x emission_scale: recorded by seabake bake --blender
+    (as it computes it for POV-Ray: band-weighted, in the maps' units)."""
+    b = m.get("blender")
+    if not isinstance(b, dict) or not isinstance(b.get("sky_emission"), (int, float)):
+        fail("%s: no blender.sky_emission (bake with seabake bake --blender)" % path)
+    return float(b["sky_emission"])
+
+
+# --------------------------------------------------------------------- maps
+
+def load_map(directory, name, n_channels):
+    path = os.path.join(directory, name)
+    if not os.path.isfile(path):
+        fail("%s: map not found" % path)
+    try:
+        img = bpy.data.images.load(path, check_existing=True)
+    except RuntimeError as e:
+        fail("%s: Blender cannot load it: %s" % (path, e))
+    # Data, not colour: no view or display transform may touch it.
+    img.colorspace_settings.name = "Non-Color"
+    # Four unrelated quantities share a 4-channel file: alpha is data too.
+    img.alpha_mode = "CHANNEL_PACKED" if n_channels == 4 else "STRAIGHT"
+    # Kept in a saved .blend even when no material uses it.
+    img.use_fake_user = True
+    return img
+
+
+# ----------------------------------------------------------------- geometry
+
+def clip_hole(x0, y0, w, h, hole):
+    """The part of the hole inside the rectangle: (0, None) no hole,
+    (1, (hx0, hy0, hx1, hy1)) a hole, (2, None) it covers everything."""
+    if hole is None:
+        return 0, None
+    hx0 = max(hole["origin_m"][0], x0)
+    hy0 = max(hole["origin_m"][1], y0)
+    hx1 = min(hole["origin_m"][0] + hole["extent_m"][0], x0 + w)
+    hy1 = min(hole["origin_m"][1] + hole["extent_m"][1], y0 + h)
+    if not (hx1 > hx0 and hy1 > hy0):
+        return 0, None
+    if hx0 <= x0 and hy0 <= y0 and hx1 >= x0 + w and hy1 >= y0 + h:
+        return 2, None
+    return 1, (hx0, hy0, hx1, hy1)
+
+
+def ring_mesh(name, x0, y0, w, h, kind, hole, z):
+    """The rectangle [x0, x0 + w] x [y0, y0 + h] at height z minus the hole,
+    as up to 8 quads on the 4 x 4 vertices the two rectangles' edges define
+    (the mesh2 of Seabake_Ring in seabake.inc), with the UV map "UVMap"."""
+    if kind == 1:
+        xs = [x0, hole[0], hole[2], x0 + w]
+        ys = [y0, hole[1], hole[3], y0 + h]
+    else:
+        xs = [x0 + w * k / 3.0 for k in range(4)]
+        ys = [y0 + h * k / 3.0 for k in range(4)]
+    verts = [(xs[i], ys[j], z) for j in range(4) for i in range(4)]
+    faces = []
+    for j in range(3):
+        for i in range(3):
+            if kind == 1 and i == 1 and j == 1:
+                continue
+            if not (xs[i + 1] > xs[i] and ys[j + 1] > ys[j]):
+                continue  # a hole touching an edge: a cell of zero width
+            k = 4 * j + i
+            faces.append((k, k + 1, k + 5, k + 4))  # counter-clockwise: normal +z
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop in mesh.loops:
+        x, y, _ = verts[loop.vertex_index]
+        uv.data[loop.index].uv = ((x - x0) / w, (y - y0) / h)
+    mesh.validate()
+    mesh.update()
+    return mesh
+
+
+# ---------------------------------------------------------------- materials
+
+def new_material(name):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    out.location = (600, 0)
+    return mat, nt, out
+
+
+def image_node(nt, img, interpolation, location):
+    node = nt.nodes.new("ShaderNodeTexImage")
+    node.image = img
+    node.interpolation = interpolation
+    # Edges clamp (as POV-Ray's maps): REPEAT would blend the opposite edge
+    # into the outermost half texel.
+    node.extension = "EXTEND"
+    node.location = location
+    return node
+
+
+def emission_material(name, constant=None, img=None,
+                      interpolation="Linear"):
+    """Emission: the map's RGB (or a constant) emitted with strength 1."""
+    mat, nt, out = new_material(name)
+    em = nt.nodes.new("ShaderNodeEmission")
+    em.location = (300, 0)
+    em.inputs["Strength"].default_value = 1.0
+    if img is not None:
+        tex = image_node(nt, img, interpolation, (0, 0))
+        nt.links.new(tex.outputs["Color"], em.inputs["Color"])
+    else:
+        em.inputs["Color"].default_value = (constant, constant, constant, 1.0)
+    nt.links.new(em.outputs["Emission"], out.inputs["Surface"])
+    return mat
+
+
+def blender_anisotropy(a):
+    """Principled's Anisotropic A from seabake's a = (l1 - l2) / (l1 + l2).
+    Principled (GGX) gives alpha_x / alpha_y = 1 / (1 - 0.9 A); the slope
+    widths' ratio is sqrt(l1 / l2) = sqrt((1 + a) / (1 - a)), so
+    A = (1 - sqrt((1 - a) / (1 + a))) / 0.9, clamped to [0, 1]."""
+    if a >= 1.0:
+        return 1.0
+    return min(1.0, max(0.0, (1.0 - math.sqrt((1.0 - a) / (1.0 + a))) / 0.9))
+
+
+def math_node(nt, op, a, b, location, clamp=False):
+    node = nt.nodes.new("ShaderNodeMath")
+    node.operation = op
+    node.use_clamp = clamp
+    node.location = location
+    for k, v in enumerate((a, b)):
+        if isinstance(v, (int, float)):
+            node.inputs[k].default_value = v
+        else:
+            nt.links.new(v, node.inputs[k])
+    return node.outputs[0]
+
+
+def visible_material(name, normal_img=None, rough_img=None, constants=None):
+    """Visible: Principled BSDF with the normal map (tangent space of the UV
+    map: +x east, +y north) and the roughness map; constants (roughness,
+    anisotropy, rotation) for a low-resolution level."""
+    mat, nt, out = new_material(name)
+    bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
+    bsdf.location = (300, 0)
+    bsdf.inputs["Base Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    bsdf.inputs["Metallic"].default_value = 0.0
+    # Water, n = 1.33: F0 = 0.02 = 0.08 Specular.
+    bsdf.inputs["Specular"].default_value = 0.25
+    bsdf.inputs["IOR"].default_value = 1.33
+    nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    # The anisotropy axes follow the UV map's u (east); unlinked, Cycles
+    # would use a tangent radial around the object's z axis.
+    tan = nt.nodes.new("ShaderNodeTangent")
+    tan.direction_type = "UV_MAP"
+    tan.uv_map = "UVMap"
+    tan.location = (0, -500)
+    nt.links.new(tan.outputs["Tangent"], bsdf.inputs["Tangent"])
+    if normal_img is None:
+        r, a, rot = constants
+        bsdf.inputs["Roughness"].default_value = r
+        bsdf.inputs["Anisotropic"].default_value = blender_anisotropy(a)
+        bsdf.inputs["Anisotropic Rotation"].default_value = rot
+        return mat
+    ntex = image_node(nt, normal_img, "Linear", (-600, 200))
+    nmap = nt.nodes.new("ShaderNodeNormalMap")
+    nmap.space = "TANGENT"
+    nmap.uv_map = "UVMap"
+    nmap.location = (-300, 200)
+    nt.links.new(ntex.outputs["Color"], nmap.inputs["Color"])
+    nt.links.new(nmap.outputs["Normal"], bsdf.inputs["Normal"])
+    rtex = image_node(nt, rough_img, "Linear", (-900, -200))
+    sep = nt.nodes.new("ShaderNodeSeparateColor")
+    sep.location = (-600, -200)
+    nt.links.new(rtex.outputs["Color"], sep.inputs["Color"])
+    nt.links.new(sep.outputs["Red"], bsdf.inputs["Roughness"])
+    nt.links.new(sep.outputs["Blue"], bsdf.inputs["Anisotropic Rotation"])
+    # blender_anisotropy as nodes.
+    a = sep.outputs["Green"]
+    q = math_node(nt, "DIVIDE", math_node(nt, "SUBTRACT", 1.0, a, (-400, -350)),
+                  math_node(nt, "ADD", 1.0, a, (-400, -450)), (-250, -400))
+    s = math_node(nt, "SUBTRACT", 1.0, math_node(nt, "SQRT", q, 0.0, (-100, -400)), (50, -400))
+    aniso = math_node(nt, "DIVIDE", s, 0.9, (200, -400), clamp=True)
+    nt.links.new(aniso, bsdf.inputs["Anisotropic"])
+    return mat
+
+
+def lr_constants(moments):
+    """Roughness, anisotropy and rotation of a low-resolution facet, as
+    sea_bake_roughness computes them for the maps."""
+    mx, my = moments["mx"], moments["my"]
+    cxx = moments["mxx"] - mx * mx
+    cyy = moments["myy"] - my * my
+    cxy = moments["mxy"] - mx * my
+    tr = max(cxx + cyy, 0.0)
+    rough = math.sqrt(math.sqrt(tr))
+    d = math.hypot(cxx - cyy, 2.0 * cxy)
+    aniso = min(1.0, d / tr) if tr > 0.0 else 0.0
+    theta = 0.5 * math.atan2(2.0 * cxy, cxx - cyy) if d > 0.0 else 0.0
+    if theta < 0.0:
+        theta += math.pi
+    if theta >= math.pi:
+        theta -= math.pi
+    return rough, aniso, theta / (2.0 * math.pi)
+
+
+# ------------------------------------------------------------ camera, world
+
+def make_camera(scene, cam):
+    """The pinhole sensor: -Z along forward, +Y along up, +X along right."""
+    width, height = int(cam["width"]), int(cam["height"])
+    fwd, right, up = cam["forward"], cam["right"], cam["up"]
+    data = bpy.data.cameras.new("seabake_sensor")
+    data.type = "PERSP"
+    data.sensor_fit = "HORIZONTAL"
+    # focal length in pixels -> mm on a sensor of sensor_width mm over width
+    # pixels; the field of view is then exactly hfov.
+    data.lens = data.sensor_width * float(cam["focal_px"]) / width
+    alt = max(float(cam["position_m"][2]), 1e-3)
+    data.clip_start = min(0.1, 1e-3 * alt)
+    data.clip_end = 4.0 * LR_REACH * alt
+    obj = bpy.data.objects.new("seabake_sensor", data)
+    scene.collection.objects.link(obj)
+    mw = Matrix(((right[0], up[0], -fwd[0], cam["position_m"][0]),
+                 (right[1], up[1], -fwd[1], cam["position_m"][1]),
+                 (right[2], up[2], -fwd[2], cam["position_m"][2]),
+                 (0.0, 0.0, 0.0, 1.0)))
+    obj.matrix_world = mw
+    scene.camera = obj
+    scene.render.resolution_x = width
+    scene.render.resolution_y = height
+    scene.render.resolution_percentage = 100
+    scene.render.pixel_aspect_x = scene.render.pixel_aspect_y = 1.0
+    hfov = math.degrees(data.angle_x)
+    if abs(hfov - float(cam["hfov_deg"])) > 1e-4:
+        print("seabake_import: warning: field of view %.6f deg, manifest says %.6f deg"
+              % (hfov, cam["hfov_deg"]), file=sys.stderr)
+    return obj
+
+
+def make_world(scene, value):
+    world = bpy.data.worlds.new("seabake_sky")
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (value, value, value, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+    scene.world = world
+
+
+def render_settings(scene):
+    scene.render.engine = "CYCLES"
+    cy = scene.cycles
+    cy.device = "CPU"
+    cy.samples = SAMPLES
+    cy.use_adaptive_sampling = False
+    cy.use_denoising = False
+    cy.max_bounces = 0
+    # The default pixel filter (1.5 px) blends neighbours: a tiny one gives
+    # the value at the pixel centre, as seabake render samples it.
+    cy.filter_width = 0.01
+    cy.seed = 0
+    vs = scene.view_settings
+    vs.view_transform = "Standard"
+    vs.look = "None"
+    vs.exposure = 0.0
+    vs.gamma = 1.0
+    scene.display_settings.display_device = "sRGB"
+    scene.render.use_compositing = False
+    scene.render.use_sequencer = False
+    scene.render.film_transparent = False
+    im = scene.render.image_settings
+    im.file_format = "OPEN_EXR"
+    im.color_mode = "RGB"
+    im.color_depth = "32"
+    im.exr_codec = "ZIP"
+    scene.render.use_file_extension = False
+
+
+# --------------------------------------------------------------------- main
+
+def build(manifest_path, frame, material):
+    m = load_manifest(manifest_path)
+    directory = os.path.dirname(os.path.abspath(manifest_path))
+    scale = float(m["emission_scale"])
+    cam = m["camera"]
+    if cam.get("earth") == "spherical":
+        print("seabake_import: warning: the scene's Earth is spherical; this import is "
+              "flat (the rings lie at z = 0 in map coordinates), so views near the "
+              "horizon are approximate", file=sys.stderr)
+    sky = sky_scaled(m, manifest_path)
+
+    # A clean scene: --factory-startup has a cube, a light and a camera.
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj, do_unlink=True)
+    scene = bpy.context.scene
+    if frame is not None:
+        scene.frame_current = frame
+    render_settings(scene)
+    make_camera(scene, cam)
+    make_world(scene, sky)
+
+    levels = m["levels"]
+    finest = min(float(lv["facet_m"]) for lv in levels)
+    far = LR_REACH * float(cam["position_m"][2])
+    coll = bpy.data.collections.new("seabake_sea")
+    scene.collection.children.link(coll)
+    for lv in levels:
+        idx = lv["index"]
+        if lv["low_res"]:
+            x0 = cam["position_m"][0] - far
+            y0 = cam["position_m"][1] - far
+            w = h = 2.0 * far
+        else:
+            x0, y0 = lv["origin_m"]
+            w, h = lv["extent_m"]
+        kind, hole = clip_hole(x0, y0, w, h, lv.get("hole"))
+        if kind == 2:
+            print("seabake_import: level %d is covered by the finer levels: no ring" % idx)
+            continue
+        rank = sum(1 for o in levels if o["facet_m"] < lv["facet_m"])
+        mesh = ring_mesh("seabake_level_%d" % idx, x0, y0, w, h, kind, hole,
+                         -LAYER * finest * rank)
+        if lv["low_res"]:
+            const = float(lv["optics"]["radiance"]) * scale
+            em = emission_material("seabake_emission_%d" % idx, constant=const)
+            vis = visible_material("seabake_visible_%d" % idx,
+                                   constants=lr_constants(lv["moments"]))
+        else:
+            files = frame_entry(lv, frame, manifest_path)["files"]
+            imgs = {}
+            for group, names in files.items():
+                n_ch = len(lv.get("maps", {}).get(group, [])) or 3
+                imgs[group] = load_map(directory, names["exr"], n_ch)
+            for need in ("emission", "normal", "roughness"):
+                if need not in imgs:
+                    fail("%s: level %d has no %s map" % (manifest_path, idx, need))
+            em = emission_material("seabake_emission_%d" % idx, img=imgs["emission"])
+            vis = visible_material("seabake_visible_%d" % idx, normal_img=imgs["normal"],
+                                   rough_img=imgs["roughness"])
+        # The other material stays in the .blend for switching.
+        em.use_fake_user = True
+        vis.use_fake_user = True
+        mesh.materials.append(em if material == "emission" else vis)
+        obj = bpy.data.objects.new("seabake_level_%d" % idx, mesh)
+        coll.objects.link(obj)
+    return m
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(
+        prog="seabake_import.py",
+        description="Builds a Blender scene from a seabake bake (manifest.json).")
+    p.add_argument("manifest", help="DIR/manifest.json written by seabake bake --blender")
+    p.add_argument("--frame", type=int, default=None,
+                   help="the baked frame to use (default: the first)")
+    p.add_argument("--material", choices=("emission", "visible"), default="emission",
+                   help="the active material of the sea (default: emission)")
+    p.add_argument("--save", metavar="FILE.blend", help="save the scene")
+    p.add_argument("--render", metavar="OUT.exr",
+                   help="render the current frame with Cycles to a 32-bit EXR")
+    return p.parse_args(argv)
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    args = parse_args(argv)
+    try:
+        build(args.manifest, args.frame, args.material)
+        scene = bpy.context.scene
+        if args.save:
+            bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.save))
+        if args.render:
+            scene.render.filepath = os.path.abspath(args.render)
+            bpy.ops.render.render(write_still=True)
+            if not os.path.isfile(scene.render.filepath):
+                fail("%s: the render was not written" % args.render)
+    except ImportError_ as e:
+        print("seabake_import: error: %s" % e, file=sys.stderr)
+        sys.exit(1)
+    except Exception:
+        traceback.print_exc()
+        print("seabake_import: error: unexpected failure (see above)", file=sys.stderr)
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

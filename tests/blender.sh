@@ -1,0 +1,156 @@
+#!/bin/bash
+# blender.sh - end-to-end test of the Blender import (issue 5): seabake bake
+# --blender, then the real Blender 3.4 (headless) runs the script the bake
+# wrote beside its manifest.
+#
+#   - three bakes: a nadir scene with the sun in the glint (float), an oblique
+#     view with six rings and the horizon (float), the nadir scene again with
+#     --format half; files there, nothing temporary left, the script named
+#     in the manifest;
+#   - the import's own command line: --save writes a .blend, --render a
+#     Cycles EXR; bad manifests fail with exit status 1 naming the file;
+#   - tests/blender_check.py inside Blender: every map listed in the
+#     manifest loaded as Non-Color with image.pixels equal to seabake's EXR
+#     reader (row-flipped; exact for float and half files, see there), the
+#     half maps within half rounding of the float ones, marker texels within
+#     1 px of the sensor's projection (camera and UV orientation), the
+#     normal maps in the encoding of Blender's Normal Map node;
+#   - Cycles' render of the nadir import against seabake render of the same
+#     scene: relative RMS over the sea pixels below 2 % (emission maps
+#     interpolated bilinearly by Cycles against per-pixel optics).
+# Blender itself does not run under $SEABAKE_WRAPPER (only seabake does).
+# Skips (exit 77) only when blender is not installed.
+[ -n "${BASH_VERSION:-}" ] || exec bash "$0" "$@"
+set -u
+TEST_NAME=blender
+. "$(dirname "$0")/lib.sh"
+
+: "${top_srcdir:?top_srcdir must name the source directory}"
+POV_DRIVER=${POV_DRIVER:-$(dirname "$SEABAKE")/../tests/pov_driver}
+CHECK_PY="$top_srcdir/tests/blender_check.py"
+
+if ! command -v blender >/dev/null 2>&1; then
+    echo "blender: SKIP: blender is not installed" \
+        "(Debian package blender; scripts/setup installs it)"
+    exit 77
+fi
+if [ ! -x "$POV_DRIVER" ]; then
+    echo "blender: $POV_DRIVER is missing (make check builds it)" >&2
+    exit 99
+fi
+# Blender writes its user configuration under $HOME; keep it in the scratch.
+export HOME="$SB_TMP/home"
+mkdir -p "$HOME"
+start_all=$(date +%s.%N)
+
+# run_blender NAME ARGS...: headless Blender with the factory settings; an
+# uncaught Python error is exit status 1 too.
+run_blender() {
+    local name=$1
+    shift
+    SB_CMD="blender -b --factory-startup --python-exit-code 1 --python $*"
+    blender -b --factory-startup --python-exit-code 1 --python "$@" >"$SB_TMP/$name.out" 2>&1
+    SB_RC=$?
+    SB_ERR=$(grep -E 'FAIL|rror' "$SB_TMP/$name.out" | head -n 5)
+}
+
+# bake NAME SCENE ARGS...: seabake bake SCENE -o $SB_TMP/NAME --blender ARGS.
+bake() {
+    local name=$1 scene="$top_srcdir/tests/scenes/$2.ini" dir="$SB_TMP/$1" f
+    shift 2
+    SB_CMD="seabake bake $scene -o $dir --blender $*"
+    # shellcheck disable=SC2086
+    $SEABAKE_WRAPPER "$SEABAKE" bake "$scene" -o "$dir" --blender --quiet "$@" 2>"$SB_TMP/err"
+    SB_RC=$?
+    SB_ERR=$(cat "$SB_TMP/err")
+    check_rc "$name.bake.rc" 0
+    for f in manifest.json seabake_import.py emission_0.exr emission_0.png normal_0.exr \
+        roughness_0.exr; do
+        check "$name.bake.$f" test -s "$dir/$f"
+    done
+    check_eq "$name.bake.no_temp" "$(find "$SB_TMP" -maxdepth 2 -name '*.tmp.*' | wc -l)" 0
+    check "$name.bake.script_copy" cmp -s "$dir/seabake_import.py" \
+        "$top_srcdir/exporters/blender/seabake_import.py"
+    check_match "$name.bake.manifest_script" "$(cat "$dir/manifest.json")" \
+        '"script":[[:space:]]*"seabake_import.py"'
+}
+
+# check_in_blender NAME DIR ARGS...: tests/blender_check.py on DIR's bake.
+check_in_blender() {
+    local name=$1 dir=$2
+    shift 2
+    mkdir -p "$SB_TMP/work_$name"
+    run_blender "check_$name" "$CHECK_PY" -- "$dir/manifest.json" "$POV_DRIVER" \
+        "$SB_TMP/work_$name" "$@"
+    grep -E '^(ok|FAIL|maps|half|markers|normal|blender_check):' "$SB_TMP/check_$name.out" |
+        grep -vE '^ok: .*(colour space|alpha mode|image.pixels|half against)' |
+        sed "s/^/$name: /"
+    check_rc "$name.blender_check" 0
+}
+
+bake glint pov_glint
+# Markers need texels that span pixels: one emission texel per facet.
+bake glint_k1 pov_glint --emission-texels 1
+bake oblique pov_oblique --emission-texels 1
+bake half pov_glint --format half
+check_match half.bake.pixel_type "$(cat "$SB_TMP/half/manifest.json")" \
+    '"pixel_type":[[:space:]]*"half"'
+
+# The import's command line, as a user runs it: save and render.
+dir="$SB_TMP/glint"
+run_blender import "$dir/seabake_import.py" -- "$dir/manifest.json" --save "$SB_TMP/glint.blend" \
+    --render "$SB_TMP/glint_cycles.exr"
+check_rc glint.import.rc 0
+check glint.import.blend test -s "$SB_TMP/glint.blend"
+check glint.import.render test -s "$SB_TMP/glint_cycles.exr"
+
+# Cycles against seabake render of the same scene.
+SB_CMD="seabake render $top_srcdir/tests/scenes/pov_glint.ini"
+$SEABAKE_WRAPPER "$SEABAKE" render "$top_srcdir/tests/scenes/pov_glint.ini" -o "$SB_TMP/ref.exr" \
+    --aov level --png none --quiet 2>"$SB_TMP/err"
+SB_RC=$?
+SB_ERR=$(cat "$SB_TMP/err")
+check_rc glint.render.rc 0
+scale=$(sed -n 's/^[[:space:]]*"emission_scale":[[:space:]]*\([0-9.eE+-]*\),*$/\1/p' \
+    "$dir/manifest.json")
+check_match glint.scale "$scale" '^[0-9.eE+-]+$'
+SB_CMD="pov_driver compare ... Cycles"
+"$POV_DRIVER" compare "$SB_TMP/ref.exr" "$SB_TMP/ref.level.exr" "$SB_TMP/glint_cycles.exr" \
+    "$scale" 0.02 Cycles >"$SB_TMP/cmp.out" 2>"$SB_TMP/cmp.err"
+SB_RC=$?
+SB_ERR=$(cat "$SB_TMP/cmp.err")
+sed "s/^/glint: /" "$SB_TMP/cmp.out"
+check_rc glint.compare 0
+
+# Inside Blender: maps, markers, normal maps, half rounding.
+check_in_blender glint "$SB_TMP/glint" --normal-map
+check_in_blender glint_k1 "$SB_TMP/glint_k1" --markers
+check_in_blender oblique "$SB_TMP/oblique" --markers
+check_in_blender half "$SB_TMP/half" --half-of "$SB_TMP/glint/manifest.json" --normal-map
+
+# Errors: exit status 1 and a message naming the file.
+run_blender missing "$dir/seabake_import.py" -- "$SB_TMP/no-such/manifest.json"
+check_rc import.missing.rc 1
+check_match import.missing.msg "$(cat "$SB_TMP/missing.out")" \
+    'seabake_import: error: .*no-such/manifest.json: cannot read'
+sed 's/"version":[[:space:]]*1,/"version": 99,/' "$dir/manifest.json" >"$dir/v99.json"
+check_match import.version.edit "$(cat "$dir/v99.json")" '"version": 99,'
+run_blender version "$dir/seabake_import.py" -- "$dir/v99.json"
+check_rc import.version.rc 1
+check_match import.version.msg "$(cat "$SB_TMP/version.out")" \
+    'seabake_import: error: .*v99.json: manifest version 99'
+printf '{"format": "something-else", "version": 1}\n' >"$dir/other.json"
+run_blender format "$dir/seabake_import.py" -- "$dir/other.json"
+check_rc import.format.rc 1
+check_match import.format.msg "$(cat "$SB_TMP/format.out")" \
+    'seabake_import: error: .*other.json: not a seabake bake manifest'
+mv "$dir/normal_0.exr" "$dir/moved.exr"
+run_blender no_map "$dir/seabake_import.py" -- "$dir/manifest.json"
+check_rc import.no_map.rc 1
+check_match import.no_map.msg "$(cat "$SB_TMP/no_map.out")" \
+    'seabake_import: error: .*normal_0.exr: map not found'
+
+end_all=$(date +%s.%N)
+secs=$(awk -v a="$start_all" -v b="$end_all" 'BEGIN { printf "%.1f", b - a }')
+echo "blender: whole test took $secs s"
+finish
