@@ -170,6 +170,7 @@ typedef struct {
     double c_XX, c_YY, c_XY;
     double z;             /* (cot th - m_X)/s_X; +inf at nadir */
     double t_lo, t_hi;    /* where the weight lives */
+    double t_ref;         /* min(z, 0): the weight's exponent is taken relative to it */
     int delta;            /* s_X below SEA_S_DELTA */
 } view_frame;
 
@@ -211,14 +212,21 @@ static void view_frame_init(const sea_slope_stats *st, sea_dir v, view_frame *f)
         f->z = (f->cos_th / f->sin_th - f->m_X) / f->s_X;
     }
     view_window(f, SEA_T_CUT, &f->t_lo, &f->t_hi);
+    f->t_ref = fmin(f->z, 0.0);
 }
 
-/* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant. */
+/* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant.
+ * The constant is exp(t_ref^2 / 2): when the mean slope hides nearly every
+ * facet (z < 0), the weight lives in t <= z, and exp(-t^2/2) alone would
+ * underflow for z < -38 (say theta = 89 deg, m_X = 0.5, s_X = 0.005), turning
+ * an emissivity of 6e-4 into 0/0 -> 0.  Relative to its value at t = z
+ * the exponent is <= 0 over the window and the averages, ratios of two
+ * integrals of this weight, are unchanged. */
 static double view_weight(const view_frame *f, double t)
 {
     const double gX = f->m_X + f->s_X * t;
     const double g = f->cos_th - gX * f->sin_th;
-    return g > 0.0 ? g * exp(-0.5 * t * t) : 0.0;
+    return g > 0.0 ? g * exp(-0.5 * (t - f->t_ref) * (t + f->t_ref)) : 0.0;
 }
 
 /* A facet quantity averaged over the seen facets: fn(gX, gY, cos psi, ctx). */
