@@ -94,7 +94,8 @@ static const char RENDER_HELP[] =
     "  --quiet             no progress bar and no summary line\n"
     "  --explain           print on standard error what was chosen: the clipmap\n"
     "                      levels (facet size, window, resolution, pixels), why\n"
-    "                      levels are low-resolution, the spectral samples\n";
+    "                      levels are low-resolution, the fallbacks taken\n"
+    "                      (seabake(1), LIMITS AND FALLBACKS), the spectral samples\n";
 
 /* ------------------------------------------------------------- the setup */
 
@@ -318,6 +319,21 @@ static void explain(const render_setup *s, const sea_render *r)
             "  a pixel of footprint F reads level round(log2(F / %g m)), or a coarser one outside "
             "that level's window; \"pixels\" counts the pixels whose footprint chose it\n",
             sc->finest);
+    /* The fallbacks of seabake(1), LIMITS AND FALLBACKS, that this scene takes. */
+    sea_spectrum sp;
+    if (sea_spectrum_init(&sp, sc->wind_speed, sc->fetch, sc->wind_dir, NULL) == SEA_OK &&
+        sea_spectrum_alpha_m_continued(&sp))
+        fprintf(stderr,
+                "render: fallback: at %g m/s u*/c_m is below exp(-3/4): the short-wave "
+                "alpha_m = %.3g comes from the positive low-wind continuation, not Elfouhaily's "
+                "1e-2 (1 + ln(u*/c_m)) (seabake(1), LIMITS AND FALLBACKS)\n",
+                sc->wind_speed, sp.alpha_m);
+    if (sc->sun_zenith >= M_PI / 2.0)
+        fprintf(stderr,
+                "render: fallback: the sun (zenith %g deg) is below the horizon%s: no sun term, "
+                "as with irradiance 0\n",
+                sc->sun_zenith * 180.0 / M_PI,
+                sc->earth == SEA_EARTH_SPHERICAL ? " at the nadir point" : "");
     if (sc->windows == SEA_WINDOWS_CLIPMAP)
         fprintf(stderr, "  windows = clipmap: every high-resolution level is %d x %d facets "
                         "around the point the optical axis meets, whether pixels read it or not\n",

@@ -170,6 +170,7 @@ typedef struct {
     double c_XX, c_YY, c_XY;
     double z;             /* (cot th - m_X)/s_X; +inf at nadir */
     double t_lo, t_hi;    /* where the weight lives */
+    double t_ref;         /* min(z, 0): the weight's exponent is taken relative to it */
     int delta;            /* s_X below SEA_S_DELTA */
 } view_frame;
 
@@ -211,14 +212,21 @@ static void view_frame_init(const sea_slope_stats *st, sea_dir v, view_frame *f)
         f->z = (f->cos_th / f->sin_th - f->m_X) / f->s_X;
     }
     view_window(f, SEA_T_CUT, &f->t_lo, &f->t_hi);
+    f->t_ref = fmin(f->z, 0.0);
 }
 
-/* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant. */
+/* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant.
+ * The constant is exp(t_ref^2 / 2): when the mean slope hides nearly every
+ * facet (z < 0), the weight lives in t <= z, and exp(-t^2/2) alone would
+ * underflow for z < -38 (say theta = 89 deg, m_X = 0.5, s_X = 0.005), turning
+ * an emissivity of 6e-4 into 0/0 -> 0.  Relative to its value at t = z
+ * the exponent is <= 0 over the window and the averages, ratios of two
+ * integrals of this weight, are unchanged. */
 static double view_weight(const view_frame *f, double t)
 {
     const double gX = f->m_X + f->s_X * t;
     const double g = f->cos_th - gX * f->sin_th;
-    return g > 0.0 ? g * exp(-0.5 * t * t) : 0.0;
+    return g > 0.0 ? g * exp(-0.5 * (t - f->t_ref) * (t + f->t_ref)) : 0.0;
 }
 
 /* A facet quantity averaged over the seen facets: fn(gX, gY, cos psi, ctx). */
@@ -539,27 +547,36 @@ double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc
     double ui[3], uo[3];
     dir_vec(inc, ui);
     dir_vec(obs, uo);
-    const double cos_sum = ui[2] + uo[2];
-    const double cos_io = ui[0] * uo[0] + ui[1] * uo[1] + ui[2] * uo[2];
-    if (!(cos_sum > 0.0) || !(1.0 + cos_io > 0.0))
+    /* Half vector h = ui + uo: 1 + cos(ui, uo) = |h|^2 / 2.  Written as a
+     * sum of squares it keeps its relative accuracy where 1 + ui.uo
+     * cancels, sun and view both grazing on opposite sides (|h|^2 =
+     * 4 cos^2 theta, 1e-17 at theta = 90 - 1e-7 deg, while 1 + ui.uo is
+     * then round-off). */
+    const double h[3] = { ui[0] + uo[0], ui[1] + uo[1], ui[2] + uo[2] };
+    const double cos_sum = h[2];
+    const double h2 = h[0] * h[0] + h[1] * h[1] + h[2] * h[2];
+    if (!(cos_sum > 0.0) || !(h2 > 0.0))
         return 0.0; /* both on the horizon, or opposite: no mirror facet */
     /* Eq 14a-b: slope of the facet whose normal bisects inc and obs. */
-    const double gx0 = -(uo[0] + ui[0]) / cos_sum;
-    const double gy0 = -(uo[1] + ui[1]) / cos_sum;
-    const double J = (1.0 + cos_io) / (cos_sum * cos_sum * cos_sum); /* Eq 14d */
-    const double cos_psi0 = sqrt(0.5 * (1.0 + cos_io));
+    const double gx0 = -h[0] / cos_sum;
+    const double gy0 = -h[1] / cos_sum;
+    const double J = 0.5 * h2 / (cos_sum * cos_sum * cos_sum); /* Eq 14d */
+    const double cos_psi0 = 0.5 * sqrt(h2);
     /* g/D toward obs (Eq 9b, 10), written without tan theta_o:
-     * g/D = (cot - gX)(1 + L_o) / E[(cot - gamma_X)+]. */
+     * g/D = (cot - gX)(1 + L_o) / E[(cot - gamma_X)+].  The mirror facet
+     * always faces obs: cot th_o - gX = |h|^2 / (2 sin th_o cos_sum) > 0,
+     * used in this form because cot - gX, a difference of two terms, is
+     * round-off (and may come out negative) when both directions graze. */
     double m_o, s_o, L_o = 0.0, g_over_D = 1.0;
     sea_slope_project(st, obs.phi, &m_o, &s_o);
     if (obs.theta >= SEA_NADIR_THETA) {
         const double mu = 1.0 / tan(obs.theta);
-        const double gX = gx0 * cos(obs.phi) + gy0 * sin(obs.phi);
+        const double mu_minus_gX = 0.5 * h2 / (sin(obs.theta) * cos_sum);
         const double vis = sea_shadow_visible(mu, m_o, s_o);
-        if (!(gX < mu) || !(vis > 0.0))
-            return 0.0;
+        if (!(vis > 0.0))
+            return 0.0; /* D underflows: no facet seen from obs */
         L_o = sea_shadow_lambda(obs.theta, m_o, s_o);
-        g_over_D = (mu - gX) * (1.0 + L_o) / vis;
+        g_over_D = mu_minus_gX * (1.0 + L_o) / vis;
     }
     const double L_i = lambda_along(st, inc);
     const double S = 1.0 / (1.0 + L_o + L_i); /* Eq 14c */

@@ -182,6 +182,9 @@ sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch,
  * matches value and slope at the junction and stays positive; from ln x =
  * -3/4 upwards the 1997 formula is used unchanged. */
 double sea_spectrum_alpha_m(double u_star_over_c_m);
+/* 1 when s uses that low-wind continuation instead of the 1997 formula
+ * (u_star / c_m < exp(-3/4)), 0 otherwise. */
+int sea_spectrum_alpha_m_continued(const sea_spectrum *s);
 /* Curvature spectrum B(k) = k^3 S(k) = B_l + B_h (dimensionless), k > 0. */
 double sea_spectrum_curvature(const sea_spectrum *s, double k);
 /* Omnidirectional height spectrum S(k) = B(k)/k^3, m^3. */

@@ -54,6 +54,11 @@ double sea_spectrum_alpha_m(double x)
     return 1e-2 * f0 * exp((lx - SEA_ALPHA_M_JUNCTION) / f0);
 }
 
+int sea_spectrum_alpha_m_continued(const sea_spectrum *s)
+{
+    return log(s->u_star / SEA_C_M) < SEA_ALPHA_M_JUNCTION;
+}
+
 sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch, double wind_dir,
                              sea_error *err)
 {

@@ -912,6 +912,14 @@ check_rc render.explain_rc 0
 check_match render.explain_level "$SB_ERR" "level +[0-9]+: [0-9.]+ m, window [0-9]+ x [0-9]+ facets from"
 check_match render.explain_lr "$SB_ERR" "low-resolution: the waves longer than .* less than the tolerance 0.001"
 check_match render.explain_samples "$SB_ERR" "1 spectral sample, at 4 um"
+check_no_match render.explain_no_fallback "$SB_ERR" "fallback"
+# ... and the fallbacks of LIMITS AND FALLBACKS a scene takes.
+sed -e 's/^wind_speed *=.*/wind_speed = 1/' -e 's/^zenith *=.*/zenith = 100/' \
+    "$RSCENE" > "$RDIR/fallback.ini"
+sb_run render "$RDIR/fallback.ini" -o "$RDIR/fallback.exr" --explain --quiet --png none
+check_rc render.fallback_rc 0
+check_match render.explain_alpha_m "$SB_ERR" "fallback: at 1 m/s .* low-wind continuation"
+check_match render.explain_sun_down "$SB_ERR" "fallback: the sun \(zenith 100 deg\) is below the horizon"
 
 # Scene-file errors: FILE:LINE, exit 2, no output file.
 render_error() {
