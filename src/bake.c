@@ -11,6 +11,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "seabake.h"
 
@@ -134,13 +137,30 @@ static unsigned char *view_mask(const sea_camera *cam, const sea_clip_level *lv,
     return mask;
 }
 
+/* Progress over a frame: work done and to do (texel evaluations), and
+ * whether the caller asked to stop. */
+typedef struct {
+    sea_progress_fn fn;
+    void *ctx;
+    double done, work;
+    int cancelled;
+} bake_progress;
+
+/* Reports done + part; returns non-zero once the caller asked to stop. */
+static int report(bake_progress *bp, double part)
+{
+    if (bp->fn != NULL && bp->work > 0.0 && !bp->cancelled)
+        bp->cancelled = bp->fn(bp->ctx, fmin((bp->done + part) / bp->work, 1.0)) != 0;
+    return bp->cancelled;
+}
+
 /* The optics of one high-resolution level: of its own facets (view 0), or
  * of what the sensor sees on its view grid (view 1; south: every level's
  * moments; where the mask is 0, the facet's own optics). */
 static sea_status level_optics(const sea_render *r,
                                const sea_moments *const south[SEA_CLIP_MAX_LEVELS],
                                sea_bake_level *bl, int view, const unsigned char *mask,
-                               sea_error *err)
+                               bake_progress *bp, sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, k = view ? bl->view_k : 1;
@@ -151,11 +171,33 @@ static sea_status level_optics(const sea_render *r,
     const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                                 sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
     int failed = 0;
+    size_t rows_done = 0;
     sea_error first = { { 0 } };
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t R = 0; R < rows; R++) {
         if (failed)
             continue;
+        if (bp->fn != NULL) {
+            int stop = 0;
+#pragma omp critical(sea_bake_progress)
+            {
+#ifdef _OPENMP
+                if (omp_get_thread_num() == 0)
+#endif
+                    stop = report(bp, (double)(rows_done * cols));
+                rows_done++;
+            }
+            if (stop) {
+#pragma omp critical(sea_bake_error)
+                {
+                    if (!failed)
+                        sea_fail(&first, SEA_ERR_CANCELLED, "bake cancelled in level %d",
+                                 lv->level);
+                    failed = 1;
+                }
+                continue;
+            }
+        }
         const double y = (double)lv->j0 * lv->facet + ((double)(rows - R) - 0.5) * cell;
         for (size_t i = 0; i < cols; i++) {
             const size_t q = R * cols + i;
@@ -193,7 +235,7 @@ static sea_status level_optics(const sea_render *r,
     if (failed) {
         if (err != NULL)
             *err = first;
-        return SEA_ERR_NUMERIC;
+        return bp->cancelled ? SEA_ERR_CANCELLED : SEA_ERR_NUMERIC;
     }
     return SEA_OK;
 }
@@ -229,15 +271,15 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
     out->n_levels = n;
     /* progress: facets synthesised, facet optics and view optics (the
      * view texels' count is an upper bound of their work) */
-    double work = 0.0, done = 0.0;
+    bake_progress bp = { progress, ctx, 0.0, 0.0, 0 };
     for (size_t l = 0; l < n; l++)
         if (!lv[l].low_res)
-            work += (double)(lv[l].nx * lv[l].ny) * (2.0 + (double)(view_k * view_k));
+            bp.work += (double)(lv[l].nx * lv[l].ny) * (2.0 + (double)(view_k * view_k));
 #define PROGRESS(w)                                                                               \
     do {                                                                                          \
-        done += (w);                                                                              \
-        if (progress != NULL && work > 0.0)                                                       \
-            progress(ctx, done / work);                                                           \
+        bp.done += (w);                                                                           \
+        if (st == SEA_OK && report(&bp, 0.0))                                                     \
+            st = sea_fail(err, SEA_ERR_CANCELLED, "bake cancelled");                              \
     } while (0)
     sea_moments *south[SEA_CLIP_MAX_LEVELS] = { NULL };
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
@@ -272,10 +314,11 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
                           lv[l].level);
             break;
         }
-        st = level_optics(r, sm, bl, 0, NULL, err);
+        if (st == SEA_OK)
+            st = level_optics(r, sm, bl, 0, NULL, &bp, err);
         PROGRESS((double)(lv[l].nx * lv[l].ny));
         if (st == SEA_OK)
-            st = level_optics(r, sm, bl, 1, mask, err);
+            st = level_optics(r, sm, bl, 1, mask, &bp, err);
         PROGRESS((double)(lv[l].nx * lv[l].ny * bl->view_k * bl->view_k));
         free(mask);
     }

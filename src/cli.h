@@ -182,8 +182,8 @@ typedef struct {
     int shown; /* last percentage printed, -1 none */
 } sea_cli_progress;
 /* A sea_progress_fn: fraction of the current frame done; ctx a
- * sea_cli_progress. */
-void sea_cli_progress_bar(void *ctx, double fraction);
+ * sea_cli_progress; never stops the work. */
+int sea_cli_progress_bar(void *ctx, double fraction);
 
 /* The complex refractive index of the water at --wavelength (required, um)
  * from --water (table name or CSV file, default hale-querry), --salinity

@@ -26,6 +26,7 @@ sea_cli_exit sea_cli_exit_code(sea_status status)
         return SEA_CLI_EXIT_IO;
     case SEA_ERR_NOMEM:
     case SEA_ERR_NUMERIC:
+    case SEA_ERR_CANCELLED:
         return SEA_CLI_EXIT_RUNTIME;
     }
     return SEA_CLI_EXIT_RUNTIME;

@@ -840,10 +840,14 @@ typedef struct {
     bool on;
 } bake_progress;
 
-static void bake_progress_compute(void *ctx, double fraction)
+/* The library's progress callback: the bar on a terminal, and a stop as
+ * soon as a signal came. */
+static int bake_progress_compute(void *ctx, double fraction)
 {
     bake_progress *p = ctx;
-    sea_cli_progress_bar(&p->bar, COMPUTE_SHARE * fraction);
+    if (p->on)
+        sea_cli_progress_bar(&p->bar, COMPUTE_SHARE * fraction);
+    return bake_signal != 0;
 }
 
 static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
@@ -874,11 +878,11 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         sea_bake b;
         prog.bar.index = (size_t)(f - first);
         double t0 = sea_cli_seconds();
-        st = sea_bake_frame(r, t, (int)s->view_k, &b, prog.on ? bake_progress_compute : NULL,
-                            &prog, err);
+        st = sea_bake_frame(r, t, (int)s->view_k, &b, bake_progress_compute, &prog, err);
         stats->compute += sea_cli_seconds() - t0;
-        if (st == SEA_OK && bake_signal != 0) {
-            sea_bake_free(&b);
+        if (bake_signal != 0) {
+            if (st == SEA_OK)
+                sea_bake_free(&b);
             st = bake_interrupted(err);
         }
         if (st != SEA_OK)

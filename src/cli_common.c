@@ -143,13 +143,13 @@ double sea_cli_seconds(void)
 /* Width of the progress bar, characters. */
 enum { PROGRESS_BAR = 30 };
 
-void sea_cli_progress_bar(void *ctx, double fraction)
+int sea_cli_progress_bar(void *ctx, double fraction)
 {
     sea_cli_progress *p = ctx;
     const double done = ((double)p->index + fmin(fmax(fraction, 0.0), 1.0)) / (double)p->count;
     const int pct = (int)floor(100.0 * done);
     if (pct == p->shown)
-        return;
+        return 0;
     p->shown = pct;
     char bar[PROGRESS_BAR + 1];
     const int full = (int)floor(PROGRESS_BAR * done);
@@ -162,4 +162,5 @@ void sea_cli_progress_bar(void *ctx, double fraction)
     else
         fprintf(stderr, "\r%s: [%s] %3d%%", p->what, bar, pct);
     fflush(stderr);
+    return 0;
 }

@@ -802,7 +802,7 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
     const double unit = radiance_unit(r); /* per um */
     const float sky_T = (float)band_temperature(r, sky_L);
     size_t rows_done = 0;
-    int failed = st != SEA_OK;
+    int failed = st != SEA_OK, cancelled = 0;
     sea_error first = { { 0 } };
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t j = 0; j < H; j++) {
@@ -843,13 +843,25 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
             img->reflectivity[q] = (float)rho;
         }
         if (progress != NULL) {
+            int stop = 0;
 #pragma omp critical(sea_render_progress)
             {
                 rows_done++;
 #ifdef _OPENMP
                 if (omp_get_thread_num() == 0)
 #endif
-                    progress(ctx, (double)rows_done / (double)H);
+                    stop = progress(ctx, (double)rows_done / (double)H) != 0;
+            }
+            if (stop) {
+#pragma omp critical(sea_render_error)
+                {
+                    if (!failed) {
+                        sea_fail(&first, SEA_ERR_CANCELLED, "render cancelled at row %zu of %zu",
+                                 j, H);
+                        cancelled = 1;
+                    }
+                    failed = 1;
+                }
             }
         }
     }
@@ -860,7 +872,7 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
     if (failed) {
         if (err != NULL)
             *err = first;
-        return SEA_ERR_NUMERIC;
+        return cancelled ? SEA_ERR_CANCELLED : SEA_ERR_NUMERIC;
     }
     return SEA_OK;
 }

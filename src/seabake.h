@@ -41,7 +41,8 @@ typedef enum {
     SEA_ERR_PARSE,    /* malformed input text (table, list, number) */
     SEA_ERR_IO,       /* a file could not be read or written */
     SEA_ERR_NOMEM,    /* an allocation failed */
-    SEA_ERR_NUMERIC   /* a quadrature or root finder did not converge */
+    SEA_ERR_NUMERIC,  /* a quadrature or root finder did not converge */
+    SEA_ERR_CANCELLED /* the caller's progress function asked to stop */
 } sea_status;
 
 enum { SEA_ERROR_MSG_MAX = 512 };
@@ -637,8 +638,10 @@ typedef struct {
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err);
 void sea_image_free(sea_image *img);
 
-/* Optional progress report: fraction done in [0, 1], from one thread. */
-typedef void (*sea_progress_fn)(void *ctx, double fraction);
+/* Optional progress report: fraction done in [0, 1], from one thread.
+ * Returns 0 to go on; anything else stops the work, which then fails with
+ * SEA_ERR_CANCELLED (soon: within a row of pixels or texels). */
+typedef int (*sea_progress_fn)(void *ctx, double fraction);
 
 /* Renders the frame at time t (s; the scene's own time is sc->time). */
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,

@@ -28,6 +28,7 @@ const char *sea_status_name(sea_status status)
     case SEA_ERR_IO: return "input/output error";
     case SEA_ERR_NOMEM: return "out of memory";
     case SEA_ERR_NUMERIC: return "numerical failure";
+    case SEA_ERR_CANCELLED: return "cancelled";
     }
     return "unknown status";
 }

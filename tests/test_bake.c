@@ -356,6 +356,34 @@ static void test_view_matches_render(void)
     sea_render_free(r);
 }
 
+/* A progress function that asks to stop after `left` calls. */
+static int stop_after(void *ctx, double fraction)
+{
+    int *left = ctx;
+    CU_ASSERT(fraction >= 0.0 && fraction <= 1.0);
+    return --*left < 0;
+}
+
+/* Cancelling: the progress function's stop ends the bake with
+ * SEA_ERR_CANCELLED and nothing to free; with no stop it runs to the end,
+ * its fractions within [0, 1]. */
+static void test_cancel(void)
+{
+    const sea_scene sc = bake_scene();
+    sea_render *r = prepare(&sc);
+    sea_bake b;
+    sea_error err;
+    int left = 3;
+    CU_ASSERT_EQUAL(sea_bake_frame(r, 0.0, 3, &b, stop_after, &left, &err), SEA_ERR_CANCELLED);
+    CU_ASSERT_EQUAL(b.n_levels, 0);
+    CU_ASSERT(strstr(err.msg, "cancelled") != NULL);
+    left = 1000000;
+    CU_ASSERT_EQUAL(sea_bake_frame(r, 0.0, 3, &b, stop_after, &left, &err), SEA_OK);
+    CU_ASSERT(left < 1000000);
+    sea_bake_free(&b);
+    sea_render_free(r);
+}
+
 static void test_errors_and_earth(void)
 {
     sea_scene sc = bake_scene();
@@ -395,5 +423,6 @@ int test_bake_register(void)
            !CU_add_test(s, "normal, roughness, optics, Eq 23", test_derived_maps) ||
            !CU_add_test(s, "roughness convention", test_roughness_convention) ||
            !CU_add_test(s, "view maps reproduce seabake render", test_view_matches_render) ||
+           !CU_add_test(s, "cancelled by the progress function", test_cancel) ||
            !CU_add_test(s, "errors, spherical earth", test_errors_and_earth);
 }

@@ -311,6 +311,29 @@ static void test_clipmap_windows(void)
     sea_image_free(&b);
 }
 
+static int stop_now(void *ctx, double fraction)
+{
+    (void)ctx;
+    (void)fraction;
+    return 1;
+}
+
+/* A progress function that asks to stop ends the frame with
+ * SEA_ERR_CANCELLED. */
+static void test_render_cancel(void)
+{
+    sea_scene sc = base_scene(32);
+    sea_render *r = NULL;
+    sea_error err;
+    sea_image img;
+    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, 32, 32, &err), SEA_OK);
+    CU_ASSERT_EQUAL(sea_render_frame(r, 0.0, &img, stop_now, NULL, &err), SEA_ERR_CANCELLED);
+    CU_ASSERT(strstr(err.msg, "cancelled") != NULL);
+    sea_image_free(&img);
+    sea_render_free(r);
+}
+
 /* The paper's three figure scenes (examples/fig7-9.ini) read exactly the
  * levels of its Fig. 10: 1 and 2 m; 2, 4 and 8 m; 8, 16 and 32 m. */
 static void test_figure_levels(void)
@@ -385,5 +408,6 @@ int test_render_register(void)
            !CU_add_test(s, "levels and seams", test_levels_and_seams) ||
            !CU_add_test(s, "low-resolution levels", test_low_resolution_levels) ||
            !CU_add_test(s, "clipmap windows", test_clipmap_windows) ||
+           !CU_add_test(s, "cancelled by the progress function", test_render_cancel) ||
            !CU_add_test(s, "Fig. 7-9 level sets", test_figure_levels);
 }
