@@ -147,6 +147,12 @@ bool sea_cli_given(const sea_cli_args *args, const char *name);
 /* SEA_ERR_DOMAIN "missing --name<why>" unless option name was given. */
 sea_status sea_cli_require(const sea_cli_args *args, const char *name, const char *why,
                            sea_error *err);
+/* --tolerance T of render and bake: the scene's [model] tolerance, with its
+ * range (0, 0.1]; *out is NAN when the option is absent.  Parsed before the
+ * scene (a typing mistake is reported first), applied after it by
+ * sea_cli_apply_tolerance. */
+sea_status sea_cli_opt_tolerance(const sea_cli_args *args, double *out, sea_error *err);
+void sea_cli_apply_tolerance(double tolerance, sea_scene *sc);
 /* The option's number checked against range, or def when it is absent. */
 sea_status sea_cli_opt_number(const sea_cli_args *args, const char *name,
                               const sea_cli_range *range, double def, double *out, sea_error *err);

@@ -143,6 +143,8 @@ static const char BAKE_HELP[] =
     "  --emission-texels K emission texels per facet side, odd, 1 to 7 (default 3)\n"
     "  --pov               also a POV-Ray scene: DIR/scene.pov, scene.ini, seabake.inc\n"
     "  --blender           also the Blender import (not implemented yet)\n"
+    "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
+    "                      tolerance, as in seabake render\n"
     "  --quiet             no progress bar and no summary line\n";
 
 /* ------------------------------------------------------------- the setup */
@@ -224,8 +226,12 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     if (sea_cli_args_get(args, "blender") != NULL)
         return sea_fail(err, SEA_ERR_DOMAIN, "--blender: not implemented yet");
     s->quiet = sea_cli_args_get(args, "quiet") != NULL;
+    double tolerance;
+    if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
+        return st;
     if ((st = sea_scene_load(s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
+    sea_cli_apply_tolerance(tolerance, &s->sc);
     if ((s->dir = strndup(out, len)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     return SEA_OK;
@@ -938,6 +944,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"compression", 0},
     {"pov", SEA_CLI_OPT_FLAG},
     {"blender", SEA_CLI_OPT_FLAG},
+    {"tolerance", 0},
     {"quiet", SEA_CLI_OPT_FLAG}};
 
 const sea_cli_command sea_cli_bake_commands[] = {
