@@ -912,6 +912,26 @@ check_rc render.explain_rc 0
 check_match render.explain_level "$SB_ERR" "level +[0-9]+: [0-9.]+ m, window [0-9]+ x [0-9]+ facets from"
 check_match render.explain_lr "$SB_ERR" "low-resolution: the waves longer than .* less than the tolerance 0.001"
 check_match render.explain_samples "$SB_ERR" "1 spectral sample, at 4 um"
+check_match render.explain_emissivity "$SB_ERR" "emissivity: fast \(not scaled by the tolerance\)"
+check_match render.explain_waves "$SB_ERR" "waves: [0-9]+ sinusoids, 8 bins per octave x 32 directions$"
+
+# --tolerance: overrides the scene's; a loose one scales the emissivity
+# orders, thins the wave directions and skips variable-step-2n sub-facets.
+sed -e 's/^emissivity = .*/emissivity = auto/' -e 's/^\[model\]/[model]\nmethod = variable-step-2n\nn = 1/' \
+    "$RSCENE" \
+    >"$RDIR/sea2n.ini"
+sb_run render "$RDIR/sea2n.ini" -o "$RDIR/tol.exr" --tolerance 0.1 --explain --quiet --png none
+check_rc render.tolerance_rc 0
+check render.tolerance_file test -s "$RDIR/tol.exr"
+check_match render.tolerance_header "$SB_ERR" "tolerance 0.1, method variable-step-2n"
+check_match render.tolerance_emissivity "$SB_ERR" "emissivity: auto rule, orders x 0.5 \(scaled down"
+check_match render.tolerance_waves "$SB_ERR" "waves: [0-9]+ sinusoids, 8 bins per octave x 8 directions \(fewer"
+check_match render.tolerance_skipped "$SB_ERR" \
+    "level +[0-9]+: sub-facets of [0-9.]+ m resolve [0-9.e-]+ of the slope variance: skipped, less than the tolerance \(n = 0\)"
+check_match render.tolerance_lr "$SB_ERR" "less than the tolerance 0.1$"
+sb_run render "$RDIR/sea2n.ini" -o "$RDIR/tol2.exr" --explain --quiet --png none
+check_match render.tolerance_computed "$SB_ERR" "of the slope variance: computed, at least the tolerance"
+check_match render.tolerance_default_emissivity "$SB_ERR" "emissivity: auto rule, orders x 1 \(the full rule"
 
 # Scene-file errors: FILE:LINE, exit 2, no output file.
 render_error() {
@@ -975,6 +995,11 @@ render_usage render.rate_alone "--frame-rate applies only with --frames" \
     "$RSCENE" -o "$RDIR/bad.exr" --frame-rate 30
 render_usage render.rate_zero "--frame-rate: 0 is outside \(0, inf\) Hz" \
     "$RSCENE" -o "$RDIR/bad.exr" --frames 0:1 --frame-rate 0
+render_usage render.tolerance_zero "--tolerance: 0 is outside \(0, 0.1\]" \
+    "$RSCENE" -o "$RDIR/bad.exr" --tolerance 0
+render_usage render.tolerance_high "--tolerance: 0.2 is outside \(0, 0.1\]" \
+    "$RSCENE" -o "$RDIR/bad.exr" --tolerance 0.2
+render_usage render.tolerance_text "--tolerance: " "$RSCENE" -o "$RDIR/bad.exr" --tolerance abc
 render_usage render.threads "--threads: 0 is outside \[1, 1024\]" "$RSCENE" -o "$RDIR/bad.exr" --threads 0
 render_usage render.half_value "--half takes no value" "$RSCENE" -o "$RDIR/bad.exr" --half=1
 cp "$RSCENE" "$RDIR/bad.exr"
@@ -1025,6 +1050,14 @@ exr_header() {
         sed -n 's/.*6368616e6e656c730063686c69737400\(.\{0,240\}\).*/\1/p'
 }
 BGROUPS="moments moments2 optics normal roughness emission"
+
+sb_run bake "$RSCENE" -o "$BDIR/tol" --tolerance 0.2
+check_error bake.tolerance_high 2 "--tolerance: 0.2 is outside \(0, 0.1\]"
+check bake.tolerance_no_dir test ! -e "$BDIR/tol"
+sb_run bake "$RSCENE" -o "$BDIR/tol" --tolerance 0.05 --quiet
+check_rc bake.tolerance_rc 0
+check_match bake.tolerance_manifest "$(cat "$BDIR/tol/manifest.json")" '"tolerance":[[:space:]]*0.05'
+rm -rf "$BDIR/tol"
 
 sb_run bake "$RSCENE" -o "$BDIR/out"
 check_rc bake.rc 0
