@@ -762,13 +762,14 @@ else
     check_eq bench.header "$(csv_header)" \
         "quantity,method,settings,seconds_per_call,max_error,rms_error,conditions"
     # 6 wave rows; full, fast, auto and 5 x 3 product rules; reflectivity;
-    # energy with each of the 3 emissivity methods.
-    check_eq bench.rows "$(csv_rows)" 28
+    # energy with each of the 3 emissivity methods; 3 scenes x (reference +
+    # 5 methods) whole images.
+    check_eq bench.rows "$(csv_rows)" 46
     check_eq bench.fields "$(printf '%s\n' "$SB_OUT" | awk -F, '{ print NF }' | sort -u)" 7
     check_eq bench.quantities "$(csv_all quantity | uniq | tr '\n' ' ')" \
-        "waves emissivity reflectivity energy "
+        "waves emissivity reflectivity energy image "
     check_eq bench.methods "$(csv_all method | uniq -c | awk '{ printf "%s%s ", $1, $2 }')" \
-        "1variable-step 1variable-step-2n 1one-meter 1variable-step 1fft-sample 1sinusoids-sample 1full 1fast 1auto 15rule 1closed-form 1full 1auto 1fast "
+        "1variable-step 1variable-step-2n 1one-meter 1variable-step 1fft-sample 1sinusoids-sample 1full 1fast 1auto 15rule 1closed-form 1full 1auto 1fast 1reference 1variable-step 3variable-step-2n 1one-meter 1reference 1variable-step 3variable-step-2n 1one-meter 1reference 1variable-step 3variable-step-2n 1one-meter "
     check_eq bench.rules "$(printf '%s\n' "$SB_OUT" | awk -F, '$2 == "rule" { printf "%s;", $3 }')" \
         "Eq 7 GL 8 x GH 4;Eq 7 GL 8 x GH 8;Eq 7 GL 8 x GH 16;Eq 7 GL 16 x GH 4;Eq 7 GL 16 x GH 8;Eq 7 GL 16 x GH 16;Eq 7 GL 32 x GH 4;Eq 7 GL 32 x GH 8;Eq 7 GL 32 x GH 16;Eq 7 GL 64 x GH 4;Eq 7 GL 64 x GH 8;Eq 7 GL 64 x GH 16;Eq 7 GL 128 x GH 4;Eq 7 GL 128 x GH 8;Eq 7 GL 128 x GH 16;"
     check_eq bench.threads_column "$(csv_all conditions | sed -n 's/.*; \([0-9]*\) threads$/\1/p' | sort -u)" 2
@@ -791,10 +792,25 @@ else
     num_check bench.rules_converge 'a > b' a="$(err_of emissivity rule 'Eq 7 GL 8 x GH 4')" \
         b="$(err_of emissivity rule 'Eq 7 GL 128 x GH 16')"
     num_check bench.energy_auto 'e <= 1e-4' e="$(err_of energy auto)"
+    # Whole images: errors are numbers, 0 for the references; more
+    # sub-facets come closer to the reference on every scene.
+    bad=$(printf '%s\n' "$SB_OUT" | awk -F, '$1 == "image" &&
+        !($5 ~ /^[0-9.e+-]+$/ && $6 ~ /^[0-9.e+-]+$/ && $6 >= 0 && $6 <= $5 + 0)')
+    check_eq bench.image_errors "$bad" ""
+    check_eq bench.image_reference "$(printf '%s\n' "$SB_OUT" |
+        awk -F, '$1 == "image" && $2 == "reference" { printf "%s;", $5 }')" "0;0;0;"
+    for fig in 7 8 9; do
+        num_check "bench.image_converges.$fig" 'a > b' \
+            a="$(printf '%s\n' "$SB_OUT" | awk -F, -v f="fig$fig" '$1 == "image" && $2 == "variable-step" && index($3, f) == 1 { print $6 }')" \
+            b="$(printf '%s\n' "$SB_OUT" | awk -F, -v f="fig$fig n=3" '$1 == "image" && index($3, f) == 1 { print $6 }')"
+    done
+    check_match bench.image_table "$SB_OUT" "^image,variable-step-2n,fig8 n=2"
     check_eq bench.png_magic "$(od -An -tx1 -N8 "$SB_TMP/bench/speed_accuracy.png" 2>/dev/null |
         tr -d ' \n')" "89504e470d0a1a0a"
+    check_eq bench.image_png_magic "$(od -An -tx1 -N8 "$SB_TMP/bench/image_speed_accuracy.png" 2>/dev/null |
+        tr -d ' \n')" "89504e470d0a1a0a"
     check bench.no_temporaries [ -z "$(ls -A "$SB_TMP/bench" | grep -v '^bench.csv$' |
-        grep -v '^speed_accuracy.png$')" ]
+        grep -v '^speed_accuracy.png$' | grep -v '^image_speed_accuracy.png$')" ]
 fi
 
 # ================================================================ render
