@@ -649,8 +649,7 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
 /* What the scene's [model] tolerance T (relative radiance) chose in
  * sea_render_prepare besides the low-resolution levels, the spectral
  * samples and the per-level sub-facets (sea_clip_level.sub_skipped).
- * Each rule is a step in T, measured as stated (PHYSICS.md section 9,
- * tolerance):
+ * Each rule is a step in T, with the measurement that sets it:
  *  - emissivity (emissivity = auto only): the auto rule's orders times
  *    emis_scale, rounded up: 1 for T <= SEA_TOL_EMIS_T1 (the default 1e-3
  *    keeps today's rule), 0.65 up to SEA_TOL_EMIS_T2, 0.5 above.  Over theta
