@@ -147,6 +147,12 @@ bool sea_cli_given(const sea_cli_args *args, const char *name);
 /* SEA_ERR_DOMAIN "missing --name<why>" unless option name was given. */
 sea_status sea_cli_require(const sea_cli_args *args, const char *name, const char *why,
                            sea_error *err);
+/* --tolerance T of render and bake: the scene's [model] tolerance, with its
+ * range (0, 0.1]; *out is NAN when the option is absent.  Parsed before the
+ * scene (a typing mistake is reported first), applied after it by
+ * sea_cli_apply_tolerance. */
+sea_status sea_cli_opt_tolerance(const sea_cli_args *args, double *out, sea_error *err);
+void sea_cli_apply_tolerance(double tolerance, sea_scene *sc);
 /* The option's number checked against range, or def when it is absent. */
 sea_status sea_cli_opt_number(const sea_cli_args *args, const char *name,
                               const sea_cli_range *range, double def, double *out, sea_error *err);
@@ -217,6 +223,20 @@ typedef struct {
  * malloc'ed array of *nrows rows. */
 sea_status sea_cli_bench_optics(bool quick, sea_cli_bench_row **rows, size_t *nrows,
                                 sea_cli_bench_summary *sum, sea_error *err);
+/* Whole-image rows (quantity "image"): the scenes of examples/fig7-9.ini
+ * scaled down to 96 x 96 pixels (32 x 32 with quick), geometry kept; per
+ * scene a reference row (variable-step-2n with sub-facets down to L0 on
+ * every level, i.e. one-meter's statistics on the same sinusoids, and the
+ * adaptive Eq 7) and rows for variable-step, variable-step-2n n = 1, 2, 3
+ * and one-meter (FFT waves: another realisation of the same sea) at the
+ * default tolerance and emissivity: seconds per image (prepare and frame,
+ * threads threads) and max/RMS relative radiance error per pixel. */
+sea_status sea_cli_bench_images(bool quick, int threads, sea_cli_bench_row **rows,
+                                size_t *nrows, sea_error *err);
+/* gnuplot script of the image rows: seconds per image against the max and
+ * RMS error, one colour per scene.  malloc'ed; NULL when out of memory. */
+char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nrows,
+                                       const char *png);
 /* The row is a reference (its errors are 0 by definition). */
 bool sea_cli_bench_is_reference(const sea_cli_bench_row *r);
 /* gnuplot script of the emissivity rows: log-log seconds per call against

@@ -147,6 +147,8 @@ static const char BAKE_HELP[] =
     "  --blender           also the Blender import: DIR/seabake_import.py, run as\n"
     "                      blender -b --factory-startup --python DIR/seabake_import.py\n"
     "                        -- DIR/manifest.json [--save FILE.blend] [--render OUT.exr]\n"
+    "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
+    "                      tolerance, as in seabake render\n"
     "  --quiet             no progress bar and no summary line\n";
 
 /* ------------------------------------------------------------- the setup */
@@ -226,8 +228,12 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
                         s->view_k, SEA_BAKE_VIEW_K_MAX);
     s->blender = sea_cli_args_get(args, "blender") != NULL;
     s->quiet = sea_cli_args_get(args, "quiet") != NULL;
+    double tolerance;
+    if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
+        return st;
     if ((st = sea_scene_load(s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
+    sea_cli_apply_tolerance(tolerance, &s->sc);
     if ((s->dir = strndup(out, len)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     return SEA_OK;
@@ -1031,6 +1037,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"compression", 0},
     {"pov", SEA_CLI_OPT_FLAG},
     {"blender", SEA_CLI_OPT_FLAG},
+    {"tolerance", 0},
     {"quiet", SEA_CLI_OPT_FLAG}};
 
 const sea_cli_command sea_cli_bake_commands[] = {

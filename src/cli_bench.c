@@ -42,6 +42,8 @@ enum { SEA_CLI_BENCH_REPS = 5, SEA_CLI_BENCH_REPS_QUICK = 2 };
 /* The goal the default is sized for (issue 6), drawn on the chart. */
 static const double SEA_CLI_BENCH_GOAL_ERROR = 1e-4;
 static const double SEA_CLI_BENCH_GOAL_SPEEDUP = 100.0;
+/* Whole-image rows: the side of the scaled-down scenes (pixels). */
+enum { SEA_CLI_BENCH_IMAGE = 96, SEA_CLI_BENCH_IMAGE_QUICK = 32 };
 /* Chart floor for an error that is exactly 0 (a log axis has no 0). */
 static const double SEA_CLI_BENCH_ERROR_FLOOR = 1e-17;
 
@@ -286,7 +288,7 @@ fail:
 
 bool sea_cli_bench_is_reference(const sea_cli_bench_row *r)
 {
-    return strcmp(r->method, "full") == 0;
+    return strcmp(r->method, "full") == 0 || strcmp(r->method, "reference") == 0;
 }
 
 /* gnuplot's single-quoted strings double a quote. */
@@ -399,6 +401,201 @@ char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows, co
     fputs("plot $F using 1:2 with lines lw 2 lc rgb '#d62728' title 'Pareto front', \\\n"
           "  $P using 1:2 with points pt 7 ps 1.2 lc rgb '#1f77b4' title 'method / rule GLxGH', \\\n"
           "  $P using 1:2:3 with labels offset 0.8,0.6 left font ',9' notitle\n"
+          "set output\n",
+          f);
+    if (fclose(f) != 0) {
+        free(text);
+        return NULL;
+    }
+    return text;
+}
+
+/* ---------------------------------------------------------------- images */
+
+/* Whole images of the paper's three scenes (examples/fig7.ini, fig8.ini,
+ * fig9.ini), scaled down to side x side pixels with the same geometry (so
+ * footprints are 500/side times larger and the levels coarser). */
+static void bench_fig_scene(int fig, int side, sea_scene *sc)
+{
+    sea_scene_defaults(sc);
+    sc->wind_dir = 90.0 * M_PI / 180.0;
+    sc->temperature = 288.0;
+    sc->seed = 1;
+    sc->sun_azimuth = M_PI;
+    sc->sky_temperature = 250.0;
+    sc->look_azimuth = M_PI;
+    sc->width = sc->height = side;
+    sc->wavelength = 4e-6;
+    sc->method = SEA_METHOD_VARIABLE_STEP;
+    if (fig == 7) {
+        sc->wind_speed = 10.0;
+        sc->sun_zenith = 0.0;
+        sc->altitude = 389.0;
+        sc->look_zenith = 0.0;
+        sc->hfov = 50.0 * M_PI / 180.0;
+        sc->finest = 1.0;
+        sc->grid = 256;
+    } else {
+        sc->wind_speed = 15.0;
+        sc->sun_zenith = 40.0 * M_PI / 180.0;
+        sc->altitude = fig == 8 ? 500.0 : 1500.0;
+        sc->look_zenith = 36.0 * M_PI / 180.0;
+        sc->hfov = 80.0 * M_PI / 180.0;
+        sc->finest = fig == 8 ? 2.0 : 8.0;
+        sc->grid = 512;
+    }
+}
+
+/* Renders sc once: the radiance into img (allocated here), the wall-clock
+ * seconds of prepare and frame into *seconds. */
+static sea_status bench_image(const sea_scene *sc, sea_image *img, double *seconds,
+                              sea_error *err)
+{
+    sea_render *r = NULL;
+    const double t0 = sea_cli_seconds();
+    sea_status st = sea_render_prepare(sc, &r, err);
+    if (st == SEA_OK)
+        st = sea_image_alloc(img, sc->width, sc->height, err);
+    if (st == SEA_OK)
+        st = sea_render_frame(r, sc->time, img, NULL, NULL, err);
+    *seconds = sea_cli_seconds() - t0;
+    sea_render_free(r);
+    return st;
+}
+
+sea_status sea_cli_bench_images(bool quick, int threads, sea_cli_bench_row **rows_out,
+                                size_t *nrows_out, sea_error *err)
+{
+    static const int figs[] = {7, 8, 9};
+    static const struct {
+        sea_facet_method method;
+        int n;
+    } cases[] = {{SEA_METHOD_VARIABLE_STEP, 0},    {SEA_METHOD_VARIABLE_STEP_2N, 1},
+                 {SEA_METHOD_VARIABLE_STEP_2N, 2}, {SEA_METHOD_VARIABLE_STEP_2N, 3},
+                 {SEA_METHOD_ONE_METER, 0}};
+    enum { NCASES = sizeof cases / sizeof cases[0], NFIGS = sizeof figs / sizeof figs[0] };
+    const int side = quick ? SEA_CLI_BENCH_IMAGE_QUICK : SEA_CLI_BENCH_IMAGE;
+    sea_cli_bench_row *rows = calloc(NFIGS * (NCASES + 1), sizeof *rows);
+    if (rows == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    size_t n = 0;
+    sea_status st = SEA_OK;
+    for (size_t f = 0; f < NFIGS && st == SEA_OK; ++f) {
+        sea_scene sc;
+        bench_fig_scene(figs[f], side, &sc);
+        /* The reference: sub-facets down to L0 on every level (one-meter's
+         * statistics, but on the same sinusoids as the rows) and the
+         * adaptive Eq 7. */
+        sea_scene ref_sc = sc;
+        ref_sc.method = SEA_METHOD_VARIABLE_STEP_2N;
+        ref_sc.n = 20;
+        ref_sc.emissivity_method = SEA_EMIS_FULL;
+        sea_image ref = {0};
+        double ref_s;
+        char cond[sizeof rows[0].conditions];
+        snprintf(cond, sizeof cond,
+                 "fig%d.ini at %dx%d (same geometry); U10=%g m/s; 4 um; relative radiance "
+                 "error per pixel; %d threads",
+                 figs[f], side, side, sc.wind_speed, threads);
+        st = bench_image(&ref_sc, &ref, &ref_s, err);
+        if (st == SEA_OK) {
+            sea_cli_bench_row *r =
+                bench_add(rows, &n, "image", "reference", ref_s, 0.0, 0.0, cond);
+            snprintf(r->settings, sizeof r->settings,
+                     "fig%d variable-step-2n n=20 (sub-facets to L0) + full Eq 7", figs[f]);
+        }
+        for (size_t c = 0; c < NCASES && st == SEA_OK; ++c) {
+            sea_scene s = sc;
+            s.method = cases[c].method;
+            s.n = cases[c].n;
+            sea_image img = {0};
+            double sec;
+            st = bench_image(&s, &img, &sec, err);
+            if (st == SEA_OK) {
+                const size_t np = (size_t)side * (size_t)side;
+                double m = 0.0, ss = 0.0;
+                for (size_t q = 0; q < np; ++q) {
+                    const double d = fabs((double)img.radiance[q] - (double)ref.radiance[q]) /
+                                     (double)ref.radiance[q];
+                    m = fmax(m, d);
+                    ss += d * d;
+                }
+                sea_cli_bench_row *r =
+                    bench_add(rows, &n, "image", sea_facet_method_name(cases[c].method), sec, m,
+                              sqrt(ss / (double)np), cond);
+                if (cases[c].method == SEA_METHOD_VARIABLE_STEP_2N)
+                    snprintf(r->settings, sizeof r->settings, "fig%d n=%d; auto; tolerance %g",
+                             figs[f], cases[c].n, s.tolerance);
+                else if (cases[c].method == SEA_METHOD_ONE_METER)
+                    snprintf(r->settings, sizeof r->settings,
+                             "fig%d FFT waves (another realisation); auto; tolerance %g", figs[f],
+                             s.tolerance);
+                else
+                    snprintf(r->settings, sizeof r->settings, "fig%d auto; tolerance %g",
+                             figs[f], s.tolerance);
+            }
+            sea_image_free(&img);
+        }
+        sea_image_free(&ref);
+    }
+    if (st != SEA_OK) {
+        free(rows);
+        return st;
+    }
+    *rows_out = rows;
+    *nrows_out = n;
+    return SEA_OK;
+}
+
+char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nrows,
+                                       const char *png)
+{
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+    if (f == NULL)
+        return NULL;
+    fputs("set encoding utf8\n"
+          "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+          "  set terminal pngcairo size 1000,700 font 'sans,10'\n"
+          "} else {\n"
+          "  set terminal png size 1000,700\n"
+          "}\n"
+          "set output ",
+          f);
+    put_quoted(f, png);
+    fputc('\n', f);
+    static const char *const figs[] = {"fig7", "fig8", "fig9"};
+    for (size_t k = 0; k < 3; ++k) {
+        fprintf(f, "$F%zu << EOD\n", k);
+        for (size_t i = 0; i < nrows; ++i) {
+            const sea_cli_bench_row *r = &rows[i];
+            if (strcmp(r->quantity, "image") != 0 || sea_cli_bench_is_reference(r) ||
+                strncmp(r->settings, figs[k], 4) != 0)
+                continue;
+            int nn = 0;
+            char label[32];
+            if (sscanf(r->settings + 5, "n=%d", &nn) == 1)
+                snprintf(label, sizeof label, "2n n=%d", nn);
+            else
+                snprintf(label, sizeof label, "%s", r->method);
+            fprintf(f, "%.6g %.6g %.6g \"%s\"\n", r->seconds,
+                    fmax(r->max_err, SEA_CLI_BENCH_ERROR_FLOOR),
+                    fmax(r->rms_err, SEA_CLI_BENCH_ERROR_FLOOR), label);
+        }
+        fputs("EOD\n", f);
+    }
+    fputs("set logscale xy\nset format y '10^{%L}'\nset grid\n"
+          "set xlabel 'seconds per image (all threads)'\n"
+          "set ylabel 'relative radiance error against the reference'\n"
+          "set key top right opaque\n"
+          "set title 'Whole images (Fig. 7-9 scenes, scaled down): RMS (filled) and max "
+          "(open) error'\n"
+          "plot for [k=0:2] '$F'.k using 1:3 with points pt 7 ps 1.3 lc k+1 "
+          "title sprintf('fig%d RMS', k+7), \\\n"
+          "  for [k=0:2] '$F'.k using 1:2 with points pt 6 ps 1.3 lc k+1 "
+          "title sprintf('fig%d max', k+7), \\\n"
+          "  for [k=0:2] '$F'.k using 1:3:4 with labels offset 0.8,0.5 left font ',8' notitle\n"
           "set output\n",
           f);
     if (fclose(f) != 0) {

@@ -47,6 +47,20 @@ sea_status sea_cli_opt_number(const sea_cli_args *args, const char *name,
     return sea_cli_parse_number(dashed(name, opt, sizeof opt), text, range, out, err);
 }
 
+/* The range of [model] tolerance in scene.c. */
+static const sea_cli_range SEA_CLI_RANGE_SCENE_TOL = {0.0, 0.1, true, false, ""};
+
+sea_status sea_cli_opt_tolerance(const sea_cli_args *args, double *out, sea_error *err)
+{
+    return sea_cli_opt_number(args, "tolerance", &SEA_CLI_RANGE_SCENE_TOL, NAN, out, err);
+}
+
+void sea_cli_apply_tolerance(double tolerance, sea_scene *sc)
+{
+    if (!isnan(tolerance))
+        sc->tolerance = tolerance;
+}
+
 sea_status sea_cli_opt_list(const sea_cli_args *args, const char *name, const sea_cli_range *range,
                             const char *def, sea_cli_list *out, sea_error *err)
 {

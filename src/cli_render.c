@@ -90,12 +90,17 @@ static const char RENDER_HELP[] =
     "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
     "\n"
     "Running:\n"
+    "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
+    "                      tolerance (low-resolution levels, spectral samples,\n"
+    "                      emissivity orders, wave directions, sub-facets skipped)\n"
     "  --threads N         OpenMP threads, 1..1024; default: the OpenMP default\n"
     "  --quiet             no progress bar and no summary line\n"
     "  --explain           print on standard error what was chosen: the clipmap\n"
-    "                      levels (facet size, window, resolution, pixels), why\n"
-    "                      levels are low-resolution, the fallbacks taken\n"
-    "                      (seabake(1), LIMITS AND FALLBACKS), the spectral samples\n";
+    "                      levels (facet size, window, resolution, pixels, sub-\n"
+    "                      facets), why levels are low-resolution or sub-facets\n"
+    "                      skipped, the emissivity rule, the wave components, the\n"
+    "                      fallbacks taken (seabake(1), LIMITS AND FALLBACKS), the\n"
+    "                      spectral samples\n";
 
 /* ------------------------------------------------------------- the setup */
 
@@ -216,11 +221,15 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
     s->quiet = sea_cli_args_get(args, "quiet") != NULL;
     s->explain = sea_cli_args_get(args, "explain") != NULL;
     s->progress = !s->quiet && isatty(STDERR_FILENO);
+    double tolerance;
+    if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
+        return st;
 
     /* The scene is read last: a typing mistake on the command line is
      * reported first. */
     if ((st = sea_scene_load(s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
+    sea_cli_apply_tolerance(tolerance, &s->sc);
 
     if (out != NULL) {
         s->out_stem = strndup(out, strlen(out) - strlen(".exr"));
@@ -301,9 +310,22 @@ static void explain(const render_setup *s, const sea_render *r)
         else
             fprintf(stderr,
                     "  level %2d: %.10g m, window %zu x %zu facets from (%ld, %ld) = (%g m, %g m), "
-                    "generated share %.3g, %zu pixels, sub-facets 2^%d x 2^%d\n",
+                    "generated share %.3g, %zu pixels, sub-facets 2^%d x 2^%d%s\n",
                     l->level, l->facet, l->nx, l->ny, l->i0, l->j0, (double)l->i0 * l->facet,
-                    (double)l->j0 * l->facet, l->generated_share, l->pixels, l->sub_n, l->sub_n);
+                    (double)l->j0 * l->facet, l->generated_share, l->pixels, l->sub_n, l->sub_n,
+                    l->sub_skipped ? " (skipped)" : "");
+    }
+    /* Sub-facets: what each level resolves, and which the tolerance skipped. */
+    for (size_t i = 0; i < n; ++i) {
+        const sea_clip_level *l = &lv[i];
+        if (l->low_res || (l->sub_n == 0 && !l->sub_skipped))
+            continue;
+        const int want = l->sub_skipped ? (sc->n < l->level ? sc->n : l->level) : l->sub_n;
+        fprintf(stderr,
+                "  level %2d: sub-facets of %g m resolve %.3g of the slope variance: %s\n",
+                l->level, l->facet / (double)(1L << want), l->sub_share,
+                l->sub_skipped ? "skipped, less than the tolerance (n = 0)"
+                               : "computed, at least the tolerance");
     }
     /* The first low-resolution level is the end of every pixel's chain. */
     for (size_t i = 0; i < n; ++i) {
@@ -338,6 +360,31 @@ static void explain(const render_setup *s, const sea_render *r)
         fprintf(stderr, "  windows = clipmap: every high-resolution level is %d x %d facets "
                         "around the point the optical axis meets, whether pixels read it or not\n",
                 sc->grid, sc->grid);
+    const sea_render_choices ch = sea_render_choices_of(r);
+    if (sc->emissivity_method == SEA_EMIS_AUTO)
+        fprintf(stderr,
+                "render: emissivity: auto rule, orders x %g (%s): n_gl = ceil(%g (16 + 12 s_X)), "
+                "n_gh = ceil(%g (2 + 6 s + 16 s^2))\n",
+                ch.emis_scale,
+                ch.emis_scale < 1.0 ? "scaled down: the tolerance allows an emissivity error "
+                                      "of a tenth of it"
+                                    : "the full rule, about 1e-5",
+                ch.emis_scale, ch.emis_scale);
+    else
+        fprintf(stderr, "render: emissivity: %s (not scaled by the tolerance)\n",
+                sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+    if (ch.wave_count == 0)
+        fprintf(stderr, "render: waves: none (every level is low-resolution)\n");
+    else if (ch.directions > 0)
+        fprintf(stderr,
+                "render: waves: %zu sinusoids, %d bins per octave x %d directions%s\n",
+                ch.wave_count, ch.bins_per_octave, ch.directions,
+                ch.directions < 32 ? " (fewer directions: the tolerance allows a noisier "
+                                     "windowed slope variance)"
+                                   : "");
+    else
+        fprintf(stderr, "render: waves: %zu FFT modes (not thinned by the tolerance)\n",
+                ch.wave_count);
     const double *wl, *wt;
     const size_t k = sea_render_samples(r, &wl, &wt);
     if (sc->wavelength > 0.0) {
@@ -539,6 +586,7 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"png-depth", 0},
     {"half", SEA_CLI_OPT_FLAG},
     {"threads", 0},
+    {"tolerance", 0},
     {"quiet", SEA_CLI_OPT_FLAG},
     {"explain", SEA_CLI_OPT_FLAG}};
 

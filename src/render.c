@@ -68,6 +68,7 @@ struct sea_render {
     int used[SEA_CLIP_MAX_LEVELS];
     sea_clip_level compact[SEA_CLIP_MAX_LEVELS]; /* the used levels, finest first */
     size_t ncompact;
+    sea_render_choices choices;
 };
 
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err)
@@ -204,6 +205,33 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     return SEA_OK;
 }
 
+/* The tolerance's rules (see sea_render_choices in seabake.h for the
+ * measurements behind each step). */
+static double tol_emis_scale(double tol)
+{
+    return tol <= SEA_TOL_EMIS_T1 ? 1.0 : tol <= SEA_TOL_EMIS_T2 ? 0.65 : 0.5;
+}
+
+static int tol_directions(double tol, int def)
+{
+    return tol < SEA_TOL_DIR_T1 ? def : tol < SEA_TOL_DIR_T2 ? def / 2 : def / 4;
+}
+
+sea_emis_rule sea_render_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v)
+{
+    sea_emis_rule a = sea_emissivity_auto_rule(st, v);
+    if (emis_scale >= 1.0)
+        return a;
+    a.n_gl = (int)fmax(2.0, ceil(emis_scale * a.n_gl));
+    a.n_gh = (int)fmax(1.0, ceil(emis_scale * a.n_gh));
+    return a;
+}
+
+sea_render_choices sea_render_choices_of(const sea_render *r)
+{
+    return r->choices;
+}
+
 /* Radiance of a facet with stats st seen from obs, sun from sun (or none),
  * summed over the samples with their weights; band means of emissivity and
  * reflectivity through *e and *rho. */
@@ -212,10 +240,18 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
                                  sea_error *err)
 {
     double sl = 0.0, se = 0.0, sr = 0.0;
+    /* a scaled auto rule: the same orders for every wavelength */
+    const int scaled = r->sc.emissivity_method == SEA_EMIS_AUTO && r->choices.emis_scale < 1.0;
+    sea_emis_rule rule = { 0, 0 };
+    if (scaled && sea_slope_stats_check(st, NULL) == SEA_OK && obs.theta >= 0.0 &&
+        obs.theta < M_PI_2)
+        rule = sea_render_emis_rule(r->choices.emis_scale, st, obs);
     for (size_t i = 0; i < r->nsamp; i++) {
         double eps;
-        sea_status s = sea_emissivity(r->optics, (sea_emis_method)r->sc.emissivity_method,
-                                      r->N[i], st, obs, &eps, err);
+        sea_status s = scaled ? sea_emissivity_rule(r->optics, rule, r->N[i], st, obs, &eps, err)
+                              : sea_emissivity(r->optics,
+                                               (sea_emis_method)r->sc.emissivity_method, r->N[i],
+                                               st, obs, &eps, err);
         if (s != SEA_OK)
             return s;
         const double rr = sun_up ? sea_reflectivity(r->N[i], st, sun, obs) : 0.0;
@@ -406,6 +442,9 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     if (r == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     r->sc = *sc;
+    r->choices.tolerance = sc->tolerance;
+    r->choices.emis_scale =
+        sc->emissivity_method == SEA_EMIS_AUTO ? tol_emis_scale(sc->tolerance) : 1.0;
     sea_status st;
 #define TRY(expr)                                                                                 \
     do {                                                                                          \
@@ -556,6 +595,22 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
         case SEA_METHOD_VARIABLE_STEP_2N: lv->sub_n = sc->n < l ? sc->n : l; break;
         case SEA_METHOD_ONE_METER: lv->sub_n = l; break;
         }
+        if (lv->sub_n > 0) {
+            /* The sub-facets resolve the waves between L / 2^n and L: the
+             * slope variance they move from C into the spread of the mean
+             * slopes.  Below the tolerance of the total, variable-step-2n
+             * skips them (one-meter is the reference and keeps them). */
+            sea_cov2 c_l, c_fine;
+            TRY(sea_spectrum_slope_cov(&r->spec, M_PI / L, &c_l, err));
+            TRY(sea_spectrum_slope_cov(&r->spec, M_PI * exp2(lv->sub_n) / L, &c_fine, err));
+            const double band = (c_l.xx + c_l.yy) - (c_fine.xx + c_fine.yy);
+            lv->sub_share = tr_lr > 0.0 ? fmax(band, 0.0) / tr_lr : 0.0;
+            if (sc->method == SEA_METHOD_VARIABLE_STEP_2N && lv->sub_share < sc->tolerance) {
+                lv->sub_n = 0;
+                lv->sub_skipped = 1;
+                r->choices.sub_skipped++;
+            }
+        }
         const size_t ext = (lv->nx > lv->ny ? lv->nx : lv->ny) << l;
         while (fft_cells < ext)
             fft_cells *= 2;
@@ -579,6 +634,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
         wp.finest = L0;
         wp.seed = sc->seed;
         wp.loop_period = sc->loop_period;
+        wp.directions = tol_directions(sc->tolerance, wp.directions);
         if (sc->method == SEA_METHOD_ONE_METER) {
             wp.kind = SEA_WAVES_FFT;
             if (fft_cells > 16384) {
@@ -591,6 +647,9 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
             wp.fft_size = fft_cells;
         }
         TRY(sea_waves_create(&r->spec, &wp, &r->waves, err));
+        r->choices.bins_per_octave = wp.bins_per_octave;
+        r->choices.directions = wp.kind == SEA_WAVES_SINUSOIDS ? wp.directions : 0;
+        r->choices.wave_count = sea_waves_count(r->waves);
     }
 
     /* spectral samples */

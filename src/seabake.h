@@ -608,7 +608,12 @@ typedef struct {
     long i0, j0;
     size_t nx, ny;
     int low_res;
-    int sub_n;        /* sub-facet exponent of the method at this level */
+    int sub_n;        /* sub-facet exponent of the method at this level (0 when skipped) */
+    int sub_skipped;  /* variable-step-2n: sub-facets skipped (sub_n = 0) because the
+                         waves between the sub-facet and the facet size carry less than
+                         the tolerance of the slope variance (sub_share < tolerance) */
+    double sub_share; /* share of the LR slope variance (trace) in the waves from the
+                         method's sub-facet size to the facet size (0 for variable-step) */
     double generated_share; /* share of the LR slope variance (trace) in waves >= facet */
     size_t pixels;    /* pixels whose footprint chose this level */
 } sea_clip_level;
@@ -646,6 +651,43 @@ typedef int (*sea_progress_fn)(void *ctx, double fraction);
 /* Renders the frame at time t (s; the scene's own time is sc->time). */
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err);
+
+/* What the scene's [model] tolerance T (relative radiance) chose in
+ * sea_render_prepare besides the low-resolution levels, the spectral
+ * samples and the per-level sub-facets (sea_clip_level.sub_skipped).
+ * Each rule is a step in T, with the measurement that sets it:
+ *  - emissivity (emissivity = auto only): the auto rule's orders times
+ *    emis_scale, rounded up: 1 for T <= SEA_TOL_EMIS_T1 (the default 1e-3
+ *    keeps today's rule), 0.65 up to SEA_TOL_EMIS_T2, 0.5 above.  Over theta
+ *    0-85 deg, |m| <= 0.57, C = 0.3-1 C_LR, U10 3-20 m/s, 4 and 10 um, the
+ *    largest emissivity error against a 128 x 16 rule is 8e-7 (scale 1), 9e-5
+ *    (0.65) and 1.7e-3 (0.5): below T/10 in each step; the cost goes as the
+ *    square of the scale.
+ *  - waves (sum of sinusoids only): directions per bin 32 for T < SEA_TOL_DIR_T1,
+ *    16 up to SEA_TOL_DIR_T2, 8 above; bins per octave stay 8.  Each bin's
+ *    covariance is exact whatever the directions, so the generated + sub-facet
+ *    covariance stays C_LR; what degrades is the slope variance seen in a
+ *    window: over 192 x 192 facets of 1 m (U10 7 and 12 m/s, 24 seeds) its rms
+ *    deviation from the generated one, 0.008-0.016 of the total slope variance
+ *    with 32 directions, grows by at most 0.006 with 16 and 0.010 with 8:
+ *    less than the T from which each is used.  Synthesis time goes as the
+ *    number of components. */
+#define SEA_TOL_EMIS_T1 1e-3
+#define SEA_TOL_EMIS_T2 2e-2
+#define SEA_TOL_DIR_T1 1e-2
+#define SEA_TOL_DIR_T2 5e-2
+typedef struct {
+    double tolerance;      /* the scene's */
+    double emis_scale;     /* 1, 0.65 or 0.5 (1 unless emissivity = auto) */
+    int bins_per_octave;   /* of the wave plan (0 when there is none) */
+    int directions;        /* per bin (0 when there is none or for an FFT plan) */
+    size_t wave_count;     /* wave components of the plan (0: none) */
+    int sub_skipped;       /* levels whose sub-facets the tolerance skipped */
+} sea_render_choices;
+sea_render_choices sea_render_choices_of(const sea_render *r);
+/* The auto rule for st seen from v with its orders times emis_scale in
+ * (0, 1], rounded up (at least 2 x 1 nodes). */
+sea_emis_rule sea_render_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v);
 
 /* What prepare chose, read-only, owned by r: the validated scene, the
  * sensor, the wave plan (NULL when every level is low-resolution) and the

@@ -762,13 +762,14 @@ else
     check_eq bench.header "$(csv_header)" \
         "quantity,method,settings,seconds_per_call,max_error,rms_error,conditions"
     # 6 wave rows; full, fast, auto and 5 x 3 product rules; reflectivity;
-    # energy with each of the 3 emissivity methods.
-    check_eq bench.rows "$(csv_rows)" 28
+    # energy with each of the 3 emissivity methods; 3 scenes x (reference +
+    # 5 methods) whole images.
+    check_eq bench.rows "$(csv_rows)" 46
     check_eq bench.fields "$(printf '%s\n' "$SB_OUT" | awk -F, '{ print NF }' | sort -u)" 7
     check_eq bench.quantities "$(csv_all quantity | uniq | tr '\n' ' ')" \
-        "waves emissivity reflectivity energy "
+        "waves emissivity reflectivity energy image "
     check_eq bench.methods "$(csv_all method | uniq -c | awk '{ printf "%s%s ", $1, $2 }')" \
-        "1variable-step 1variable-step-2n 1one-meter 1variable-step 1fft-sample 1sinusoids-sample 1full 1fast 1auto 15rule 1closed-form 1full 1auto 1fast "
+        "1variable-step 1variable-step-2n 1one-meter 1variable-step 1fft-sample 1sinusoids-sample 1full 1fast 1auto 15rule 1closed-form 1full 1auto 1fast 1reference 1variable-step 3variable-step-2n 1one-meter 1reference 1variable-step 3variable-step-2n 1one-meter 1reference 1variable-step 3variable-step-2n 1one-meter "
     check_eq bench.rules "$(printf '%s\n' "$SB_OUT" | awk -F, '$2 == "rule" { printf "%s;", $3 }')" \
         "Eq 7 GL 8 x GH 4;Eq 7 GL 8 x GH 8;Eq 7 GL 8 x GH 16;Eq 7 GL 16 x GH 4;Eq 7 GL 16 x GH 8;Eq 7 GL 16 x GH 16;Eq 7 GL 32 x GH 4;Eq 7 GL 32 x GH 8;Eq 7 GL 32 x GH 16;Eq 7 GL 64 x GH 4;Eq 7 GL 64 x GH 8;Eq 7 GL 64 x GH 16;Eq 7 GL 128 x GH 4;Eq 7 GL 128 x GH 8;Eq 7 GL 128 x GH 16;"
     check_eq bench.threads_column "$(csv_all conditions | sed -n 's/.*; \([0-9]*\) threads$/\1/p' | sort -u)" 2
@@ -791,10 +792,25 @@ else
     num_check bench.rules_converge 'a > b' a="$(err_of emissivity rule 'Eq 7 GL 8 x GH 4')" \
         b="$(err_of emissivity rule 'Eq 7 GL 128 x GH 16')"
     num_check bench.energy_auto 'e <= 1e-4' e="$(err_of energy auto)"
+    # Whole images: errors are numbers, 0 for the references; more
+    # sub-facets come closer to the reference on every scene.
+    bad=$(printf '%s\n' "$SB_OUT" | awk -F, '$1 == "image" &&
+        !($5 ~ /^[0-9.e+-]+$/ && $6 ~ /^[0-9.e+-]+$/ && $6 >= 0 && $6 <= $5 + 0)')
+    check_eq bench.image_errors "$bad" ""
+    check_eq bench.image_reference "$(printf '%s\n' "$SB_OUT" |
+        awk -F, '$1 == "image" && $2 == "reference" { printf "%s;", $5 }')" "0;0;0;"
+    for fig in 7 8 9; do
+        num_check "bench.image_converges.$fig" 'a > b' \
+            a="$(printf '%s\n' "$SB_OUT" | awk -F, -v f="fig$fig" '$1 == "image" && $2 == "variable-step" && index($3, f) == 1 { print $6 }')" \
+            b="$(printf '%s\n' "$SB_OUT" | awk -F, -v f="fig$fig n=3" '$1 == "image" && index($3, f) == 1 { print $6 }')"
+    done
+    check_match bench.image_table "$SB_OUT" "^image,variable-step-2n,fig8 n=2"
     check_eq bench.png_magic "$(od -An -tx1 -N8 "$SB_TMP/bench/speed_accuracy.png" 2>/dev/null |
         tr -d ' \n')" "89504e470d0a1a0a"
+    check_eq bench.image_png_magic "$(od -An -tx1 -N8 "$SB_TMP/bench/image_speed_accuracy.png" 2>/dev/null |
+        tr -d ' \n')" "89504e470d0a1a0a"
     check bench.no_temporaries [ -z "$(ls -A "$SB_TMP/bench" | grep -v '^bench.csv$' |
-        grep -v '^speed_accuracy.png$')" ]
+        grep -v '^speed_accuracy.png$' | grep -v '^image_speed_accuracy.png$')" ]
 fi
 
 # ================================================================ render
@@ -913,6 +929,8 @@ check_match render.explain_level "$SB_ERR" "level +[0-9]+: [0-9.]+ m, window [0-
 check_match render.explain_lr "$SB_ERR" "low-resolution: the waves longer than .* less than the tolerance 0.001"
 check_match render.explain_samples "$SB_ERR" "1 spectral sample, at 4 um"
 check_no_match render.explain_no_fallback "$SB_ERR" "fallback"
+check_match render.explain_emissivity "$SB_ERR" "emissivity: fast \(not scaled by the tolerance\)"
+check_match render.explain_waves "$SB_ERR" "waves: [0-9]+ sinusoids, 8 bins per octave x 32 directions$"
 # ... and the fallbacks of LIMITS AND FALLBACKS a scene takes.
 sed -e 's/^wind_speed *=.*/wind_speed = 1/' -e 's/^zenith *=.*/zenith = 100/' \
     "$RSCENE" > "$RDIR/fallback.ini"
@@ -920,6 +938,24 @@ sb_run render "$RDIR/fallback.ini" -o "$RDIR/fallback.exr" --explain --quiet --p
 check_rc render.fallback_rc 0
 check_match render.explain_alpha_m "$SB_ERR" "fallback: at 1 m/s .* low-wind continuation"
 check_match render.explain_sun_down "$SB_ERR" "fallback: the sun \(zenith 100 deg\) is below the horizon"
+
+# --tolerance: overrides the scene's; a loose one scales the emissivity
+# orders, thins the wave directions and skips variable-step-2n sub-facets.
+sed -e 's/^emissivity = .*/emissivity = auto/' -e 's/^\[model\]/[model]\nmethod = variable-step-2n\nn = 1/' \
+    "$RSCENE" \
+    >"$RDIR/sea2n.ini"
+sb_run render "$RDIR/sea2n.ini" -o "$RDIR/tol.exr" --tolerance 0.1 --explain --quiet --png none
+check_rc render.tolerance_rc 0
+check render.tolerance_file test -s "$RDIR/tol.exr"
+check_match render.tolerance_header "$SB_ERR" "tolerance 0.1, method variable-step-2n"
+check_match render.tolerance_emissivity "$SB_ERR" "emissivity: auto rule, orders x 0.5 \(scaled down"
+check_match render.tolerance_waves "$SB_ERR" "waves: [0-9]+ sinusoids, 8 bins per octave x 8 directions \(fewer"
+check_match render.tolerance_skipped "$SB_ERR" \
+    "level +[0-9]+: sub-facets of [0-9.]+ m resolve [0-9.e-]+ of the slope variance: skipped, less than the tolerance \(n = 0\)"
+check_match render.tolerance_lr "$SB_ERR" "less than the tolerance 0.1$"
+sb_run render "$RDIR/sea2n.ini" -o "$RDIR/tol2.exr" --explain --quiet --png none
+check_match render.tolerance_computed "$SB_ERR" "of the slope variance: computed, at least the tolerance"
+check_match render.tolerance_default_emissivity "$SB_ERR" "emissivity: auto rule, orders x 1 \(the full rule"
 
 # Scene-file errors: FILE:LINE, exit 2, no output file.
 render_error() {
@@ -983,6 +1019,11 @@ render_usage render.rate_alone "--frame-rate applies only with --frames" \
     "$RSCENE" -o "$RDIR/bad.exr" --frame-rate 30
 render_usage render.rate_zero "--frame-rate: 0 is outside \(0, inf\) Hz" \
     "$RSCENE" -o "$RDIR/bad.exr" --frames 0:1 --frame-rate 0
+render_usage render.tolerance_zero "--tolerance: 0 is outside \(0, 0.1\]" \
+    "$RSCENE" -o "$RDIR/bad.exr" --tolerance 0
+render_usage render.tolerance_high "--tolerance: 0.2 is outside \(0, 0.1\]" \
+    "$RSCENE" -o "$RDIR/bad.exr" --tolerance 0.2
+render_usage render.tolerance_text "--tolerance: " "$RSCENE" -o "$RDIR/bad.exr" --tolerance abc
 render_usage render.threads "--threads: 0 is outside \[1, 1024\]" "$RSCENE" -o "$RDIR/bad.exr" --threads 0
 render_usage render.half_value "--half takes no value" "$RSCENE" -o "$RDIR/bad.exr" --half=1
 cp "$RSCENE" "$RDIR/bad.exr"
@@ -1033,6 +1074,14 @@ exr_header() {
         sed -n 's/.*6368616e6e656c730063686c69737400\(.\{0,240\}\).*/\1/p'
 }
 BGROUPS="moments moments2 optics normal roughness emission"
+
+sb_run bake "$RSCENE" -o "$BDIR/tol" --tolerance 0.2
+check_error bake.tolerance_high 2 "--tolerance: 0.2 is outside \(0, 0.1\]"
+check bake.tolerance_no_dir test ! -e "$BDIR/tol"
+sb_run bake "$RSCENE" -o "$BDIR/tol" --tolerance 0.05 --quiet
+check_rc bake.tolerance_rc 0
+check_match bake.tolerance_manifest "$(cat "$BDIR/tol/manifest.json")" '"tolerance":[[:space:]]*0.05'
+rm -rf "$BDIR/tol"
 
 sb_run bake "$RSCENE" -o "$BDIR/out"
 check_rc bake.rc 0
