@@ -191,6 +191,12 @@ typedef struct {
  * sea_cli_progress; never stops the work. */
 int sea_cli_progress_bar(void *ctx, double fraction);
 
+/* --explain (render, bake; lines start "WHAT: "): the levels, windows, sub-facets, emissivity
+ * rule, wave components, fallbacks and spectral samples that
+ * sea_render_prepare chose for the scene file scene_path, and why, on
+ * standard error. */
+void sea_cli_explain(const char *what, const char *scene_path, const sea_render *r);
+
 /* The complex refractive index of the water at --wavelength (required, um)
  * from --water (table name or CSV file, default hale-querry), --salinity
  * (default 35 g/kg) and, if the subcommand has it, --index.  The same

@@ -149,6 +149,7 @@ static const char BAKE_HELP[] =
     "                        -- DIR/manifest.json [--save FILE.blend] [--render OUT.exr]\n"
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance, as in seabake render\n"
+    "  --explain           what is modelled and why (as seabake render --explain)\n"
     "  --quiet             no progress bar and no summary line\n";
 
 /* ------------------------------------------------------------- the setup */
@@ -164,6 +165,7 @@ typedef struct {
     bool quiet;
     bool pov;
     long view_k; /* emission texels per facet side */
+    bool explain;
     bool blender;
 } bake_setup;
 
@@ -227,6 +229,7 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
                         "hold the facet centres)",
                         s->view_k, SEA_BAKE_VIEW_K_MAX);
     s->blender = sea_cli_args_get(args, "blender") != NULL;
+    s->explain = sea_cli_args_get(args, "explain") != NULL;
     s->quiet = sea_cli_args_get(args, "quiet") != NULL;
     double tolerance;
     if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
@@ -981,6 +984,8 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
         const double t0 = sea_cli_seconds();
         st = sea_render_prepare(&s.sc, &r, err);
         prepare = sea_cli_seconds() - t0;
+        if (st == SEA_OK && s.explain)
+            sea_cli_explain("bake", s.scene_path, r);
     }
     struct sigaction on, saved[BAKE_N_SIGNALS];
     memset(&on, 0, sizeof on);
@@ -1037,6 +1042,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"compression", 0},
     {"pov", SEA_CLI_OPT_FLAG},
     {"blender", SEA_CLI_OPT_FLAG},
+    {"explain", SEA_CLI_OPT_FLAG},
     {"tolerance", 0},
     {"quiet", SEA_CLI_OPT_FLAG}};
 

@@ -1163,6 +1163,10 @@ x0, y0, x1, y1 = struct.unpack("<4i", d[i + 21:i + 37])
 print(x1 - x0 + 1)' "$BDIR/out/emission_$l0.exr")
     check_eq bake.emission_width "$ewidth" "$(( ${etex%%/*} ))"
 fi
+sb_run bake "$RSCENE" -o "$BDIR/explain" --explain --quiet
+check_rc bake.explain_rc 0
+check_match bake.explain_levels "$SB_ERR" "^bake: .*sea.ini: 48 x 48 pixels"
+check_match bake.explain_waves "$SB_ERR" "bake: waves: [0-9]+ sinusoids"
 sb_run bake "$RSCENE" -o "$BDIR/k5" --emission-texels 5 --quiet
 check_rc bake.k5 0
 check bake.k5_manifest grep -q '"emission_texels"' "$BDIR/k5/manifest.json"
