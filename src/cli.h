@@ -197,6 +197,10 @@ int sea_cli_progress_bar(void *ctx, double fraction);
  * standard error. */
 void sea_cli_explain(const char *what, const char *scene_path, const sea_render *r);
 
+/* The start of a gnuplot script drawing a width x height PNG into png
+ * (pngcairo if gnuplot has it, else png): encoding, terminal, output. */
+void sea_cli_gnuplot_png(FILE *f, int width, int height, const char *png);
+
 /* The complex refractive index of the water at --wavelength (required, um)
  * from --water (table name or CSV file, default hale-querry), --salinity
  * (default 35 g/kg) and, if the subcommand has it, --index.  The same

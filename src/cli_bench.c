@@ -291,18 +291,6 @@ bool sea_cli_bench_is_reference(const sea_cli_bench_row *r)
     return strcmp(r->method, "full") == 0 || strcmp(r->method, "reference") == 0;
 }
 
-/* gnuplot's single-quoted strings double a quote. */
-static void put_quoted(FILE *f, const char *s)
-{
-    fputc('\'', f);
-    for (; *s; ++s) {
-        if (*s == '\'')
-            fputc('\'', f);
-        fputc(*s, f);
-    }
-    fputc('\'', f);
-}
-
 /* The emissivity rows other than the reference, for the chart. */
 static bool chart_point(const sea_cli_bench_row *r)
 {
@@ -331,16 +319,8 @@ char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows, co
     for (size_t i = 0; i < nrows; ++i)
         if (strcmp(rows[i].quantity, "emissivity") == 0 && sea_cli_bench_is_reference(&rows[i]))
             full = rows[i].seconds;
-    fputs("set encoding utf8\n"
-          "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-          "  set terminal pngcairo size 1000,700 font 'sans,10'\n"
-          "} else {\n"
-          "  set terminal png size 1000,700\n"
-          "}\n"
-          "set output ",
-          f);
-    put_quoted(f, png);
-    fputs("\n$P << EOD\n", f);
+    sea_cli_gnuplot_png(f, 1000, 700, png);
+    fputs("$P << EOD\n", f);
     char label[64];
     for (size_t i = 0; i < nrows; ++i)
         if (chart_point(&rows[i])) {
@@ -555,16 +535,7 @@ char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nro
     FILE *f = open_memstream(&text, &len);
     if (f == NULL)
         return NULL;
-    fputs("set encoding utf8\n"
-          "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-          "  set terminal pngcairo size 1000,700 font 'sans,10'\n"
-          "} else {\n"
-          "  set terminal png size 1000,700\n"
-          "}\n"
-          "set output ",
-          f);
-    put_quoted(f, png);
-    fputc('\n', f);
+    sea_cli_gnuplot_png(f, 1000, 700, png);
     static const char *const figs[] = {"fig7", "fig8", "fig9"};
     for (size_t k = 0; k < 3; ++k) {
         fprintf(f, "$F%zu << EOD\n", k);

@@ -297,3 +297,23 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
         fprintf(stderr, "%s%.4g", i ? ", " : " ", wl[i] * 1e6);
     fprintf(stderr, "%s um\n", k > EXPLAIN_SAMPLES ? ", ..." : "");
 }
+
+void sea_cli_gnuplot_png(FILE *f, int width, int height, const char *png)
+{
+    fprintf(f,
+            "set encoding utf8\n"
+            "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+            "  set terminal pngcairo size %d,%d font 'sans,10'\n"
+            "} else {\n"
+            "  set terminal png size %d,%d\n"
+            "}\n"
+            "set output '",
+            width, height, width, height);
+    /* gnuplot's single-quoted strings double a quote */
+    for (const char *s = png; *s; ++s) {
+        if (*s == '\'')
+            fputc('\'', f);
+        fputc(*s, f);
+    }
+    fputs("'\n", f);
+}

@@ -1185,21 +1185,7 @@ static char *conv_script(const void *ctx, const char *png)
     FILE *f = open_memstream(&text, &len);
     if (f == NULL)
         return NULL;
-    fputs("set encoding utf8\n"
-          "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-          "  set terminal pngcairo size 1400,560 font 'sans,10'\n"
-          "} else {\n"
-          "  set terminal png size 1400,560\n"
-          "}\n",
-          f);
-    /* gnuplot's single-quoted strings double a quote. */
-    fputs("set output '", f);
-    for (const char *s = png; *s; ++s) {
-        if (*s == '\'')
-            fputc('\'', f);
-        fputc(*s, f);
-    }
-    fputs("'\n", f);
+    sea_cli_gnuplot_png(f, 1400, 560, png);
     const size_t nwind = nrows / per_wind;
     for (size_t w = 0; w < nwind; ++w) {
         fprintf(f, "$W%zu << EOD\n", w);
