@@ -11,9 +11,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "seabake.h"
 
@@ -181,10 +178,8 @@ static sea_status level_optics(const sea_render *r,
             int stop = 0;
 #pragma omp critical(sea_bake_progress)
             {
-#ifdef _OPENMP
-                if (omp_get_thread_num() == 0)
-#endif
-                    stop = report(bp, (double)(rows_done * cols));
+                /* any thread, one at a time */
+                stop = report(bp, (double)(rows_done * cols));
                 rows_done++;
             }
             if (stop) {

@@ -22,9 +22,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include <gsl/gsl_integration.h>
 
@@ -905,11 +902,10 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
             int stop = 0;
 #pragma omp critical(sea_render_progress)
             {
+                /* any thread, one at a time: a thread that does no row
+                 * must not keep a stop from being seen */
                 rows_done++;
-#ifdef _OPENMP
-                if (omp_get_thread_num() == 0)
-#endif
-                    stop = progress(ctx, (double)rows_done / (double)H) != 0;
+                stop = progress(ctx, (double)rows_done / (double)H) != 0;
             }
             if (stop) {
 #pragma omp critical(sea_render_error)

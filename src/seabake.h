@@ -643,7 +643,8 @@ typedef struct {
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err);
 void sea_image_free(sea_image *img);
 
-/* Optional progress report: fraction done in [0, 1], from one thread.
+/* Optional progress report: fraction done in [0, 1], called by one thread
+ * at a time (any of them).
  * Returns 0 to go on; anything else stops the work, which then fails with
  * SEA_ERR_CANCELLED (soon: within a row of pixels or texels). */
 typedef int (*sea_progress_fn)(void *ctx, double fraction);
