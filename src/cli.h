@@ -169,6 +169,13 @@ sea_status sea_cli_opt_integer(const sea_cli_args *args, const char *name, long 
 #define SEA_CLI_FRAMES_MAX SEA_CLI_LIST_MAX
 sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *err);
 
+/* The frame options of render and bake: --frames A:B (*framed set when
+ * given) and --frame-rate HZ (> 0, default SEA_CLI_FRAME_RATE_DEFAULT, only
+ * with --frames). */
+#define SEA_CLI_FRAME_RATE_DEFAULT 25.0
+sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, long *b,
+                              double *rate, sea_error *err);
+
 /* s ends with suffix (ASCII case ignored) and is longer than it. */
 bool sea_cli_has_suffix(const char *s, const char *suffix);
 /* "dir/name", malloc'ed (NULL when out of memory). */
@@ -197,9 +204,18 @@ int sea_cli_progress_bar(void *ctx, double fraction);
  * standard error. */
 void sea_cli_explain(const char *what, const char *scene_path, const sea_render *r);
 
-/* The start of a gnuplot script drawing a width x height PNG into png
- * (pngcairo if gnuplot has it, else png): encoding, terminal, output. */
-void sea_cli_gnuplot_png(FILE *f, int width, int height, const char *png);
+/* A gnuplot script built in memory.  sea_cli_gnuplot_begin opens it with
+ * the lines drawing a width x height PNG into png (pngcairo if gnuplot has
+ * it, else png: encoding, terminal, output) and returns the stream to
+ * write the rest to, NULL when out of memory; sea_cli_gnuplot_end closes
+ * it and returns the text (malloc'ed), NULL on failure. */
+typedef struct {
+    FILE *f;
+    char *text;
+    size_t len;
+} sea_cli_script;
+FILE *sea_cli_gnuplot_begin(sea_cli_script *s, int width, int height, const char *png);
+char *sea_cli_gnuplot_end(sea_cli_script *s);
 
 /* The complex refractive index of the water at --wavelength (required, um)
  * from --water (table name or CSV file, default hale-querry), --salinity

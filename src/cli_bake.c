@@ -49,7 +49,6 @@ enum { BAKE_FRAME_DIGITS = 4 };
  * (oblique) and pov_glint.ini (nadir): K = 1, 2.9 % and 0.65 %; K = 3,
  * 0.61 % and 0.23 %; K = 5, 0.25 % and 0.095 %; K = 7, 0.15 % and 0.055 %. */
 enum { BAKE_VIEW_K_DEFAULT = 3 };
-static const double BAKE_FRAME_RATE_DEFAULT = 25.0; /* Hz */
 /* Preview range: 0.5 % and 99.5 % quantiles, as render's. */
 static const double BAKE_PNG_CLIP = 0.005;
 /* The emission maps carry radiance x scale, scale a power of ten putting
@@ -58,8 +57,6 @@ static const double BAKE_PNG_CLIP = 0.005;
  * room for later frames' glints. */
 static const double BAKE_EMISSION_TARGET = 1000.0;
 static const int BAKE_MANIFEST_VERSION = 1;
-
-static const sea_cli_range BAKE_RANGE_RATE = {0.0, INFINITY, true, true, "Hz"};
 
 /* The quantities a texel can carry. */
 typedef enum {
@@ -106,6 +103,7 @@ static const struct {
     {"optics", 4, {Q_EMISSIVITY, Q_REFLECTIVITY, Q_RADIANCE, Q_TEMPERATURE}, 2},
     {"normal", 3, {Q_NX, Q_NY, Q_NZ}, 0},
     {"roughness", 3, {Q_ROUGHNESS, Q_ANISOTROPY, Q_ROTATION}, 0},
+    /* K x K texels a facet: one quantity, so only buf[0] is that large */
     {"emission", 3, {Q_EMISSION, Q_EMISSION, Q_EMISSION}, 0},
 };
 enum { BAKE_N_GROUPS = sizeof BAKE_GROUPS / sizeof BAKE_GROUPS[0] };
@@ -206,19 +204,9 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
             return sea_fail(err, SEA_ERR_PARSE, "--compression: '%s' is not none, zip or piz",
                             comp);
     }
-    const char *frames = sea_cli_args_get(args, "frames");
-    s->framed = frames != NULL;
-    if (s->framed && (st = sea_cli_parse_frames(frames, &s->frame_a, &s->frame_b, err)) != SEA_OK)
+    if ((st = sea_cli_opt_frames(args, &s->framed, &s->frame_a, &s->frame_b, &s->rate, err)) !=
+        SEA_OK)
         return st;
-    const char *rate = sea_cli_args_get(args, "frame-rate");
-    s->rate = BAKE_FRAME_RATE_DEFAULT;
-    if (rate != NULL) {
-        if (!s->framed)
-            return sea_fail(err, SEA_ERR_DOMAIN, "--frame-rate applies only with --frames");
-        if ((st = sea_cli_parse_number("--frame-rate", rate, &BAKE_RANGE_RATE, &s->rate, err)) !=
-            SEA_OK)
-            return st;
-    }
     s->pov = sea_cli_args_get(args, "pov") != NULL;
     if ((st = sea_cli_opt_integer(args, "emission-texels", 1, SEA_BAKE_VIEW_K_MAX,
                                   BAKE_VIEW_K_DEFAULT, &s->view_k, err)) != SEA_OK)
@@ -406,10 +394,14 @@ static sea_status write_level(const bake_setup *s, const char *tmp, const sea_ba
         sea_exr_channel ch[GROUP_CH_MAX];
         for (size_t c = 0; c < BAKE_GROUPS[g].n; c++) {
             const bake_quantity k = BAKE_GROUPS[g].q[c];
-            for (size_t q = 0; q < n; q++)
-                buf[c][q] = (float)texel_value(bl, q, k, scale);
             ch[c].name = CHANNEL_NAMES[c];
-            ch[c].data = buf[c];
+            if (c > 0 && k == BAKE_GROUPS[g].q[c - 1]) {
+                ch[c].data = ch[c - 1].data; /* the same quantity again (emission's RGB) */
+            } else {
+                for (size_t q = 0; q < n; q++)
+                    buf[c][q] = (float)texel_value(bl, q, k, scale);
+                ch[c].data = buf[c];
+            }
             int w = snprintf(channels + used, sizeof channels - used, "%s%s=%s", c ? "," : "",
                              CHANNEL_NAMES[c], BAKE_Q[k].name);
             if (w > 0 && (size_t)w < sizeof channels - used)
@@ -868,14 +860,18 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     for (size_t l = 0; l < nlev; l++)
         if (!lv[l].low_res && lv[l].nx * lv[l].ny > nmax)
             nmax = lv[l].nx * lv[l].ny;
-    nmax *= (size_t)(s->view_k * s->view_k);
-    sea_status st = sea_check_size(nmax, GROUP_CH_MAX * sizeof(float), "map buffers", err);
+    /* buf[0] also holds the emission map's K x K texels per facet */
+    const size_t k2 = (size_t)(s->view_k * s->view_k);
+    sea_status st = sea_check_size(nmax, (k2 + GROUP_CH_MAX - 1) * sizeof(float), "map buffers",
+                                   err);
     if (st != SEA_OK)
         return st;
     float *buf[GROUP_CH_MAX] = {NULL};
-    for (size_t c = 0; c < GROUP_CH_MAX; c++)
-        if ((buf[c] = malloc(nmax * sizeof(float))) == NULL)
-            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu texels", nmax);
+    for (size_t c = 0; c < GROUP_CH_MAX; c++) {
+        const size_t n = c == 0 ? k2 * nmax : nmax;
+        if ((buf[c] = malloc(n * sizeof(float))) == NULL)
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu texels", n);
+    }
     cJSON *manifest = NULL;
     double scale = 1.0;
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;

@@ -310,16 +310,14 @@ static void chart_label(const sea_cli_bench_row *r, char *buf, size_t size)
 
 char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows, const char *png)
 {
-    char *text = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&text, &len);
+    sea_cli_script script;
+    FILE *f = sea_cli_gnuplot_begin(&script, 1000, 700, png);
     if (f == NULL)
         return NULL;
     double full = NAN;
     for (size_t i = 0; i < nrows; ++i)
         if (strcmp(rows[i].quantity, "emissivity") == 0 && sea_cli_bench_is_reference(&rows[i]))
             full = rows[i].seconds;
-    sea_cli_gnuplot_png(f, 1000, 700, png);
     fputs("$P << EOD\n", f);
     char label[64];
     for (size_t i = 0; i < nrows; ++i)
@@ -383,11 +381,7 @@ char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows, co
           "  $P using 1:2:3 with labels offset 0.8,0.6 left font ',9' notitle\n"
           "set output\n",
           f);
-    if (fclose(f) != 0) {
-        free(text);
-        return NULL;
-    }
-    return text;
+    return sea_cli_gnuplot_end(&script);
 }
 
 /* ---------------------------------------------------------------- images */
@@ -530,12 +524,10 @@ sea_status sea_cli_bench_images(bool quick, int threads, sea_cli_bench_row **row
 char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nrows,
                                        const char *png)
 {
-    char *text = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&text, &len);
+    sea_cli_script script;
+    FILE *f = sea_cli_gnuplot_begin(&script, 1000, 700, png);
     if (f == NULL)
         return NULL;
-    sea_cli_gnuplot_png(f, 1000, 700, png);
     static const char *const figs[] = {"fig7", "fig8", "fig9"};
     for (size_t k = 0; k < 3; ++k) {
         fprintf(f, "$F%zu << EOD\n", k);
@@ -569,9 +561,5 @@ char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nro
           "  for [k=0:2] '$F'.k using 1:3:4 with labels offset 0.8,0.5 left font ',8' notitle\n"
           "set output\n",
           f);
-    if (fclose(f) != 0) {
-        free(text);
-        return NULL;
-    }
-    return text;
+    return sea_cli_gnuplot_end(&script);
 }

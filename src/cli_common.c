@@ -118,6 +118,25 @@ sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *e
     return SEA_OK;
 }
 
+sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, long *b,
+                              double *rate, sea_error *err)
+{
+    static const sea_cli_range RATE = {0.0, INFINITY, true, true, "Hz"};
+    const char *frames = sea_cli_args_get(args, "frames");
+    sea_status st;
+    *framed = frames != NULL;
+    *a = *b = 0;
+    if (*framed && (st = sea_cli_parse_frames(frames, a, b, err)) != SEA_OK)
+        return st;
+    const char *text = sea_cli_args_get(args, "frame-rate");
+    *rate = SEA_CLI_FRAME_RATE_DEFAULT;
+    if (text == NULL)
+        return SEA_OK;
+    if (!*framed)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frame-rate applies only with --frames");
+    return sea_cli_parse_number("--frame-rate", text, &RATE, rate, err);
+}
+
 bool sea_cli_has_suffix(const char *s, const char *suffix)
 {
     size_t n = strlen(s), m = strlen(suffix);
@@ -298,8 +317,13 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     fprintf(stderr, "%s um\n", k > EXPLAIN_SAMPLES ? ", ..." : "");
 }
 
-void sea_cli_gnuplot_png(FILE *f, int width, int height, const char *png)
+FILE *sea_cli_gnuplot_begin(sea_cli_script *s, int width, int height, const char *png)
 {
+    s->text = NULL;
+    s->len = 0;
+    FILE *f = s->f = open_memstream(&s->text, &s->len);
+    if (f == NULL)
+        return NULL;
     fprintf(f,
             "set encoding utf8\n"
             "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -310,10 +334,20 @@ void sea_cli_gnuplot_png(FILE *f, int width, int height, const char *png)
             "set output '",
             width, height, width, height);
     /* gnuplot's single-quoted strings double a quote */
-    for (const char *s = png; *s; ++s) {
-        if (*s == '\'')
+    for (const char *p = png; *p; ++p) {
+        if (*p == '\'')
             fputc('\'', f);
-        fputc(*s, f);
+        fputc(*p, f);
     }
     fputs("'\n", f);
+    return f;
+}
+
+char *sea_cli_gnuplot_end(sea_cli_script *s)
+{
+    if (fclose(s->f) != 0) {
+        free(s->text);
+        return NULL;
+    }
+    return s->text;
 }

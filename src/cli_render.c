@@ -34,13 +34,10 @@
 /* Frames (sea_cli_parse_frames): names carry at least 4 digits, as
  * Blender's "####". */
 enum { RENDER_FRAME_DIGITS = 4 };
-static const double RENDER_FRAME_RATE_DEFAULT = 25.0; /* Hz */
 /* The preview's range: the 0.5 % and 99.5 % quantiles, so that a few
  * glint pixels do not flatten the rest of the image. */
 static const double RENDER_PNG_CLIP = 0.005;
 #define RENDER_THREADS_MAX 1024
-
-static const sea_cli_range RENDER_RANGE_RATE = {0.0, INFINITY, true, true, "Hz"};
 
 /* Arbitrary output variables, each in its own file OUT.<name>.exr. */
 typedef enum { AOV_LEVEL, AOV_EMISSIVITY, AOV_REFLECTIVITY, AOV_TEMPERATURE, AOV_COUNT } render_aov;
@@ -194,19 +191,9 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
     if (aov != NULL && (st = parse_aovs(aov, s->aov, err)) != SEA_OK)
         return st;
 
-    const char *frames = sea_cli_args_get(args, "frames");
-    s->framed = frames != NULL;
-    if (s->framed && (st = sea_cli_parse_frames(frames, &s->frame_a, &s->frame_b, err)) != SEA_OK)
+    if ((st = sea_cli_opt_frames(args, &s->framed, &s->frame_a, &s->frame_b, &s->rate, err)) !=
+        SEA_OK)
         return st;
-    const char *rate = sea_cli_args_get(args, "frame-rate");
-    s->rate = RENDER_FRAME_RATE_DEFAULT;
-    if (rate != NULL) {
-        if (!s->framed)
-            return sea_fail(err, SEA_ERR_DOMAIN, "--frame-rate applies only with --frames");
-        if ((st = sea_cli_parse_number("--frame-rate", rate, &RENDER_RANGE_RATE, &s->rate, err)) !=
-            SEA_OK)
-            return st;
-    }
     long threads;
     st = sea_cli_opt_integer(args, "threads", 1, RENDER_THREADS_MAX, 0, &threads, err);
     if (st != SEA_OK)

@@ -1180,12 +1180,10 @@ static char *conv_script(const void *ctx, const char *png)
     const conv_setup *c = cc->c;
     const conv_row *rows = cc->rows;
     const size_t nrows = cc->nrows, per_wind = cc->per_wind;
-    char *text = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&text, &len);
+    sea_cli_script script;
+    FILE *f = sea_cli_gnuplot_begin(&script, 1400, 560, png);
     if (f == NULL)
         return NULL;
-    sea_cli_gnuplot_png(f, 1400, 560, png);
     const size_t nwind = nrows / per_wind;
     for (size_t w = 0; w < nwind; ++w) {
         fprintf(f, "$W%zu << EOD\n", w);
@@ -1231,11 +1229,7 @@ static char *conv_script(const void *ctx, const char *png)
         fputc('\n', f);
     }
     fputs("unset multiplot\nset output\n", f);
-    if (fclose(f) != 0) {
-        free(text);
-        return NULL;
-    }
-    return text;
+    return sea_cli_gnuplot_end(&script);
 }
 
 /* Feeds script to gnuplot's standard input.  *absent is set when there is

@@ -34,9 +34,24 @@ export HOME="$SB_TMP/home"
 mkdir -p "$HOME/.povray/3.7"
 : >"$HOME/.povray/3.7/povray.conf"
 
+# povray_render NAME DIR: renders DIR/scene.ini with the real povray into
+# DIR/scene.exr, checks it ran, prints its time.
+povray_render() {
+    local name=$1 dir=$2 start end
+    SB_CMD="(cd $dir && povray scene.ini)"
+    start=$(date +%s.%N)
+    (cd "$dir" && povray scene.ini) >"$SB_TMP/pov.out" 2>&1
+    SB_RC=$?
+    end=$(date +%s.%N)
+    SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
+    check_rc "$name.povray.rc" 0
+    check "$name.povray.output" test -s "$dir/scene.exr"
+    echo "$name: povray render took $(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.2f", b - a }') s"
+}
+
 # pov_run NAME: exports tests/scenes/pov_NAME.ini, renders it, compares.
 pov_run() {
-    local name=$1 scene="$top_srcdir/tests/scenes/pov_$1.ini" dir="$SB_TMP/$1" rc f start end
+    local name=$1 scene="$top_srcdir/tests/scenes/pov_$1.ini" dir="$SB_TMP/$1" rc f
     mkdir -p "$dir"
     SB_CMD="pov_driver export $scene $dir"
     # shellcheck disable=SC2086
@@ -53,15 +68,7 @@ pov_run() {
         '^#declare Seabake_Radiance_Scale = [0-9.e+-]+;'
     check_match "$name.export.ini" "$(cat "$dir/scene.ini")" '^Output_File_Type=E'
 
-    SB_CMD="(cd $dir && povray scene.ini)"
-    start=$(date +%s.%N)
-    (cd "$dir" && povray scene.ini) >"$SB_TMP/pov.out" 2>&1
-    SB_RC=$?
-    end=$(date +%s.%N)
-    SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
-    check_rc "$name.povray.rc" 0
-    check "$name.povray.output" test -s "$dir/scene.exr"
-    echo "$name: povray render took $(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.2f", b - a }') s"
+    povray_render "$name" "$dir"
 
     SB_CMD="pov_driver check $scene $dir"
     # shellcheck disable=SC2086
@@ -86,7 +93,7 @@ pov_run oblique
 # lookup of moments (0.23 % nadir, 0.61 % oblique when measured).
 # bake_run NAME SCENE
 bake_run() {
-    local name=$1 scene=$2 dir="$SB_TMP/bake_$1" scale start end
+    local name=$1 scene=$2 dir="$SB_TMP/bake_$1" scale
     SB_CMD="seabake render $scene"
     $SEABAKE_WRAPPER "$SEABAKE" render "$scene" -o "$SB_TMP/ref.exr" --aov level --png none \
         --quiet 2>"$SB_TMP/err"
@@ -101,14 +108,7 @@ bake_run() {
     for f in scene.pov scene.ini seabake.inc manifest.json emission_0.exr; do
         check "$name.bake.$f" test -s "$dir/$f"
     done
-    SB_CMD="(cd $dir && povray scene.ini)"
-    start=$(date +%s.%N)
-    (cd "$dir" && povray scene.ini) >"$SB_TMP/pov.out" 2>&1
-    SB_RC=$?
-    end=$(date +%s.%N)
-    SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
-    check_rc "$name.povray.rc" 0
-    echo "$name: povray render took $(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.2f", b - a }') s"
+    povray_render "$name" "$dir"
     scale=$(sed -n 's/^#declare Seabake_Radiance_Scale = \(.*\);/\1/p' "$dir/scene.pov")
     SB_CMD="pov_driver compare"
     "$POV_DRIVER" compare "$SB_TMP/ref.exr" "$SB_TMP/ref.level.exr" "$dir/scene.exr" "$scale" 0.02 \
