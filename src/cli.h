@@ -152,6 +152,8 @@ sea_status sea_cli_require(const sea_cli_args *args, const char *name, const cha
  * scene (a typing mistake is reported first), applied after it by
  * sea_cli_apply_tolerance. */
 sea_status sea_cli_opt_tolerance(const sea_cli_args *args, double *out, sea_error *err);
+/* The positional SCENE.ini of render and bake: present and not empty. */
+sea_status sea_cli_scene_arg(const sea_cli_args *args, const char **path, sea_error *err);
 void sea_cli_apply_tolerance(double tolerance, sea_scene *sc);
 /* The option's number checked against range, or def when it is absent. */
 sea_status sea_cli_opt_number(const sea_cli_args *args, const char *name,

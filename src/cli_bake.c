@@ -171,12 +171,8 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
 {
     memset(s, 0, sizeof *s);
     sea_status st;
-    s->scene_path = sea_cli_args_get(args, "scene");
-    if (s->scene_path == NULL)
-        return sea_fail(err, SEA_ERR_DOMAIN,
-                        "missing SCENE.ini (the scene file, seabake-scene(5))");
-    if (s->scene_path[0] == '\0')
-        return sea_fail(err, SEA_ERR_PARSE, "empty scene file name");
+    if ((st = sea_cli_scene_arg(args, &s->scene_path, err)) != SEA_OK)
+        return st;
     const char *out = sea_cli_args_get(args, "o");
     if (out == NULL)
         return sea_fail(err, SEA_ERR_DOMAIN, "missing -o DIR (the output directory)");

@@ -55,6 +55,17 @@ sea_status sea_cli_opt_tolerance(const sea_cli_args *args, double *out, sea_erro
     return sea_cli_opt_number(args, "tolerance", &SEA_CLI_RANGE_SCENE_TOL, NAN, out, err);
 }
 
+sea_status sea_cli_scene_arg(const sea_cli_args *args, const char **path, sea_error *err)
+{
+    *path = sea_cli_args_get(args, "scene");
+    if (*path == NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "missing SCENE.ini (the scene file, seabake-scene(5))");
+    if ((*path)[0] == '\0')
+        return sea_fail(err, SEA_ERR_PARSE, "empty scene file name");
+    return SEA_OK;
+}
+
 void sea_cli_apply_tolerance(double tolerance, sea_scene *sc)
 {
     if (!isnan(tolerance))
