@@ -533,7 +533,8 @@ static cJSON *scene_json(const bake_setup *s)
     cJSON_AddStringToObject(mod, "emissivity",
                             sea_emis_method_name((sea_emis_method)sc->emissivity_method));
     cJSON_AddStringToObject(mod, "earth", sc->earth == SEA_EARTH_FLAT ? "flat" : "spherical");
-    cJSON_AddStringToObject(mod, "windows", sc->windows == SEA_WINDOWS_CLIPMAP ? "clipmap" : "view");
+    cJSON_AddStringToObject(mod, "windows",
+                            sc->windows == SEA_WINDOWS_CLIPMAP ? "clipmap" : "view");
     cJSON_AddNumberToObject(mod, "tolerance", sc->tolerance);
     return o;
 }
