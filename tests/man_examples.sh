@@ -59,7 +59,7 @@ while IFS= read -r example; do
     # The manual's own quoting splits the words, as a shell user would.
     eval "set -- $example"
     sb_run "$@"
-    if [ "$1" = convergence ] && [ "$SB_RC" -eq 1 ] && ! command -v gnuplot >/dev/null 2>&1; then
+    if [ "$1" = convergence ] && [ "$SB_RC" -eq 1 ] && ! have gnuplot gnuplot-nox; then
         # The chart needs gnuplot; without it the command says so and fails.
         check_match "example $i: seabake $example (no gnuplot)" "$SB_ERR" "gnuplot not found"
         continue
