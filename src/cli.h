@@ -207,16 +207,19 @@ int sea_cli_progress_bar(void *ctx, double fraction);
 void sea_cli_explain(const char *what, const char *scene_path, const sea_render *r);
 
 /* A gnuplot script built in memory.  sea_cli_gnuplot_begin opens it with
- * the lines drawing a width x height PNG into png (pngcairo if gnuplot has
- * it, else png: encoding, terminal, output) and returns the stream to
- * write the rest to, NULL when out of memory; sea_cli_gnuplot_end closes
- * it and returns the text (malloc'ed), NULL on failure. */
+ * the lines drawing a width x height PNG (pngcairo if gnuplot has it, else
+ * png: encoding, terminal) and returns the stream to write the rest to,
+ * NULL when out of memory; sea_cli_gnuplot_end closes it and returns the
+ * text (malloc'ed), NULL on failure.  The script names no output file: the
+ * PNG goes to gnuplot's standard output, which the caller opens, so that
+ * no path (nor any other user string) ever becomes gnuplot syntax: gnuplot
+ * expands backquotes and has system(). */
 typedef struct {
     FILE *f;
     char *text;
     size_t len;
 } sea_cli_script;
-FILE *sea_cli_gnuplot_begin(sea_cli_script *s, int width, int height, const char *png);
+FILE *sea_cli_gnuplot_begin(sea_cli_script *s, int width, int height);
 char *sea_cli_gnuplot_end(sea_cli_script *s);
 
 /* The complex refractive index of the water at --wavelength (required, um)
@@ -263,14 +266,13 @@ sea_status sea_cli_bench_images(bool quick, int threads, sea_cli_bench_row **row
                                 size_t *nrows, sea_error *err);
 /* gnuplot script of the image rows: seconds per image against the max and
  * RMS error, one colour per scene.  malloc'ed; NULL when out of memory. */
-char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nrows,
-                                       const char *png);
+char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nrows);
 /* The row is a reference (its errors are 0 by definition). */
 bool sea_cli_bench_is_reference(const sea_cli_bench_row *r);
 /* gnuplot script of the emissivity rows: log-log seconds per call against
  * the max error, one labelled point per setting, the Pareto front as a
- * line, drawn into png.  malloc'ed; NULL when out of memory. */
-char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows, const char *png);
+ * line.  malloc'ed; NULL when out of memory. */
+char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows);
 
 /* The subcommand called name, or NULL. */
 const sea_cli_command *sea_cli_command_find(const char *name);

@@ -308,10 +308,10 @@ static void chart_label(const sea_cli_bench_row *r, char *buf, size_t size)
     }
 }
 
-char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows, const char *png)
+char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows)
 {
     sea_cli_script script;
-    FILE *f = sea_cli_gnuplot_begin(&script, 1000, 700, png);
+    FILE *f = sea_cli_gnuplot_begin(&script, 1000, 700);
     if (f == NULL)
         return NULL;
     double full = NAN;
@@ -521,11 +521,10 @@ sea_status sea_cli_bench_images(bool quick, int threads, sea_cli_bench_row **row
     return SEA_OK;
 }
 
-char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nrows,
-                                       const char *png)
+char *sea_cli_bench_image_chart_script(const sea_cli_bench_row *rows, size_t nrows)
 {
     sea_cli_script script;
-    FILE *f = sea_cli_gnuplot_begin(&script, 1000, 700, png);
+    FILE *f = sea_cli_gnuplot_begin(&script, 1000, 700);
     if (f == NULL)
         return NULL;
     static const char *const figs[] = {"fig7", "fig8", "fig9"};

@@ -328,7 +328,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     fprintf(stderr, "%s um\n", k > EXPLAIN_SAMPLES ? ", ..." : "");
 }
 
-FILE *sea_cli_gnuplot_begin(sea_cli_script *s, int width, int height, const char *png)
+FILE *sea_cli_gnuplot_begin(sea_cli_script *s, int width, int height)
 {
     s->text = NULL;
     s->len = 0;
@@ -341,16 +341,8 @@ FILE *sea_cli_gnuplot_begin(sea_cli_script *s, int width, int height, const char
             "  set terminal pngcairo size %d,%d font 'sans,10'\n"
             "} else {\n"
             "  set terminal png size %d,%d\n"
-            "}\n"
-            "set output '",
+            "}\n",
             width, height, width, height);
-    /* gnuplot's single-quoted strings double a quote */
-    for (const char *p = png; *p; ++p) {
-        if (*p == '\'')
-            fputc('\'', f);
-        fputc(*p, f);
-    }
-    fputs("'\n", f);
     return f;
 }
 

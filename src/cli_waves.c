@@ -1174,14 +1174,14 @@ typedef struct {
 } conv_chart;
 
 /* The gnuplot script: two panels, one curve set per wind, the data inline. */
-static char *conv_script(const void *ctx, const char *png)
+static char *conv_script(const void *ctx)
 {
     const conv_chart *cc = ctx;
     const conv_setup *c = cc->c;
     const conv_row *rows = cc->rows;
     const size_t nrows = cc->nrows, per_wind = cc->per_wind;
     sea_cli_script script;
-    FILE *f = sea_cli_gnuplot_begin(&script, 1400, 560, png);
+    FILE *f = sea_cli_gnuplot_begin(&script, 1400, 560);
     if (f == NULL)
         return NULL;
     const size_t nwind = nrows / per_wind;
@@ -1232,9 +1232,9 @@ static char *conv_script(const void *ctx, const char *png)
     return sea_cli_gnuplot_end(&script);
 }
 
-/* Feeds script to gnuplot's standard input.  *absent is set when there is
- * no gnuplot to run. */
-static sea_status run_gnuplot(const char *script, bool *absent, sea_error *err)
+/* Feeds script to gnuplot's standard input; gnuplot's standard output (the
+ * PNG) goes to out_fd.  *absent is set when there is no gnuplot to run. */
+static sea_status run_gnuplot(const char *script, int out_fd, bool *absent, sea_error *err)
 {
     *absent = false;
     int fd[2];
@@ -1250,7 +1250,8 @@ static sea_status run_gnuplot(const char *script, bool *absent, sea_error *err)
     posix_spawn_file_actions_adddup2(&fa, fd[0], STDIN_FILENO);
     posix_spawn_file_actions_addclose(&fa, fd[0]);
     posix_spawn_file_actions_addclose(&fa, fd[1]);
-    posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_adddup2(&fa, out_fd, STDOUT_FILENO);
+    posix_spawn_file_actions_addclose(&fa, out_fd);
     if (log != NULL)
         posix_spawn_file_actions_adddup2(&fa, fileno(log), STDERR_FILENO);
     char arg0[] = "gnuplot";
@@ -1312,8 +1313,8 @@ static sea_status run_gnuplot(const char *script, bool *absent, sea_error *err)
     return SEA_OK;
 }
 
-/* A chart's gnuplot script, drawing into png. */
-typedef char *(*chart_script_fn)(const void *ctx, const char *png);
+/* A chart's gnuplot script, drawing to its standard output. */
+typedef char *(*chart_script_fn)(const void *ctx);
 
 /* DIR/NAME.png drawn by gnuplot through a temporary name; csv names the
  * table already written, for the message when gnuplot is missing. */
@@ -1327,7 +1328,7 @@ static sea_status write_chart(const char *dir, const char *name, chart_script_fn
     char *tmp = sea_cli_path_join(dir, tmpl);
     char *script = NULL;
     sea_status st = SEA_OK;
-    int fd = -1;
+    int fd;
     if (png == NULL || tmp == NULL) {
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         goto done;
@@ -1339,16 +1340,20 @@ static sea_status write_chart(const char *dir, const char *name, chart_script_fn
         tmp = NULL;
         goto done;
     }
-    close(fd);
     mode_t mask = umask(0);
     umask(mask);
-    chmod(tmp, 0666 & ~mask);
-    if ((script = script_fn(ctx, tmp)) == NULL) {
+    fchmod(fd, 0666 & ~mask);
+    if ((script = script_fn(ctx)) == NULL) {
+        close(fd);
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the gnuplot script");
         goto done;
     }
     bool absent;
-    if ((st = run_gnuplot(script, &absent, err)) != SEA_OK) {
+    st = run_gnuplot(script, fd, &absent, err);
+    if (close(fd) != 0 && st == SEA_OK)
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot write the chart in '%s': %s", dir,
+                      strerror(errno));
+    if (st != SEA_OK) {
         if (absent)
             st = sea_fail(err, SEA_ERR_NUMERIC, "gnuplot not found: %s written, chart not drawn",
                           csv);
@@ -1569,16 +1574,16 @@ typedef struct {
     size_t n;
 } bench_chart;
 
-static char *bench_chart_script(const void *ctx, const char *png)
+static char *bench_chart_script(const void *ctx)
 {
     const bench_chart *bc = ctx;
-    return sea_cli_bench_chart_script(bc->rows, bc->n, png);
+    return sea_cli_bench_chart_script(bc->rows, bc->n);
 }
 
-static char *bench_image_chart_script(const void *ctx, const char *png)
+static char *bench_image_chart_script(const void *ctx)
 {
     const bench_chart *bc = ctx;
-    return sea_cli_bench_image_chart_script(bc->rows, bc->n, png);
+    return sea_cli_bench_image_chart_script(bc->rows, bc->n);
 }
 
 static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)

@@ -528,7 +528,7 @@ for ch in mxx mxy myy; do
 done
 # The lower-left corner of 8 x 6 facets of 4 m centred on the origin.
 check slopes.exr_origin grep -qa -- "-16,-12" "$SB_TMP/s.exr"
-if command -v exrheader >/dev/null 2>&1; then
+if have exrheader openexr; then
     check_match slopes.exrheader "$(exrheader "$SB_TMP/s.exr" 2>&1)" "\(0 0\) - \(7 5\)"
 fi
 check_eq slopes.no_temporary "$(find "$SB_TMP" -maxdepth 1 -name '*.tmp.*' | grep -c '')" 0
@@ -603,7 +603,7 @@ check_eq slopes.errors_no_temporary "$(find "$SB_TMP" -maxdepth 1 -name '*.tmp.*
 
 CONV=(convergence --wavelength 4 --wind 5,20 --theta 80 --facets 8 --quiet)
 sb_run "${CONV[@]}" -o "$SB_TMP/conv"
-if command -v gnuplot >/dev/null 2>&1; then
+if have gnuplot gnuplot-nox; then
     check_rc convergence.rc 0
     check_eq convergence.stderr "$SB_ERR" ""
     check_eq convergence.png_magic "$(od -An -tx1 -N8 "$SB_TMP/conv/convergence.png" 2>/dev/null |
@@ -697,6 +697,27 @@ check convergence.gnuplot_fails_no_png [ ! -e "$SB_TMP/conv6/convergence.png" ]
 check_eq convergence.gnuplot_fails_no_temporary \
     "$(find "$SB_TMP/conv6" -name '*.tmp.*' | grep -c '')" 0
 
+# No output name becomes gnuplot syntax (gnuplot expands backquotes and has
+# system()): the chart goes to gnuplot's standard output.  A name with a
+# newline and a system() call runs nothing; one with doubled quotes draws
+# no stray file beside DIR; both get their chart inside DIR.
+evil_cmd=$'x\nsystem("touch '"$SB_TMP"$'/PWNED")\n'
+evil_quote="q''x"
+evil_shell="b\`touch $SB_TMP/PWNED2\`\$(touch $SB_TMP/PWNED3)'\""
+mkdir -p "$SB_TMP/evil"
+for name in "$evil_cmd" "$evil_quote" "$evil_shell"; do
+    sb_run convergence --wavelength 4 --wind 8 --theta 30 --facets 1 --sizes 1:1 --quiet \
+        -o "$SB_TMP/evil/$name"
+    check_rc convergence.hostile_name_rc 0
+    check convergence.hostile_name_png [ -s "$SB_TMP/evil/$name/convergence.png" ]
+done
+check convergence.hostile_nothing_ran [ ! -e "$SB_TMP/PWNED" -a ! -e "$SB_TMP/PWNED2" \
+    -a ! -e "$SB_TMP/PWNED3" ]
+check_eq convergence.hostile_charts "$(find "$SB_TMP/evil" -name convergence.png -printf x)" xxx
+check_eq convergence.hostile_no_stray \
+    "$(find "$SB_TMP/evil" -type f ! -name convergence.png ! -name convergence.csv -printf '%f ')" ""
+check_eq convergence.hostile_no_temporary "$(find "$SB_TMP/evil" -name '*.tmp.*' | grep -c '')" 0
+
 CONV_ERR=(convergence --wavelength 4 --wind 5 --theta 80 -o "$SB_TMP/conv-bad")
 sb_run convergence --wavelength 4 --theta 80
 check_error convergence.missing_wind 2 "missing --wind"
@@ -746,8 +767,14 @@ check_error bench.unknown 2 "unknown option '--size'"
 if [ -n "$SEABAKE_WRAPPER" ]; then
     echo "cli: bench --quick skipped under $SEABAKE_WRAPPER (too slow)" >&2
 else
-    sb_run bench --quick --threads 2 -o "$SB_TMP/bench"
+    # A directory name gnuplot would interpret, as for convergence above.
+    bench_dir="$SB_TMP/bench"$'\nsystem("touch '"$SB_TMP"$'/PWNED_BENCH")\n'"q''x"
+    sb_run bench --quick --threads 2 -o "$bench_dir"
     check_rc bench.rc 0
+    check bench.hostile_nothing_ran [ ! -e "$SB_TMP/PWNED_BENCH" ]
+    check bench.hostile_charts [ -s "$bench_dir/speed_accuracy.png" \
+        -a -s "$bench_dir/image_speed_accuracy.png" ]
+    ln -s "$bench_dir" "$SB_TMP/bench"
     check_eq bench.stderr "$SB_ERR" ""
     check_match bench.table "$SB_OUT" "^section +method +settings"
     check_match bench.ratio "$SB_OUT" \
@@ -854,7 +881,7 @@ check render.exr_scene grep -qaF "$RSCENE" "$RDIR/out.exr"
 check render.exr_levels grep -qaE "[0-9]+\(LR\)" "$RDIR/out.exr"
 check render.exr_no_frame_attr absent grep -qa "seabake:frame" "$RDIR/out.exr"
 check render.aov_unit_reflectivity grep -qa "sr^-1" "$RDIR/out.reflectivity.exr"
-if command -v exrheader >/dev/null 2>&1; then
+if have exrheader openexr; then
     header=$(exrheader "$RDIR/out.exr" 2>&1)
     check_match render.exrheader_channel "$header" "^ *Y, 32-bit floating-point"
     check_match render.exrheader_zip "$header" "zip"
@@ -893,7 +920,7 @@ check_eq render.png_depth_16 "$(od -An -tu1 -j24 -N1 "$RDIR/preview16.png" | tr 
 check render.png_named_not_default test ! -e "$RDIR/deep.png"
 sb_run render "$RSCENE" -o "$RDIR/half.exr" --half --aov level --png none --quiet
 check_rc render.half_rc 0
-if command -v exrheader >/dev/null 2>&1; then
+if have exrheader openexr; then
     check_match render.half_channel "$(exrheader "$RDIR/half.exr" 2>&1)" "Y, 16-bit floating-point"
     check_match render.half_level_stays_float "$(exrheader "$RDIR/half.level.exr" 2>&1)" \
         "Y, 32-bit floating-point"
@@ -913,7 +940,7 @@ check render.frame_attr grep -qa "seabake:frame" "$RDIR/anim_0001.exr"
 check render.frames_differ absent cmp -s "$RDIR/anim_0000.exr" "$RDIR/anim_0001.exr"
 sb_run render "$RSCENE" -o "$RDIR/slow.exr" --frames 3:3 --frame-rate 10 --png none --quiet
 check render.frame_rate grep -qaF "0.3" "$RDIR/slow_0003.exr"
-if command -v exrheader >/dev/null 2>&1; then
+if have exrheader openexr; then
     check_match render.exrheader_frame_time "$(exrheader "$RDIR/anim_0001.exr" 2>&1)" \
         'seabake:time_s .*"0.04"'
     check_match render.exrheader_frame "$(exrheader "$RDIR/slow_0003.exr" 2>&1)" \
@@ -1089,7 +1116,7 @@ check_eq bake.stdout "$SB_OUT" ""
 check_match bake.summary "$SB_ERR" "^bake: .*out: [0-9]+ texels in [0-9.e+-]+ s"
 check bake.manifest test -s "$BDIR/out/manifest.json"
 # Levels from the manifest: "HR indices|LR indices".
-if command -v python3 >/dev/null 2>&1; then
+if have python3 python3; then
     check bake.json_valid python3 -m json.tool "$BDIR/out/manifest.json"
     levels=$(python3 -c '
 import json, sys
@@ -1147,7 +1174,7 @@ check_eq bake.rebake_leftovers "$(bake_leftovers)" 0
 check_match bake.half_channels "$(exr_header "$BDIR/out/optics_$l0.exr")" "410001000000.*520001000000"
 
 # The emission maps have K x K texels per facet (3 by default).
-if command -v python3 >/dev/null 2>&1; then
+if have python3 python3; then
     etex=$(python3 -c 'import json, sys
 m = json.load(open(sys.argv[1]))
 print(" ".join("%d/%d" % (l["emission_texels"][0], l["texels"][0]) for l in m["levels"] if not l["low_res"]))' \
