@@ -305,13 +305,11 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
         fprintf(stderr, "%s: waves: none (every level is low-resolution)\n", what);
     else if (ch.directions > 0)
         fprintf(stderr,
-                "%s: waves: %zu sinusoids, %d bins per octave x %d directions%s\n", what,
-                ch.wave_count, ch.bins_per_octave, ch.directions,
-                ch.directions < 32 ? " (fewer directions: the tolerance allows a noisier "
-                                     "windowed slope variance)"
-                                   : "");
+                "%s: waves: %zu sinusoids, %d bins per octave x %d directions (the same "
+                "at every tolerance)\n",
+                what, ch.wave_count, ch.bins_per_octave, ch.directions);
     else
-        fprintf(stderr, "%s: waves: %zu FFT modes (not thinned by the tolerance)\n", what,
+        fprintf(stderr, "%s: waves: %zu FFT modes (the same at every tolerance)\n", what,
                 ch.wave_count);
     const double *wl, *wt;
     const size_t k = sea_render_samples(r, &wl, &wt);

@@ -209,10 +209,6 @@ static double tol_emis_scale(double tol)
     return tol <= SEA_TOL_EMIS_T1 ? 1.0 : tol <= SEA_TOL_EMIS_T2 ? 0.65 : 0.5;
 }
 
-static int tol_directions(double tol, int def)
-{
-    return tol < SEA_TOL_DIR_T1 ? def : tol < SEA_TOL_DIR_T2 ? def / 2 : def / 4;
-}
 
 sea_emis_rule sea_render_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v)
 {
@@ -631,7 +627,6 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
         wp.finest = L0;
         wp.seed = sc->seed;
         wp.loop_period = sc->loop_period;
-        wp.directions = tol_directions(sc->tolerance, wp.directions);
         if (sc->method == SEA_METHOD_ONE_METER) {
             wp.kind = SEA_WAVES_FFT;
             if (fft_cells > 16384) {
