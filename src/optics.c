@@ -582,7 +582,7 @@ double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc
     const double S = 1.0 / (1.0 + L_o + L_i); /* Eq 14c */
     const double r = sea_fresnel_unpolarized(cos_psi0, N) * slope_pdf(st, gx0, gy0) * g_over_D *
                      S * J;
-    return isfinite(r) ? r : 0.0;
+    return r;
 }
 
 double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs)

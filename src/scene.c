@@ -140,9 +140,14 @@ sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
                           lineno, SEA_QUOTE_MAX, field[1 - i_wl]);
             goto fail;
         }
-        if (value < 0.0) {
-            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: response: %g is negative (allowed: >= 0)",
-                          path, lineno, value);
+        if (!(value >= 0.0 && value <= SEA_RESPONSE_MAX)) {
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: response: %g is outside [0, %g]", path,
+                          lineno, value, SEA_RESPONSE_MAX);
+            goto fail;
+        }
+        if (!(wl_um <= SEA_RESPONSE_WAVELENGTH_MAX_UM)) {
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: wavelength_um: %g is outside (0, %g]",
+                          path, lineno, wl_um, SEA_RESPONSE_WAVELENGTH_MAX_UM);
             goto fail;
         }
         double wl = wl_um * SEA_UM;

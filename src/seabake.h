@@ -116,9 +116,18 @@ typedef struct sea_water sea_water;
  * intersection of the table and the correction (2.398-15.62 um). */
 sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **out,
                            sea_error *err);
+/* The optical constants a water table (or --index) may give: liquid water
+ * over 2.4-15.6 um spans n 1.09-1.48, k 0.001-0.42 (both shipped tables);
+ * these bounds refuse what no water is (n < 1 gives emissivities near 0 at
+ * grazing angles; a huge n or k overflows Fresnel's N^2) with room for any
+ * measurement. */
+#define SEA_WATER_N_MIN 1.0
+#define SEA_WATER_N_MAX 3.0
+#define SEA_WATER_K_MAX 10.0
 /* A user table: CSV text with '#' comment lines, a header row naming the
  * columns wavelength_um,n,k and at least two rows in strictly monotonic
- * wavelength order. */
+ * wavelength order; n in [SEA_WATER_N_MIN, SEA_WATER_N_MAX], k in [0,
+ * SEA_WATER_K_MAX] (SEA_ERR_DOMAIN naming the file, line and column). */
 sea_status sea_water_load(const char *path, double salinity, sea_water **out,
                           sea_error *err);
 void sea_water_free(sea_water *w);
@@ -584,8 +593,13 @@ void sea_scene_defaults(sea_scene *sc);
 sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err);
 
 /* A spectral response curve: n >= 2 rows of strictly increasing wavelength
- * (m) and response >= 0 (not all 0), from a CSV with '#' comments and a
- * header naming wavelength_um,response.  Errors name FILE:LINE. */
+ * (m, at most SEA_RESPONSE_WAVELENGTH_MAX_UM um) and response in [0,
+ * SEA_RESPONSE_MAX] (not all 0), from a CSV with '#' comments and a header
+ * naming wavelength_um,response.  Errors name FILE:LINE.  The response is
+ * relative (any scale: fractions or percent), so its bound only refuses
+ * values no curve holds, whose sums could overflow. */
+#define SEA_RESPONSE_MAX 1e6
+#define SEA_RESPONSE_WAVELENGTH_MAX_UM 1000.0
 typedef struct {
     size_t n;
     double *wavelength, *value;

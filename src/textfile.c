@@ -3,10 +3,12 @@
 #include "config.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "textfile.h"
 
@@ -16,13 +18,20 @@ sea_status sea_read_text(const char *path, long max_bytes, const char *kind, cha
     sea_status st = SEA_OK;
     char *text = NULL;
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
+    /* Non-blocking, so that a FIFO (or a device) is refused by the check
+     * below instead of blocking the open until a writer appears. */
+    const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0)
         return sea_fail(err, SEA_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        st = sea_fail(err, SEA_ERR_IO, "%s: not a regular file", path);
-        goto done;
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        close(fd);
+        return sea_fail(err, SEA_ERR_IO, "%s: not a regular file", path);
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (f == NULL) {
+        close(fd);
+        return sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
     }
     if (sb.st_size > max_bytes) {
         st = sea_fail(err, SEA_ERR_PARSE, "%s: %lld bytes is larger than the %ld allowed", path,

@@ -9,6 +9,7 @@
 #include "config.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -109,13 +110,26 @@ static int parse_double(const char *s, double *out)
 
 enum { SEA_CSV_FIELDS_MAX = 16 };
 
+/* Allowed values of a table's two value columns, [a_min, a_max] and
+ * [b_min, b_max]. */
+typedef struct {
+    double a_min, a_max, b_min, b_max;
+} table_bounds;
+
+/* Any finite number (the sea-water correction's signed differences). */
+static const table_bounds ANY_FINITE = {-DBL_MAX, DBL_MAX, -DBL_MAX, DBL_MAX};
+/* n and k of water. */
+static const table_bounds WATER_NK = {SEA_WATER_N_MIN, SEA_WATER_N_MAX, 0.0, SEA_WATER_K_MAX};
+
 /* Parses CSV text whose header names the columns.  The x column is either
  * "wavelength_um" or "wavenumber_cm1" (the first of col_x that is present);
- * col_a and col_b name the two value columns.  Rows are stored by increasing
- * wavenumber and must be strictly monotonic in the file.  source names the
- * text in messages ("file.csv:12: ..."). */
+ * col_a and col_b name the two value columns, whose values must lie within
+ * bounds.  Rows are stored by increasing wavenumber and must be strictly
+ * monotonic in the file.  source names the text in messages
+ * ("file.csv:12: ..."). */
 static sea_status table_parse(const char *text, const char *source, const char *col_a,
-                              const char *col_b, sea_table *out, sea_error *err)
+                              const char *col_b, const table_bounds *bounds, sea_table *out,
+                              sea_error *err)
 {
     sea_status st = SEA_OK;
     size_t cap = 0;
@@ -182,6 +196,16 @@ static sea_status table_parse(const char *text, const char *source, const char *
         if (parse_double(field[ib], &b) != 0) {
             st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a number", source,
                           lineno, col_b, field[ib]);
+            goto fail;
+        }
+        if (!(a >= bounds->a_min && a <= bounds->a_max)) {
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is outside [%g, %g]", source,
+                          lineno, col_a, a, bounds->a_min, bounds->a_max);
+            goto fail;
+        }
+        if (!(b >= bounds->b_min && b <= bounds->b_max)) {
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is outside [%g, %g]", source,
+                          lineno, col_b, b, bounds->b_min, bounds->b_max);
             goto fail;
         }
         double nu = x_is_wavenumber ? x * 100.0 : 1e6 / x; /* 1/m */
@@ -279,7 +303,7 @@ static sea_status water_finish(sea_table *pure, double salinity, const char *wha
     w->nu_max = w->pure.nu[w->pure.len - 1];
     if (salinity > 0.0) {
         st = table_parse(builtin_text("seawater_correction"), "seawater_correction.csv",
-                         "n_salt_corr", "k_salt_corr", &w->salt, err);
+                         "n_salt_corr", "k_salt_corr", &ANY_FINITE, &w->salt, err);
         if (st != SEA_OK)
             goto fail;
         w->salt_scale = salinity / SEA_CORRECTION_SALINITY;
@@ -321,7 +345,8 @@ sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **o
         return st;
     char source[64];
     snprintf(source, sizeof source, "%s.csv", SEA_TABLES[table].file);
-    st = table_parse(builtin_text(SEA_TABLES[table].file), source, "n", "k", &pure, err);
+    st = table_parse(builtin_text(SEA_TABLES[table].file), source, "n", "k", &WATER_NK, &pure,
+                     err);
     if (st != SEA_OK)
         return st;
     return water_finish(&pure, salinity, SEA_TABLES[table].cite, out, err);
@@ -337,17 +362,8 @@ sea_status sea_water_load(const char *path, double salinity, sea_water **out, se
         return st;
     if ((st = sea_read_text(path, SEA_TABLE_BYTES_MAX, "CSV text file", &text, err)) != SEA_OK)
         return st;
-    if ((st = table_parse(text, path, "n", "k", &pure, err)) != SEA_OK)
+    if ((st = table_parse(text, path, "n", "k", &WATER_NK, &pure, err)) != SEA_OK)
         goto done;
-    for (size_t i = 0; i < pure.len; i++) {
-        if (!(pure.a[i] > 0.0) || pure.b[i] < 0.0) {
-            st = sea_fail(err, SEA_ERR_DOMAIN,
-                          "%s: row %zu (%.6g um): need n > 0 and k >= 0 (n = %g, k = %g)", path,
-                          i + 1, 1e6 / pure.nu[i], pure.a[i], pure.b[i]);
-            table_free(&pure);
-            goto done;
-        }
-    }
     st = water_finish(&pure, salinity, path, out, err);
 done:
     free(text);
@@ -404,5 +420,7 @@ double sea_fresnel_unpolarized(double cos_psi, double complex N)
     const double complex r_p = (N2 * c - w) / (N2 * c + w);
     const double rs2 = creal(r_s) * creal(r_s) + cimag(r_s) * cimag(r_s);
     const double rp2 = creal(r_p) * creal(r_p) + cimag(r_p) * cimag(r_p);
-    return 0.5 * (rs2 + rp2);
+    /* A passive surface reflects at most what falls on it: the bound keeps
+     * 1 - rho >= 0 where total reflection rounds to 1 + 2e-16 (n < 1). */
+    return fmin(0.5 * (rs2 + rp2), 1.0);
 }

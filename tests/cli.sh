@@ -862,6 +862,30 @@ render_files() {
     find "$RDIR" -maxdepth 1 -name "$1" | grep -c ''
 }
 
+# A FIFO is refused as "not a regular file" (exit 3) without waiting for a
+# writer: as the scene file, its water and response tables, and --water.
+# timeout turns a regression (a hang in open) into a failure, not a stuck suite.
+mkfifo "$RDIR/fifo"
+fifo_case() { # fifo_case NAME ARGS...
+    local name=$1
+    shift
+    SB_CMD="seabake $*"
+    # shellcheck disable=SC2086
+    timeout 30 $SEABAKE_WRAPPER "$SEABAKE" "$@" >"$SB_TMP/out" 2>"$SB_TMP/err"
+    SB_RC=$?
+    SB_OUT=$(cat "$SB_TMP/out")
+    SB_ERR=$(cat "$SB_TMP/err")
+    check_error "fifo.$name" 3 "fifo.*not a regular file"
+}
+fifo_case water_option emissivity --wavelength 4 --wind 8 --theta 0 --water "$RDIR/fifo"
+fifo_case scene render "$RDIR/fifo" -o "$RDIR/fifo.exr"
+sed -e "s|^\[sea\]|[sea]\nwater = $RDIR/fifo|" "$RSCENE" >"$RDIR/fifo_water.ini"
+fifo_case scene_water render "$RDIR/fifo_water.ini" -o "$RDIR/fifo.exr"
+sed -e "s|^wavelength = .*|band = 3.5:4.5\nresponse = $RDIR/fifo|" "$RSCENE" >"$RDIR/fifo_resp.ini"
+fifo_case scene_response render "$RDIR/fifo_resp.ini" -o "$RDIR/fifo.exr"
+check_eq fifo.nothing_written "$(find "$RDIR" -name 'fifo*.exr*' -o -name 'fifo*.png*' | grep -c '')" 0
+rm -f "$RDIR/fifo" "$RDIR"/fifo_*.ini
+
 sb_run render "$RSCENE" -o "$RDIR/out.exr" --aov level,emissivity,reflectivity,temperature
 check_rc render.rc 0
 check_eq render.stdout "$SB_OUT" ""

@@ -138,7 +138,14 @@ static void test_user_table(void)
     expect_load_error("wavelength_um,n,k\n3,1.3,0.1\n4,1.3,0.1\n3.5,1.3,0.1\n", SEA_ERR_PARSE,
                       ":4: rows must be strictly monotonic");
     expect_load_error("wavelength_um,n,k\n3,1.3,0.1\n", SEA_ERR_PARSE, "at least two");
-    expect_load_error("wavelength_um,n,k\n3,1.3,-0.1\n4,1.3,0.1\n", SEA_ERR_DOMAIN, "k >= 0");
+    expect_load_error("wavelength_um,n,k\n3,1.3,-0.1\n4,1.3,0.1\n", SEA_ERR_DOMAIN,
+                      ":2: k: -0.1 is outside [0, 10]");
+    /* What no water is: n below 1 (emissivity 5e-4 at 80 deg) or a k whose
+     * square overflows Fresnel's N^2, refused at their line. */
+    expect_load_error("wavelength_um,n,k\n3,1.3,0.1\n4,0.31,0.1\n", SEA_ERR_DOMAIN,
+                      ":3: n: 0.31 is outside [1, 3]");
+    expect_load_error("wavelength_um,n,k\n3,1.3,9.9e304\n4,1.3,0.1\n", SEA_ERR_DOMAIN,
+                      ":2: k: 9.9e+304 is outside [0, 10]");
     sea_water *w2 = NULL;
     sea_error err = { "" };
     CU_ASSERT(sea_water_load("/nonexistent/table.csv", 0.0, &w2, &err) == SEA_ERR_IO);
@@ -153,6 +160,12 @@ static void test_fresnel_normal(void)
     const double want = ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
     ASSERT_REL(sea_fresnel_unpolarized(1.0, N), want, 1e-14, 0);
     ASSERT_ABS(sea_fresnel_unpolarized(0.0, N), 1.0, 1e-15);
+    /* Never above 1: beyond the critical angle of n < 1 (total reflection)
+     * the formula rounds to 1 + 2e-16, which made an emissivity -2.2e-16. */
+    for (int i = 0; i <= 900; i++) {
+        const double rho = sea_fresnel_unpolarized(cos(i * M_PI / 1800.0), 0.474261 + 0.0 * I);
+        CU_ASSERT(rho >= 0.0 && rho <= 1.0);
+    }
 }
 
 /* k = 0: the complex formula reduces to Eq 1 (sin/tan form), 1e-13. */
