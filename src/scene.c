@@ -408,7 +408,19 @@ typedef struct {
     sea_status status;     /* first error */
     long err_line;
     sea_error err;
+    const char *const *overrides; /* "section.key=value", applied after the file */
+    size_t n_overrides;
 } loader;
+
+/* Override i stands at "line" SEA_OVERRIDE_LINE + i: after every line of the
+ * file (so it wins a conflict and is named as the later key), and messages
+ * about it name the override instead of a file line. */
+static const long SEA_OVERRIDE_LINE = 1L << 40;
+
+static bool is_override_line(const loader *ld, long line)
+{
+    return line >= SEA_OVERRIDE_LINE && (size_t)(line - SEA_OVERRIDE_LINE) < ld->n_overrides;
+}
 
 static void vrecord(loader *ld, sea_status st, long line, const char *fmt, va_list ap)
     __attribute__((format(printf, 4, 0)));
@@ -418,7 +430,10 @@ static void vrecord(loader *ld, sea_status st, long line, const char *fmt, va_li
         return;
     char what[SEA_ERROR_MSG_MAX];
     vsnprintf(what, sizeof what, fmt, ap);
-    if (line > 0)
+    if (is_override_line(ld, line))
+        sea_fail(&ld->err, st, "--set %.*s: %s", SEA_QUOTE_MAX,
+                 ld->overrides[line - SEA_OVERRIDE_LINE], what);
+    else if (line > 0)
         sea_fail(&ld->err, st, "%s:%ld: %s", ld->path, line, what);
     else
         sea_fail(&ld->err, st, "%s: %s", ld->path, what);
@@ -532,11 +547,15 @@ static char *read_line(char *str, int num, void *stream)
     return str;
 }
 
-/* Resolves a path given in the scene against the scene file's directory. */
+/* Resolves a path given in the scene against the scene file's directory
+ * (one given by an override is taken as typed: relative to the working
+ * directory). */
 static int resolve_path(loader *ld, key_id id, const char *value, char *out)
 {
     const char *slash = strrchr(ld->path, '/');
-    int dir_len = (value[0] == '/' || slash == NULL) ? 0 : (int)(slash - ld->path + 1);
+    int dir_len = (value[0] == '/' || slash == NULL || is_override_line(ld, ld->lineno))
+                      ? 0
+                      : (int)(slash - ld->path + 1);
     int len = snprintf(out, SEA_SCENE_PATH_MAX, "%.*s%s", dir_len, ld->path, value);
     if (len < 0 || len >= SEA_SCENE_PATH_MAX)
         return fail_key(ld, SEA_ERR_DOMAIN, ld->lineno, id,
@@ -657,7 +676,12 @@ static int on_key(void *user, const char *section, const char *name, const char 
         return fail_line(ld, SEA_ERR_PARSE, line, "[%s] %.*s: unknown key (allowed: %s)",
                          SEA_SECTIONS[sec], SEA_QUOTE_MAX, name, keys);
     }
-    if (ld->key_line[id] != 0)
+    if (is_override_line(ld, ld->key_line[id]))
+        return fail_line(ld, SEA_ERR_PARSE, line,
+                         "[%s] %s: overridden twice, first by --set %.*s (allowed: once)",
+                         SEA_SECTIONS[sec], name, SEA_QUOTE_MAX,
+                         ld->overrides[ld->key_line[id] - SEA_OVERRIDE_LINE]);
+    if (ld->key_line[id] != 0 && !is_override_line(ld, line))
         return fail_line(ld, SEA_ERR_PARSE, line,
                          "[%s] %s: duplicate key, first given on line %ld (allowed: once)",
                          SEA_SECTIONS[sec], name, ld->key_line[id]);
@@ -689,10 +713,17 @@ static void check_conflict(loader *ld, key_id a, key_id b, const char *rule)
         return;
     key_id later = ld->key_line[a] > ld->key_line[b] ? a : b;
     key_id other = later == a ? b : a;
+    char where[SEA_QUOTE_MAX + 32];
+    const long ol = ld->key_line[other];
+    if (is_override_line(ld, ol))
+        snprintf(where, sizeof where, "--set %.*s", SEA_QUOTE_MAX,
+                 ld->overrides[ol - SEA_OVERRIDE_LINE]);
+    else
+        snprintf(where, sizeof where, "line %ld", ol);
     fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[later],
-              "[%s] %s: conflicts with %s on line %ld (allowed: %s)",
+              "[%s] %s: conflicts with %s on %s (allowed: %s)",
               SEA_SECTIONS[SEA_KEYS[later].section], SEA_KEYS[later].name,
-              SEA_KEYS[other].name, ld->key_line[other], rule);
+              SEA_KEYS[other].name, where, rule);
 }
 
 static void check_required(loader *ld, key_id id)
@@ -836,7 +867,46 @@ void sea_scene_defaults(sea_scene *sc)
     sc->tolerance = 1e-3;
 }
 
+/* Applies the overrides "section.key=value" through the file's own key
+ * handler, so that each is validated exactly as the same line in the file. */
+static void apply_overrides(loader *ld)
+{
+    for (size_t i = 0; i < ld->n_overrides && ld->status == SEA_OK; i++) {
+        const char *o = ld->overrides[i];
+        ld->lineno = SEA_OVERRIDE_LINE + (long)i;
+        const char *dot = strchr(o, '.'), *eq = strchr(o, '=');
+        if (dot == NULL || eq == NULL || dot > eq || dot == o || eq == dot + 1) {
+            fail_line(ld, SEA_ERR_PARSE, ld->lineno,
+                      "not SECTION.KEY=VALUE (allowed: e.g. sea.wind_speed=12)");
+            return;
+        }
+        char section[32], key[64], value[SEA_SCENE_PATH_MAX];
+        const size_t ls = (size_t)(dot - o), lk = (size_t)(eq - dot - 1), lv = strlen(eq + 1);
+        if (ls >= sizeof section || lk >= sizeof key || lv >= sizeof value) {
+            fail_line(ld, SEA_ERR_PARSE, ld->lineno, "too long (allowed: a value of at most %zu "
+                      "characters)", sizeof value - 1);
+            return;
+        }
+        snprintf(section, sizeof section, "%.*s", (int)ls, o);
+        snprintf(key, sizeof key, "%.*s", (int)lk, dot + 1);
+        snprintf(value, sizeof value, "%s", eq + 1);
+        if (section_index(trim(section)) < 0) {
+            fail_line(ld, SEA_ERR_PARSE, ld->lineno,
+                      "[%.*s]: unknown section (allowed: sea, sun, sky, sensor, model)",
+                      SEA_QUOTE_MAX, trim(section));
+            return;
+        }
+        on_key(ld, trim(section), trim(key), trim(value));
+    }
+}
+
 sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err)
+{
+    return sea_scene_load_with(path, NULL, 0, sc, err);
+}
+
+sea_status sea_scene_load_with(const char *path, const char *const *overrides, size_t n_overrides,
+                               sea_scene *sc, sea_error *err)
 {
     char *text = NULL;
     sea_status st = sea_read_text(path, SEA_SCENE_BYTES_MAX, "text file", &text, err);
@@ -850,6 +920,8 @@ sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err)
     ld->path = path;
     ld->text = text;
     ld->len = strlen(text);
+    ld->overrides = overrides;
+    ld->n_overrides = n_overrides;
     sea_scene_defaults(&ld->sc);
 
     int r = ini_parse_stream(read_line, ld, on_key, ld);
@@ -866,6 +938,7 @@ sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err)
     } else if (r < 0 && ld->status == SEA_OK) {
         fail_line(ld, r == -2 ? SEA_ERR_NOMEM : SEA_ERR_IO, 0, "cannot be parsed (inih %d)", r);
     }
+    apply_overrides(ld);
     check_scene(ld);
     check_files(ld);
 

@@ -591,6 +591,14 @@ void sea_scene_defaults(sea_scene *sc);
  * Lines are at most 198 characters (the inih build's limit).  sc is written
  * only on success. */
 sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err);
+/* The same, then n_overrides strings "section.key=value" (e.g.
+ * "sea.wind_speed=12"), each validated exactly as that key on a line of the
+ * file and replacing the file's value; a key overridden twice is an error.
+ * A path value is taken relative to the working directory, not the scene
+ * file's.  Errors about an override read "--set TEXT: [section] key: message
+ * (allowed: RANGE)".  The strings are only read during the call. */
+sea_status sea_scene_load_with(const char *path, const char *const *overrides, size_t n_overrides,
+                               sea_scene *sc, sea_error *err);
 
 /* A spectral response curve: n >= 2 rows of strictly increasing wavelength
  * (m, at most SEA_RESPONSE_WAVELENGTH_MAX_UM um) and response in [0,

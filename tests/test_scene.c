@@ -539,6 +539,51 @@ static void test_response_load(void)
 }
 
 /* The complete example of seabake-scene(5) loads as the paper's Fig. 8. */
+/* --set: each override is validated as the same key in the file, replaces
+ * the file's value, and errors name the override rather than a line. */
+static void test_overrides(void)
+{
+    char path[300]; /* write_file's buffer is reused below */
+    snprintf(path, sizeof path, "%s", write_file("over.ini", BASE));
+    sea_scene sc;
+    sea_error err = { "" };
+    const char *ok[] = { "sea.wind_speed=12.5", "sensor.width = 32", "model.tolerance=1e-2",
+                         "sky.temperature=250" };
+    CU_ASSERT_FATAL(sea_scene_load_with(path, ok, 4, &sc, &err) == SEA_OK);
+    CU_ASSERT(sc.wind_speed == 12.5 && sc.width == 32 && sc.height == 48);
+    CU_ASSERT(sc.tolerance == 1e-2 && sc.sky_temperature == 250.0);
+    /* a required key may come from an override alone */
+    const char *nofile = write_file("over_missing.ini", "[sea]\n[sensor]\naltitude = 500\n"
+                                    "hfov = 30\nwidth = 64\nheight = 48\nwavelength = 4\n");
+    const char *wind[] = { "sea.wind_speed=7" };
+    CU_ASSERT(sea_scene_load_with(nofile, wind, 1, &sc, &err) == SEA_OK && sc.wind_speed == 7.0);
+    static const struct {
+        const char *set;
+        sea_status status;
+        const char *needle;
+    } bad[] = {
+        { "sea.wind_speed=abc", SEA_ERR_PARSE,
+          "--set sea.wind_speed=abc: [sea] wind_speed: 'abc' is not a number (allowed:" },
+        { "sea.wind_speed=1e9", SEA_ERR_DOMAIN, "--set sea.wind_speed=1e9: [sea] wind_speed:" },
+        { "sea.wind=3", SEA_ERR_PARSE, "--set sea.wind=3: [sea] wind: unknown key (allowed:" },
+        { "ocean.wind_speed=3", SEA_ERR_PARSE, "--set ocean.wind_speed=3: [ocean]: unknown section" },
+        { "wind_speed=3", SEA_ERR_PARSE, "--set wind_speed=3: not SECTION.KEY=VALUE" },
+        { "sea.wind_speed", SEA_ERR_PARSE, "not SECTION.KEY=VALUE" },
+        { "sea.wind_speed=", SEA_ERR_PARSE, "--set sea.wind_speed=: [sea] wind_speed: empty value" },
+        { "sensor.band=3.5:4.5", SEA_ERR_DOMAIN,
+          "--set sensor.band=3.5:4.5: [sensor] band: conflicts with wavelength on line 8" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        const char *one[] = { bad[i].set };
+        CU_ASSERT(sea_scene_load_with(path, one, 1, &sc, &err) == bad[i].status);
+        CU_ASSERT(contains(err.msg, bad[i].needle));
+    }
+    const char *twice[] = { "sea.wind_speed=3", "sea.wind_speed=4" };
+    CU_ASSERT(sea_scene_load_with(path, twice, 2, &sc, &err) == SEA_ERR_PARSE);
+    CU_ASSERT(contains(err.msg, "--set sea.wind_speed=4: [sea] wind_speed: overridden twice, "
+                                "first by --set sea.wind_speed=3"));
+}
+
 static void test_manual_example(void)
 {
     const char *man = SEA_TOP_SRCDIR "/man/seabake-scene.5";
@@ -614,5 +659,6 @@ int test_scene_register(void)
            !CU_add_test(s, "unreadable scene file", test_missing_scene) ||
            !CU_add_test(s, "relative paths and referenced files", test_relative_paths) ||
            !CU_add_test(s, "response curves and their errors", test_response_load) ||
+           !CU_add_test(s, "overrides (--set)", test_overrides) ||
            !CU_add_test(s, "manual example (Fig. 8)", test_manual_example);
 }
