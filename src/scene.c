@@ -321,7 +321,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_METHOD] = CHOICE(SEC_MODEL, "method", sea_facet_method_from_name,
                         "variable-step, variable-step-2n, one-meter", method),
     [K_N] = INT(SEC_MODEL, "n", 0, 20, 0, "", n),
-    [K_FINEST] = REAL(SEC_MODEL, "finest", 0.0, 1000.0, LO_OPEN, 1.0, "m", finest),
+    [K_FINEST] = REAL(SEC_MODEL, "finest", SEA_FINEST_MIN, 1000.0, 0, 1.0, "m", finest),
     [K_GRID] = INT(SEC_MODEL, "grid", 16, 4096, EVEN, "facets", grid),
     [K_EMISSIVITY] = CHOICE(SEC_MODEL, "emissivity", sea_emis_method_from_name,
                             "auto, fast, full", emissivity_method),

@@ -336,7 +336,8 @@ typedef enum {
 
 typedef struct {
     sea_waves_kind kind;
-    double finest;          /* finest facet size L0, m: no wave with |k| > pi/L0 */
+    double finest;          /* finest facet size L0, m, [SEA_FINEST_MIN, SEA_FINEST_MAX]:
+                             * no wave with |k| > pi/L0 */
     unsigned long seed;     /* same seed, same sea */
     double loop_period;     /* s; > 0: omega rounded to multiples of 2 pi/T; 0: none */
     /* sum of sinusoids */
@@ -346,6 +347,12 @@ typedef struct {
     size_t fft_size;        /* points per side N, even, 2..16384: period N*L0 (default 1024) */
 } sea_waves_params;
 
+/* The finest facet sizes a wave plan allows, m.  Below 1 mm (k = pi/L0 >
+ * 3100 rad/m, 8.5 times the spectrum's capillary peak k_m = 370 rad/m) the
+ * curvature spectrum is below e^-14 of its peak: nothing left to draw but
+ * ever more bins.  Above 1 km every wave is sub-facet. */
+#define SEA_FINEST_MIN 1e-3
+#define SEA_FINEST_MAX 1e6
 /* Defaults: sinusoids, finest 1 m, seed 1, no loop, 8 bins/octave, 32
  * directions, FFT 1024 points. */
 void sea_waves_params_default(sea_waves_params *p);
@@ -570,7 +577,7 @@ typedef struct {
     int method;                /* method = variable-step | variable-step-2n | one-meter:
                                   a sea_facet_method; variable-step (the paper's model) */
     int n;                     /* n, [0, 20], with variable-step-2n; 1 */
-    double finest;             /* finest, m, (0, 1000]; 1 */
+    double finest;             /* finest, m, [0.001, 1000]; 1 */
     int grid;                  /* grid, clipmap level size in facets, even [16, 4096]; 256 */
     int emissivity_method;     /* emissivity = auto | fast | full; auto */
     sea_earth earth;           /* earth = flat | spherical; flat */

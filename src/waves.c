@@ -287,9 +287,9 @@ sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, se
     *out = NULL;
     if (p->kind != SEA_WAVES_SINUSOIDS && p->kind != SEA_WAVES_FFT)
         return sea_fail(err, SEA_ERR_DOMAIN, "unknown wave generator %d", (int)p->kind);
-    if (!(p->finest > 0.0) || !isfinite(p->finest))
-        return sea_fail(err, SEA_ERR_DOMAIN, "finest facet size %g m must be > 0 and finite",
-                        p->finest);
+    if (!(p->finest >= SEA_FINEST_MIN && p->finest <= SEA_FINEST_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN, "finest facet size %g m is outside [%g, %g] m",
+                        p->finest, SEA_FINEST_MIN, SEA_FINEST_MAX);
     if (!(p->loop_period >= 0.0) || !isfinite(p->loop_period))
         return sea_fail(err, SEA_ERR_DOMAIN, "loop period %g s must be >= 0 and finite",
                         p->loop_period);

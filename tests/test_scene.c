@@ -230,7 +230,7 @@ static const error_case CASES[] = {
       "(allowed: [section], key = value" },
     { BASE "[sky\n", SEA_ERR_PARSE, 9, "syntax error: '[sky'", "(allowed: [section]" },
     { BASE "[model]\nfinest = 1m\n", SEA_ERR_PARSE, 10, "[model] finest: '1m' is not a number",
-      "(allowed: (0, 1000] m)" },
+      "(allowed: [0.001, 1000] m)" },
     { BASE "x = nan\n", SEA_ERR_PARSE, 9, "[sensor] x: 'nan' is not a number",
       "(allowed: any finite value in m)" },
     { BASE "roll =\n", SEA_ERR_PARSE, 9, "[sensor] roll: empty value",
@@ -297,7 +297,10 @@ static const error_case CASES[] = {
       "(allowed: an even integer in [16, 4096] facets)" },
     { BASE "[model]\ntolerance = 0\n", SEA_ERR_DOMAIN, 10, "[model] tolerance",
       "(allowed: (0, 0.1])" },
-    { BASE "[model]\nfinest = 1001\n", SEA_ERR_DOMAIN, 10, "[model] finest", "(0, 1000] m" },
+    { BASE "[model]\nfinest = 1001\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
+    /* a denormal underflows strtod: refused as no number, with the range */
+    { BASE "[model]\nfinest = 4.9e-324\n", SEA_ERR_PARSE, 10, "[model] finest", "[0.001, 1000] m" },
+    { BASE "[model]\nfinest = 1e-4\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
     /* missing keys: the section's line, or no line without the section */
     { "[sea]\n[sensor]\naltitude = 500\nhfov = 30\nwidth = 64\nheight = 48\nwavelength = 4\n",
       SEA_ERR_DOMAIN, 1, "[sea] wind_speed: missing required key", "(allowed: [0.5, 40] m/s)" },
