@@ -2,7 +2,8 @@
  * wind-roughened sea surface at any resolution (Caillault et al. 2007,
  * Applied Optics 46, 5471); the equation numbers (Eq N) below are the
  * paper's.  Compile and link with `pkg-config --cflags --libs seabake`;
- * examples/emissivity.c is a short program that uses it.
+ * examples/emissivity.c (installed in share/seabake/examples) is a short
+ * program that uses it.
  *
  * Conventions.  SI units and radians everywhere; units appear in names only
  * at the edges.  Axes: x along the wind axis of the spectrum frame rotated by
