@@ -12,10 +12,12 @@
 #ifndef SEABAKE_BLENDER_H
 #define SEABAKE_BLENDER_H
 
+#include "internal.h"
+
 /* The name the script gets in a bake directory. */
 #define SEA_BLENDER_SCRIPT "seabake_import.py"
 
 /* The script's text, NUL-terminated (defined in the generated blender_py.c). */
-extern const char sea_blender_import_text[];
+SEA_INTERNAL extern const char sea_blender_import_text[];
 
 #endif /* SEABAKE_BLENDER_H */

@@ -1,8 +1,9 @@
 /* exr.h - single-part scanline OpenEXR files through the OpenEXR C API
- * (libOpenEXRCore), written atomically.
+ * (libOpenEXRCore), written atomically.  Installed as <seabake/exr.h>;
+ * ownership and the thread-safety words follow seabake.h.
  *
- * Files are what Blender 3.4 and POV-Ray 3.7 read (../shared/CLIENTS.md):
- * one part, scanline, lossless compression, FLOAT or HALF channels.
+ * Files are what Blender 3.4 and POV-Ray 3.7 read: one part, scanline,
+ * lossless compression, FLOAT or HALF channels.
  * Row 0 of every buffer is the top row of the image.
  *
  * Writing goes to a temporary file in the destination's directory, which is
@@ -52,7 +53,9 @@ typedef struct {
  * the half range is refused with SEA_ERR_NUMERIC naming the channel and
  * pixel, and nothing is written).  Invalid sizes, names or options are
  * SEA_ERR_DOMAIN, also with nothing written.  SEA_ERR_IO names the path and
- * the OpenEXR or system error. */
+ * the OpenEXR or system error.  Thread-safe: reads the caller's channels
+ * and attributes; threads writing the same path at once each write a
+ * temporary file of their own, and the last rename wins. */
 sea_status sea_exr_write(const char *path, int width, int height, const sea_exr_channel *channels,
                          size_t n_channels, const sea_exr_attr *attrs, size_t n_attrs,
                          const sea_exr_options *opt, sea_error *err);
@@ -71,12 +74,16 @@ typedef struct {
 
 /* Reads every channel of a single-part scanline file (FLOAT or HALF
  * channels) as floats.  SEA_ERR_IO if the file cannot be opened or decoded,
- * SEA_ERR_PARSE if it is tiled, deep, multi-part or has UINT channels. */
+ * SEA_ERR_PARSE if it is tiled, deep, multi-part or has UINT channels.
+ * Thread-safe; fills out, which the caller releases with
+ * sea_exr_image_free() (on failure it holds nothing to free). */
 sea_status sea_exr_read(const char *path, sea_exr_image *out, sea_error *err);
-/* The channel called name, or NULL. */
+/* The channel called name, or NULL.  Reads img; the data are owned by img. */
 const float *sea_exr_image_channel(const sea_exr_image *img, const char *name);
-/* The value of string attribute name, or NULL. */
+/* The value of string attribute name, or NULL.  Reads img; the string is
+ * owned by img. */
 const char *sea_exr_image_attr(const sea_exr_image *img, const char *name);
+/* Accepts NULL or a zeroed image; leaves it zeroed. */
 void sea_exr_image_free(sea_exr_image *img);
 
 #endif /* SEABAKE_EXR_H */

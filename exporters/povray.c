@@ -18,9 +18,6 @@
 
 #include "povray.h"
 
-/* Defined in the generated povray_inc.c. */
-extern const char sea_pov_include_text[];
-
 enum { POV_FILES = 3, POV_TMP_ATTEMPTS = 100 };
 
 /* Each coarser level sits this many finest facets below the next finer one,

@@ -21,6 +21,7 @@
 
 #include <stddef.h>
 
+#include "internal.h"
 #include "seabake.h"
 
 /* One clipmap level of the exported sea. */
@@ -62,7 +63,12 @@ typedef struct {
  * are written; on failure none of them is created or changed.  Returns
  * SEA_ERR_DOMAIN for invalid arguments (naming the level), SEA_ERR_IO
  * naming the file and the system error, SEA_ERR_NOMEM. */
-sea_status sea_pov_write(const char *dir, const sea_camera *cam, const sea_pov_level *levels,
-                         size_t n, double sky_scaled, double scale, sea_error *err);
+SEA_INTERNAL sea_status sea_pov_write(const char *dir, const sea_camera *cam,
+                                      const sea_pov_level *levels, size_t n, double sky_scaled,
+                                      double scale, sea_error *err);
+
+/* The text of exporters/povray/seabake.inc, NUL-terminated (defined in the generated
+ * povray_inc.c). */
+SEA_INTERNAL extern const char sea_pov_include_text[];
 
 #endif /* SEABAKE_POVRAY_H */

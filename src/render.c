@@ -94,6 +94,8 @@ sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err
 
 void sea_image_free(sea_image *img)
 {
+    if (img == NULL)
+        return;
     free(img->radiance);
     free(img->temperature);
     free(img->level);

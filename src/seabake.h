@@ -1,7 +1,9 @@
 /* seabake.h - public interface of libseabake, the physics of an infrared,
  * wind-roughened sea surface at any resolution (Caillault et al. 2007,
- * Applied Optics 46, 5471).  Formulas are restated in PHYSICS.md; the
- * equation numbers (Eq N) below are the paper's.
+ * Applied Optics 46, 5471); the equation numbers (Eq N) below are the
+ * paper's.  Compile and link with `pkg-config --cflags --libs seabake`;
+ * examples/emissivity.c (installed in share/seabake/examples) is a short
+ * program that uses it.
  *
  * Conventions.  SI units and radians everywhere; units appear in names only
  * at the edges.  Axes: x along the wind axis of the spectrum frame rotated by
@@ -12,13 +14,53 @@
  * the paper are folded with sea_dir_fold() at the API boundary.  Slopes are
  * gamma = (dz/dx, dz/dy).
  *
- * Ownership.  Every object returned through a pointer-to-pointer is owned by
- * the caller and released with the matching _free(), which accepts NULL.
- * Nothing here keeps a pointer to a caller's buffer after returning.  No
- * function prints, exits or touches global state, with one exception:
- * sea_init() switches off the GSL abort-on-error handler, once, before any
- * thread is started.  Plans (sea_water, sea_optics) are read-only after
- * creation and may be shared by any number of threads.
+ * Ownership.  The caller owns whatever a call returns or fills, except
+ * where the call says "owned by":
+ *  - an object returned through a pointer-to-pointer (sea_water, sea_optics,
+ *    sea_waves, sea_render) is released with its _free(), which accepts
+ *    NULL; on failure *out is NULL;
+ *  - a struct the caller passes to be filled with allocated arrays
+ *    (sea_response, sea_image, sea_bake; sea_exr_image of seabake/exr.h) is
+ *    released with its _free(), which accepts NULL or a zeroed struct and
+ *    leaves the struct zeroed; on failure it holds nothing to free;
+ *  - "owned by X": a pointer into X, valid until X is freed, never freed by
+ *    the caller; the strings of the _name() functions are static.
+ * No call keeps a pointer to a caller's argument after returning (objects
+ * copy what they need), and none prints or exits.
+ *
+ * Threads.  Each call is marked with one of:
+ *  - "pure": depends only on its arguments and writes only its outputs;
+ *    any number of threads may call it at once;
+ *  - "thread-safe": the same, though it also allocates or reads files;
+ *  - "reads X": X is only read, so any number of threads may share one X:
+ *    plan once (_alloc, _create, _prepare), execute from many threads;
+ *  - "fills X": writes the caller's X; calls from several threads are safe
+ *    as long as each fills its own X.
+ * Every call that takes a sea_error writes it: one per thread.  An object
+ * must not be freed while another thread uses it.  The library keeps no
+ * mutable global state, but three process-wide things affect it:
+ *  - GSL's error handler, which by default aborts the process.  sea_init()
+ *    turns it off; call it once, first in main(), before starting threads
+ *    (it is not thread-safe).  Without it, a failing quadrature or GSL
+ *    allocation aborts instead of returning SEA_ERR_NUMERIC or
+ *    SEA_ERR_NOMEM.  A program that installs its own GSL handler afterwards
+ *    must keep one that returns.
+ *  - FFTW's planner, which is not thread-safe.  FFT wave plans
+ *    (SEA_WAVES_FFT, and a scene's one-meter method) plan transforms in
+ *    sea_waves_sample, sea_waves_facets, sea_render_frame and sea_bake_frame
+ *    under a lock of the library's own; a program that also plans FFTW
+ *    transforms in other threads at the same time must first call
+ *    fftw_make_planner_thread_safe().
+ *  - OpenMP.  sea_waves_create (FFT plans), sea_waves_sample,
+ *    sea_waves_facets, sea_render_prepare, sea_render_frame and
+ *    sea_bake_frame spread their work over OpenMP threads (OMP_NUM_THREADS,
+ *    omp_set_num_threads()); their results do not depend on the number.
+ *    Inside the caller's own parallel region they run on one thread unless
+ *    nested parallelism is on; concurrent calls from several threads each
+ *    start a team of their own.
+ * Text files (sea_scene_load, sea_water_load, sea_response_load) are read
+ * with strtod(), which follows LC_NUMERIC: it must have a decimal point
+ * (the "C" locale, which a program has until it calls setlocale()).
  *
  * Errors.  A function that is total on its documented domain returns its
  * value.  Anything that can fail returns a sea_status and, when err is not
@@ -52,13 +94,17 @@ typedef struct {
 } sea_error;
 
 /* Writes a printf-style message into err (if err is not NULL) and returns
- * status, so that callers can write `return sea_fail(err, SEA_ERR_DOMAIN, ...)`. */
+ * status, so that callers can write `return sea_fail(err, SEA_ERR_DOMAIN, ...)`.
+ * Fills err. */
 sea_status sea_fail(sea_error *err, sea_status status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+/* A short description of status ("value out of range").  Pure; static string. */
 const char *sea_status_name(sea_status status);
 
 /* Library start-up: turns GSL's abort-on-error handler off (statuses are
- * checked instead).  Call once from main() before starting threads. */
+ * checked instead).  Call once, first in main(), before starting threads.
+ * Not thread-safe: it sets GSL's process-wide handler (see Threads above);
+ * calling it again is harmless. */
 void sea_init(void);
 
 /* -------------------------------------------------------------- geometry */
@@ -85,16 +131,17 @@ typedef struct {
 
 /* Folds a signed zenith angle (paper convention, theta in (-pi/2, pi/2)):
  * (-theta, phi) is the direction (theta, phi + pi).  phi is returned in
- * [0, 2 pi). */
+ * [0, 2 pi).  Pure. */
 sea_dir sea_dir_fold(double theta_signed, double phi);
 
 /* Checks that stats are finite, the covariance positive semi-definite
- * (xx >= 0, yy >= 0, xy^2 <= xx yy within 1e-12 relative) and |mean| finite. */
+ * (xx >= 0, yy >= 0, xy^2 <= xx yy within 1e-12 relative) and |mean| finite.
+ * Pure. */
 sea_status sea_slope_stats_check(const sea_slope_stats *st, sea_error *err);
 
 /* Mean m_X and standard deviation s_X of the slope component along azimuth
  * phi (Eq 6, 8): m_X = mx cos phi + my sin phi,
- * s_X^2 = xx cos^2 + 2 xy sin cos + yy sin^2. */
+ * s_X^2 = xx cos^2 + 2 xy sin cos + yy sin^2.  Pure. */
 void sea_slope_project(const sea_slope_stats *st, double phi, double *m_X, double *s_X);
 
 /* ---------------------------------------------------- water, Fresnel, Planck */
@@ -113,7 +160,8 @@ typedef struct sea_water sea_water;
 /* Allowed salinity, g/kg (the densest open ocean is about 41). */
 #define SEA_SALINITY_MAX 45.0
 /* salinity in g/kg, [0, SEA_SALINITY_MAX].  With salinity > 0 the usable band is the
- * intersection of the table and the correction (2.398-15.62 um). */
+ * intersection of the table and the correction (2.398-15.62 um).  Thread-safe; *out is
+ * the caller's, freed with sea_water_free(), and read-only: share it between threads. */
 sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **out,
                            sea_error *err);
 /* The optical constants a water table (or --index) may give: liquid water
@@ -127,21 +175,26 @@ sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **o
 /* A user table: CSV text with '#' comment lines, a header row naming the
  * columns wavelength_um,n,k and at least two rows in strictly monotonic
  * wavelength order; n in [SEA_WATER_N_MIN, SEA_WATER_N_MAX], k in [0,
- * SEA_WATER_K_MAX] (SEA_ERR_DOMAIN naming the file, line and column). */
+ * SEA_WATER_K_MAX] (SEA_ERR_DOMAIN naming the file, line and column).
+ * Thread-safe (reads the file; LC_NUMERIC, see Threads); *out as with
+ * sea_water_alloc. */
 sea_status sea_water_load(const char *path, double salinity, sea_water **out,
                           sea_error *err);
 void sea_water_free(sea_water *w);
 /* Complex refractive index N = n + i k at wavelength (m).  Fails with
- * SEA_ERR_DOMAIN outside the table, naming the range. */
+ * SEA_ERR_DOMAIN outside the table, naming the range.  Reads w. */
 sea_status sea_water_index(const sea_water *w, double wavelength, double complex *N,
                            sea_error *err);
-/* Usable wavelength range, metres. */
+/* Usable wavelength range, metres.  Reads w. */
 void sea_water_range(const sea_water *w, double *wl_min, double *wl_max);
-/* One line naming the table, its publication and the salinity. */
+/* One line naming the table, its publication and the salinity.  Reads w;
+ * the string is owned by w. */
 const char *sea_water_describe(const sea_water *w);
 /* Name of a built-in table ("hale-querry", "segelstein"); returns -1 when
- * the name is not a built-in table. */
+ * the name is not a built-in table.  Pure. */
 int sea_water_table_from_name(const char *name);
+
+/* Fresnel and Planck: pure. */
 
 /* Unpolarised Fresnel reflectance of air -> water (complex index N, k >= 0)
  * at local incidence psi, cos_psi in [0, 1]:
@@ -160,7 +213,8 @@ double sea_planck_brightness_temperature(double wavelength, double radiance);
 /* ------------------------------------------------ Elfouhaily 1997 spectrum */
 
 /* Sea state and the derived constants of the Elfouhaily et al. (1997)
- * directional spectrum, as restated in PHYSICS.md section 3. */
+ * directional spectrum (its constants: seabake(1), SEA SPECTRUM).  A plain
+ * struct: nothing to free. */
 typedef struct {
     double wind_speed; /* U10, m/s */
     double fetch;      /* m; INFINITY = fully developed */
@@ -182,8 +236,11 @@ typedef struct {
 #define SEA_WIND_MIN 0.5
 #define SEA_WIND_MAX 40.0
 #define SEA_FETCH_MIN 1000.0
+/* Fills s. */
 sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch,
                              double wind_dir, sea_error *err);
+
+/* The spectrum's formulas, sea_spectrum_alpha_m to sea_spectrum_omega, are pure. */
 
 /* Short-wave coefficient alpha_m(x), x = u_star / c_m.  Elfouhaily's 1997 formula,
  * 1e-2 (1 + ln x) for x = u_star / c_m <= 1 and 1e-2 (1 + 3 ln x) above, turns
@@ -213,11 +270,14 @@ double sea_spectrum_omega(double k);
  * along the wind sigma_u^2 = int_kc^inf B(k)/k (1 + Delta/2)/2 dk, across it
  * sigma_c^2 = int B/k (1 - Delta/2)/2 dk, then rotated by wind_dir.
  * kc = 0 gives the low-resolution (total) covariance; kc = pi/L the part
- * below a facet of size L.  kc >= 0, finite. */
+ * below a facet of size L.  kc >= 0, finite.  Thread-safe (a GSL workspace
+ * per call); SEA_ERR_NUMERIC if the quadrature fails, given sea_init(). */
 sea_status sea_spectrum_slope_cov(const sea_spectrum *s, double kc, sea_cov2 *out,
                                   sea_error *err);
 
 /* ------------------------------------------------------- Smith shadowing */
+
+/* Every function of this section is pure. */
 
 /* G(t) = phi(t) - t Q(t) = int_t^inf Q(u) du, with phi the standard normal
  * density and Q its upper tail.  Positive, decreasing, G(t) - G(-t) = -t.
@@ -245,8 +305,9 @@ typedef enum {
     SEA_EMIS_FULL      /* Eq 7 by nested adaptive GSL quadrature (reference) */
 } sea_emis_method;
 
-/* Parses "auto", "fast", "full"; returns -1 otherwise. */
+/* Parses "auto", "fast", "full"; returns -1 otherwise.  Pure. */
 int sea_emis_method_from_name(const char *name);
+/* The name of m, as parsed above.  Pure; static string. */
 const char *sea_emis_method_name(sea_emis_method m);
 
 /* A fixed product rule for the emissivity average: n_gl Gauss-Legendre
@@ -259,7 +320,9 @@ typedef struct {
     int n_gl, n_gh;
 } sea_emis_rule;
 
-/* The quadrature plan: node tables built once, read by many threads. */
+/* The quadrature plan: node tables built once, read by many threads.
+ * sea_optics_alloc is thread-safe; *out is the caller's, freed with
+ * sea_optics_free(); every other call only reads it. */
 typedef struct sea_optics sea_optics;
 sea_status sea_optics_alloc(sea_optics **out, sea_error *err);
 void sea_optics_free(sea_optics *p);
@@ -268,7 +331,9 @@ void sea_optics_free(sea_optics *p);
  * average of 1 - rho(psi) over the facets seen from v, weighted by their
  * projected area: a value in [0, 1].  N: complex index; st must satisfy
  * sea_slope_stats_check.  Returns SEA_ERR_NUMERIC only if the adaptive
- * reference quadrature fails to converge. */
+ * reference quadrature fails to converge (given sea_init()).  Reads p:
+ * plan once, call from many threads (SEA_EMIS_FULL allocates its GSL
+ * workspaces per call). */
 sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double complex N,
                           const sea_slope_stats *st, sea_dir v, double *out,
                           sea_error *err);
@@ -282,12 +347,13 @@ sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double co
  * deg, |m| <= 2, variances 1e-5..1 with correlation and anisotropy to 20:1;
  * the default is within 1e-4 of SEA_EMIS_FULL (measured: 2e-5) for theta
  * <= 85 deg, |m| <= 2 and slope variances up to 1 (tests/test_optics.c).
- * st must satisfy sea_slope_stats_check and theta be in [0, pi/2). */
+ * st must satisfy sea_slope_stats_check and theta be in [0, pi/2).  Pure. */
 sea_emis_rule sea_emissivity_auto_rule(const sea_slope_stats *st, sea_dir v);
 
 /* Emissivity toward v by the fixed product rule `rule` (Eq 7, or Eq 12 when
  * rule.n_gh = 0): in [0, 1] whatever the orders.  SEA_ERR_DOMAIN for orders
- * outside their ranges, a direction outside [0, 90) deg or invalid stats. */
+ * outside their ranges, a direction outside [0, 90) deg or invalid stats.
+ * Reads p. */
 sea_status sea_emissivity_rule(const sea_optics *p, sea_emis_rule rule, double complex N,
                                const sea_slope_stats *st, sea_dir v, double *out,
                                sea_error *err);
@@ -296,16 +362,18 @@ sea_status sea_emissivity_rule(const sea_optics *p, sea_emis_rule rule, double c
 
 /* Effective reflectivity rho~(inc; obs) of Eq 13 with the bistatic Smith
  * shadowing of Eq 14c, per steradian of incidence: the radiance reflected
- * toward obs is int rho~(w_i; obs) L(w_i) dw_i.  >= 0, finite. */
+ * toward obs is int rho~(w_i; obs) L(w_i) dw_i.  >= 0, finite.  Pure. */
 double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
-/* BRDF f = rho~ / cos(theta_inc) (Eq 20), sr^-1. */
+/* BRDF f = rho~ / cos(theta_inc) (Eq 20), sr^-1.  Pure. */
 double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
 
 /* Energy balance (Eq 21) with v in the observation slot:
  * reflectance = int over the upper hemisphere of rho~(w_i; v) dw_i, computed
  * in slope space (dw_i = d gamma / |J|, Eq 14d), so a glint of any width is
  * resolved; total = emissivity + reflectance <= 1, the deficit being the
- * energy that the single-scattering model sends back into the sea. */
+ * energy that the single-scattering model sends back into the sea.  Reads
+ * p (the reflectance's adaptive quadrature allocates per call; given
+ * sea_init(), its failure is SEA_ERR_NUMERIC). */
 typedef struct {
     double emissivity, reflectance, total;
 } sea_energy;
@@ -325,7 +393,7 @@ typedef struct {
 } sea_moments;
 
 /* Covariance C = M - m m^T of moments, made positive semi-definite against
- * round-off (diagonal >= 0, |xy| <= sqrt(xx yy)). */
+ * round-off (diagonal >= 0, |xy| <= sqrt(xx yy)).  Pure. */
 sea_slope_stats sea_moments_stats(const sea_moments *mo);
 
 /* The two generators of one seeded realisation of the waves above a facet. */
@@ -354,7 +422,7 @@ typedef struct {
 #define SEA_FINEST_MIN 1e-3
 #define SEA_FINEST_MAX 1e6
 /* Defaults: sinusoids, finest 1 m, seed 1, no loop, 8 bins/octave, 32
- * directions, FFT 1024 points. */
+ * directions, FFT 1024 points.  Fills p. */
 void sea_waves_params_default(sea_waves_params *p);
 
 typedef struct sea_waves sea_waves;
@@ -371,7 +439,9 @@ typedef struct sea_waves sea_waves;
  * common.  FFT: modes k = (2 pi/P)(i, j), 0 < |k| < pi/L0 (the Nyquist
  * row and column hold none), amplitude from Psi at the mode times dk^2, random
  * phase.  Both: deterministic amplitudes, random phases; each wave travels
- * with a phase velocity that has a non-negative component along the wind. */
+ * with a phase velocity that has a non-negative component along the wind.
+ * Thread-safe (FFT plans: OpenMP); *out is the caller's, freed with
+ * sea_waves_free(), and only read by every other call: share it. */
 sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
                             sea_error *err);
 void sea_waves_free(sea_waves *w);
@@ -379,7 +449,7 @@ void sea_waves_free(sea_waves *w);
 /* The same waves as a sum-of-sinusoids plan (*out), e.g. an FFT plan's
  * modes evaluated one by one: sampling it reproduces the FFT field to
  * round-off, at the cost of a sum over every mode per cell (it keeps the
- * FFT's cut |k| < pi/step). */
+ * FFT's cut |k| < pi/step).  Reads w; *out as with sea_waves_create. */
 sea_status sea_waves_to_sinusoids(const sea_waves *w, sea_waves **out, sea_error *err);
 
 /* One wave: h = amplitude cos(kx x + ky y - omega t + phase), omega signed. */
@@ -387,9 +457,11 @@ typedef struct {
     double kx, ky, amplitude, phase, omega;
 } sea_wave;
 
+/* The accessors below read w; the pointers they return are owned by w. */
 size_t sea_waves_count(const sea_waves *w);
 /* Wave i < sea_waves_count(w), in a fixed order. */
 sea_wave sea_waves_get(const sea_waves *w, size_t i);
+/* The parameters and the sea state w was created with (copies, owned by w). */
 const sea_waves_params *sea_waves_params_of(const sea_waves *w);
 const sea_spectrum *sea_waves_spectrum(const sea_waves *w);
 /* Patch period P = N L0 of an FFT plan, m; INFINITY for sinusoids. */
@@ -410,11 +482,13 @@ typedef struct {
 
 /* Height and slopes of the waves with |k| <= pi/step at the cell centres,
  * time t.  Any of h, sx, sy may be NULL.  FFT plans need step = L0 2^m and a
- * rectangle no wider than the period (so no tile repeats in the output). */
+ * rectangle no wider than the period (so no tile repeats in the output).
+ * Reads w, fills the caller's h, sx, sy (nx ny values each).  OpenMP; FFT
+ * plans plan an FFTW transform (see Threads). */
 sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, double *h,
                             double *sx, double *sy, sea_error *err);
 
-/* Height and slope at one point of the waves with |k| <= kc. */
+/* Height and slope at one point of the waves with |k| <= kc.  Reads w. */
 void sea_waves_at(const sea_waves *w, double kc, double x, double y, double t, double *h,
                   sea_vec2 *slope);
 
@@ -425,28 +499,32 @@ typedef enum {
     SEA_METHOD_ONE_METER          /* sub-facets of the plan's finest size L0 */
 } sea_facet_method;
 
-/* Parses "variable-step", "variable-step-2n", "one-meter"; -1 otherwise. */
+/* Parses "variable-step", "variable-step-2n", "one-meter"; -1 otherwise.
+ * Pure. */
 int sea_facet_method_from_name(const char *name);
+/* The name of m, as parsed above.  Pure; static string. */
 const char *sea_facet_method_name(sea_facet_method m);
 /* Sub-facet subdivision exponent n of a method for facets of size L:
  * variable-step 0, variable-step-2n n, one-meter log2(L/L0) (L/L0 must be a
- * power of two). */
+ * power of two).  Reads w. */
 sea_status sea_facet_method_n(const sea_waves *w, sea_facet_method m, int n, double L,
                               int *out_n, sea_error *err);
 
 /* Moments of the facets of rectangle r (facets of size r->step = L) at time
  * t, sub-facets of L/2^n >= L0 (n = 0: Variable Step).  Each facet gets the
  * mean and raw second moments of its 2^n x 2^n sub-facet slopes plus the
- * covariance C_<L/2^n of the waves shorter than a sub-facet.  Threads:
- * OpenMP; the result is the same bit for bit for any thread count.
- * out: nx * ny moments. */
+ * covariance C_<L/2^n of the waves shorter than a sub-facet.  Reads w,
+ * fills the caller's out (nx * ny moments).  Threads: OpenMP; the result is
+ * the same bit for bit for any thread count.  FFT plans plan an FFTW
+ * transform (see Threads). */
 sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double t,
                             sea_moments *out, sea_error *err);
 
-/* Bytes of physical memory, for refusing sizes that cannot fit. */
+/* Bytes of physical memory, for refusing sizes that cannot fit.
+ * Thread-safe (asks the system). */
 size_t sea_memory_available(void);
 /* Checks count * size for overflow and against the physical memory;
- * what names the array in the message. */
+ * what names the array in the message.  Thread-safe. */
 sea_status sea_check_size(size_t count, size_t size, const char *what, sea_error *err);
 
 
@@ -477,7 +555,8 @@ typedef struct {
  * of the image points toward look_azimuth.  roll turns the image axes about
  * the camera axis: right' = right cos(roll) + up sin(roll).  Ranges:
  * altitude (0, 1e6] m, look_zenith [0, 90) deg, hfov (0, 170] deg, width and
- * height [1, 16384]. */
+ * height [1, 16384].  Fills c, a plain struct (nothing to free); the calls
+ * below only read it and are pure. */
 sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
                            double look_zenith, double look_azimuth, double roll, double hfov,
                            int width, int height, sea_earth earth, sea_error *err);
@@ -495,16 +574,17 @@ typedef struct {
     double normal[3]; /* local vertical at the sea point */
 } sea_pixel_geom;
 
+/* Fills g.  Pure. */
 void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g);
 /* A world direction (unit vector) in the local frame of sea point g:
- * zenith from g->normal, azimuth counter-clockwise from local east. */
+ * zenith from g->normal, azimuth counter-clockwise from local east.  Pure. */
 sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3]);
 /* Image point (u, v) where the world point p projects; returns 0 if p is
- * behind the camera. */
+ * behind the camera.  Pure. */
 int sea_camera_project(const sea_camera *c, const double p[3], double *u, double *v);
 /* World point q and local vertical n of the sea point at map coordinates
  * (x, y), the inverse of sea_camera_pixel's (x, y): flat, (x, y, 0) and +z;
- * spherical, azimuthal equidistant from the nadir point. */
+ * spherical, azimuthal equidistant from the nadir point.  Pure. */
 void sea_camera_sea_point(const sea_camera *c, double x, double y, double q[3], double n[3]);
 
 /* ------------------------------------------------------- scenes (issue 4) */
@@ -586,7 +666,8 @@ typedef struct {
 } sea_scene;
 
 /* Defaults of every optional key; the required ones are marked unset
- * (wind_speed, altitude, hfov NAN; width, height 0; wavelength, band -1). */
+ * (wind_speed, altitude, hfov NAN; width, height 0; wavelength, band -1).
+ * Fills sc, a plain struct (nothing to free). */
 void sea_scene_defaults(sea_scene *sc);
 /* Reads and validates a scene file.  Errors name the place and the rule:
  * "FILE:LINE: [section] key: message (allowed: RANGE)" with SEA_ERR_PARSE
@@ -596,14 +677,16 @@ void sea_scene_defaults(sea_scene *sc);
  * a water table or response file it names, cannot be read.  A missing key
  * is reported at its section's line, or as "FILE: ..." without the section.
  * Lines are at most 198 characters (the inih build's limit).  sc is written
- * only on success. */
+ * only on success.  Thread-safe (reads the files; LC_NUMERIC, see Threads);
+ * fills sc. */
 sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err);
 /* The same, then n_overrides strings "section.key=value" (e.g.
  * "sea.wind_speed=12"), each validated exactly as that key on a line of the
  * file and replacing the file's value; a key overridden twice is an error.
  * A path value is taken relative to the working directory, not the scene
  * file's.  Errors about an override read "--set TEXT: [section] key: message
- * (allowed: RANGE)".  The strings are only read during the call. */
+ * (allowed: RANGE)".  The strings are only read during the call.  Thread-safe,
+ * as sea_scene_load. */
 sea_status sea_scene_load_with(const char *path, const char *const *overrides, size_t n_overrides,
                                sea_scene *sc, sea_error *err);
 
@@ -612,7 +695,9 @@ sea_status sea_scene_load_with(const char *path, const char *const *overrides, s
  * SEA_RESPONSE_MAX] (not all 0), from a CSV with '#' comments and a header
  * naming wavelength_um,response.  Errors name FILE:LINE.  The response is
  * relative (any scale: fractions or percent), so its bound only refuses
- * values no curve holds, whose sums could overflow. */
+ * values no curve holds, whose sums could overflow.  sea_response_load is
+ * thread-safe (reads the file; LC_NUMERIC, see Threads) and fills r with
+ * arrays the caller releases with sea_response_free(). */
 #define SEA_RESPONSE_MAX 1e6
 #define SEA_RESPONSE_WAVELENGTH_MAX_UM 1000.0
 typedef struct {
@@ -651,12 +736,18 @@ typedef struct sea_render sea_render;
 
 /* Prepares a scene for rendering: camera, water, spectral samples, the
  * per-pixel geometry and the clipmap levels the view needs (and no more),
- * the wave plan.  Independent of time. */
+ * the wave plan.  Independent of time.  Thread-safe (copies sc, reads the
+ * water table and response files it names; OpenMP).  *out is the caller's,
+ * freed with sea_render_free(); every other call only reads it: prepare
+ * once, render frames from many threads. */
 sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err);
 void sea_render_free(sea_render *r);
+/* The clipmap levels used, finest first, n of them.  Reads r; the array is
+ * owned by r. */
 size_t sea_render_levels(const sea_render *r, const sea_clip_level **levels);
 /* Spectral samples used for the band: wavelengths (m) and weights (m:
- * quadrature weight times response), n of them. */
+ * quadrature weight times response), n of them.  Reads r; the arrays are
+ * owned by r. */
 size_t sea_render_samples(const sea_render *r, const double **wavelength, const double **weight);
 
 /* A rendered frame, width x height, row 0 at the top.  radiance: spectral
@@ -669,16 +760,22 @@ typedef struct {
     float *radiance, *temperature, *level, *emissivity, *reflectivity;
 } sea_image;
 
+/* Fills img with zeroed planes the caller releases with sea_image_free(). */
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err);
 void sea_image_free(sea_image *img);
 
 /* Optional progress report: fraction done in [0, 1], called by one thread
- * at a time (any of them).
+ * at a time, which may be any of the call's OpenMP threads, not only the
+ * caller's: what it touches besides ctx must be safe from another thread.
  * Returns 0 to go on; anything else stops the work, which then fails with
  * SEA_ERR_CANCELLED (soon: within a row of pixels or texels). */
 typedef int (*sea_progress_fn)(void *ctx, double fraction);
 
-/* Renders the frame at time t (s; the scene's own time is sc->time). */
+/* Renders the frame at time t (s; the scene's own time is sc->time) into
+ * img, allocated for the scene's size.  Reads r, fills img: any number of
+ * threads may render from one r at once, each into its own image.  Runs on
+ * OpenMP threads itself (see Threads), calling progress (may be NULL) as
+ * sea_progress_fn says. */
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err);
 
@@ -709,14 +806,15 @@ typedef struct {
     size_t wave_count;     /* wave components of the plan (0: none) */
     int sub_skipped;       /* levels whose sub-facets the tolerance skipped */
 } sea_render_choices;
+/* Reads r. */
 sea_render_choices sea_render_choices_of(const sea_render *r);
 /* The auto rule for st seen from v with its orders times emis_scale in
- * (0, 1], rounded up (at least 2 x 1 nodes). */
+ * (0, 1], rounded up (at least 2 x 1 nodes).  Pure. */
 sea_emis_rule sea_render_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v);
 
 /* What prepare chose, read-only, owned by r: the validated scene, the
  * sensor, the wave plan (NULL when every level is low-resolution) and the
- * moments of a low-resolution facet (m = 0, C = C_LR, h = 0). */
+ * moments of a low-resolution facet (m = 0, C = C_LR, h = 0).  Each reads r. */
 const sea_scene *sea_render_scene(const sea_render *r);
 const sea_camera *sea_render_camera(const sea_render *r);
 const sea_waves *sea_render_waves(const sea_render *r);
@@ -734,7 +832,8 @@ typedef struct {
 /* Optics of a facet of statistics st seen from obs with the sun at sun
  * (local directions; the sun counts when sun.theta < pi/2), by the same
  * code as sea_render_frame: L = sum_i w_i (rho~ E_sun + (1 - eps) L_sky +
- * eps B(T_sea)).  SEA_ERR_NUMERIC only from the reference quadrature. */
+ * eps B(T_sea)).  SEA_ERR_NUMERIC only from the reference quadrature.
+ * Reads r, fills out. */
 sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
                                    sea_dir sun, sea_facet_optics *out, sea_error *err);
 
@@ -745,7 +844,7 @@ sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *s
  * l (indexed by level exponent) as sea_waves_facets gives them for that
  * level's window (rows south first), NULL for levels not computed; points
  * the sensor does not see read level `own` (a used level).  *level gets the
- * level of largest weight. */
+ * level of largest weight.  Reads r and south, fills out and level. */
 sea_status sea_render_view_moments(const sea_render *r,
                                    const sea_moments *const south[SEA_CLIP_MAX_LEVELS],
                                    double x, double y, int own, sea_moments *out, int *level,
@@ -793,14 +892,16 @@ typedef struct {
  * the moments, so a renderer's bilinear lookup of the view map matches
  * seabake render's bilinear moments better on a finer grid.  Threads:
  * OpenMP, the result independent of their number.  progress (may be NULL)
- * gets the fraction done, from the calling thread.  On failure *out holds
- * nothing to free.  Free with sea_bake_free. */
+ * gets the fraction done, as sea_progress_fn says (from any of the call's
+ * threads, one at a time).  Reads r, fills out: any number of threads may
+ * bake from one r at once, each into its own sea_bake.  On failure *out
+ * holds nothing to free; otherwise release it with sea_bake_free(). */
 sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
                           sea_progress_fn progress, void *ctx, sea_error *err);
 void sea_bake_free(sea_bake *b);
 
 /* Tangent-space normal of the mean slope (+x east, +y north, +z up):
- * n = (-mx, -my, 1) / sqrt(mx^2 + my^2 + 1). */
+ * n = (-mx, -my, 1) / sqrt(mx^2 + my^2 + 1).  Pure. */
 void sea_bake_normal(const sea_moments *m, double n[3]);
 
 /* Microfacet parameters of a facet's slope covariance C = M - m m^T for a
@@ -811,7 +912,8 @@ void sea_bake_normal(const sea_moments *m, double n[3]);
  * roughness = sqrt(alpha).  anisotropy = (l1 - l2) / (l1 + l2) in [0, 1]
  * from the eigenvalues l1 >= l2 of C (0 for C = 0); rotation = the angle of
  * the major axis counter-clockwise from +x (east), in [0, pi), divided by
- * 2 pi: in [0, 0.5) (Blender's Anisotropic Rotation, 1 = a full turn). */
+ * 2 pi: in [0, 0.5) (Blender's Anisotropic Rotation, 1 = a full turn).
+ * Pure. */
 void sea_bake_roughness(const sea_moments *m, double *roughness, double *anisotropy,
                         double *rotation);
 

@@ -3,6 +3,7 @@
 #ifndef SEABAKE_TEXTFILE_H
 #define SEABAKE_TEXTFILE_H
 
+#include "internal.h"
 #include "seabake.h"
 
 /* Reads the regular file path into a NUL-terminated malloc'ed *out.
@@ -10,7 +11,7 @@
  * fails; SEA_ERR_PARSE when it is larger than max_bytes or holds a NUL
  * byte ("contains a NUL byte: not a <kind>", kind e.g. "text file");
  * SEA_ERR_NOMEM.  Messages start with the path. */
-sea_status sea_read_text(const char *path, long max_bytes, const char *kind, char **out,
-                         sea_error *err);
+SEA_INTERNAL sea_status sea_read_text(const char *path, long max_bytes, const char *kind,
+                                      char **out, sea_error *err);
 
 #endif /* SEABAKE_TEXTFILE_H */

@@ -334,6 +334,22 @@ static void test_render_cancel(void)
     sea_render_free(r);
 }
 
+/* seabake.h's rule for a filled struct: a failed sea_image_alloc leaves
+ * nothing to free, and sea_image_free takes NULL or a freed image. */
+static void test_image_ownership(void)
+{
+    sea_error err;
+    sea_image img;
+    CU_ASSERT_EQUAL(sea_image_alloc(&img, 0, 4, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT(img.radiance == NULL && img.reflectivity == NULL && img.width == 0);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, 3, 2, &err), SEA_OK);
+    CU_ASSERT(img.width == 3 && img.height == 2 && img.level != NULL && img.level[5] == 0.0f);
+    sea_image_free(&img);
+    CU_ASSERT(img.radiance == NULL && img.width == 0);
+    sea_image_free(&img);
+    sea_image_free(NULL);
+}
+
 /* The paper's three figure scenes (examples/fig7-9.ini) read exactly the
  * levels of its Fig. 10: 1 and 2 m; 2, 4 and 8 m; 8, 16 and 32 m. */
 static void test_figure_levels(void)
@@ -501,6 +517,7 @@ int test_render_register(void)
            !CU_add_test(s, "low-resolution levels", test_low_resolution_levels) ||
            !CU_add_test(s, "clipmap windows", test_clipmap_windows) ||
            !CU_add_test(s, "cancelled by the progress function", test_render_cancel) ||
+           !CU_add_test(s, "image: allocation and free", test_image_ownership) ||
            !CU_add_test(s, "Fig. 7-9 level sets", test_figure_levels) ||
            !CU_add_test(s, "tolerance: cheaper choices, bounded error", test_tolerance_choices);
 }

@@ -1,0 +1,13 @@
+/* internal.h - library-internal: marks what the library's objects share with one another
+ * but do not export.
+ *
+ * A declaration marked SEA_INTERNAL links between the objects of libseabake, and into the
+ * seabake program and the tests, which link the library statically (Makefile.am), but is not
+ * exported from the shared library: it is not part of the installed interface (seabake.h,
+ * seabake/exr.h, seabake/preview.h), and a user's program cannot come to depend on it. */
+#ifndef SEABAKE_INTERNAL_H
+#define SEABAKE_INTERNAL_H
+
+#define SEA_INTERNAL __attribute__((visibility("hidden")))
+
+#endif /* SEABAKE_INTERNAL_H */
