@@ -1,4 +1,4 @@
-/* cli_render.c - the render subcommand of seabake: a scene file
+/* render.c - the render subcommand of seabake: a scene file
  * (seabake-scene(5)) to images.
  *
  * One prepare (camera, levels, spectral samples, wave plan), then one
@@ -455,9 +455,6 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"quiet", SEA_CLI_OPT_FLAG},
     {"explain", SEA_CLI_OPT_FLAG}};
 
-const sea_cli_command sea_cli_render_commands[] = {
-    {"render", "images of a scene file: radiance EXR, AOVs, PNG preview", RENDER_HELP,
-     RENDER_OPTIONS, sizeof RENDER_OPTIONS / sizeof RENDER_OPTIONS[0], run_render},
-};
-const size_t sea_cli_render_n_commands =
-    sizeof sea_cli_render_commands / sizeof sea_cli_render_commands[0];
+const sea_cli_command sea_cli_cmd_render = {
+    "render", "images of a scene file: radiance EXR, AOVs, PNG preview", RENDER_HELP,
+    RENDER_OPTIONS, SEA_CLI_COUNT(RENDER_OPTIONS), run_render};
