@@ -17,7 +17,6 @@
  * temporary directory is removed and DIR is exactly as it was. */
 #define _XOPEN_SOURCE 700
 #include <errno.h>
-#include <ftw.h>
 #include <math.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -38,7 +37,6 @@
 
 /* ------------------------------------------------------------ constants */
 
-enum { BAKE_FRAME_DIGITS = 4 };
 /* Emission texels per facet side, odd.  Radiance is not linear in the slope
  * moments (the glint above all), so a renderer's bilinear lookup of the
  * radiance matches seabake render's bilinear lookup of the moments only on
@@ -49,8 +47,6 @@ enum { BAKE_FRAME_DIGITS = 4 };
  * (oblique) and pov_glint.ini (nadir): K = 1, 2.9 % and 0.65 %; K = 3,
  * 0.61 % and 0.23 %; K = 5, 0.25 % and 0.095 %; K = 7, 0.15 % and 0.055 %. */
 enum { BAKE_VIEW_K_DEFAULT = 3 };
-/* Preview range: 0.5 % and 99.5 % quantiles, as render's. */
-static const double BAKE_PNG_CLIP = 0.005;
 /* The emission maps carry radiance x scale, scale a power of ten putting
  * the largest radiance of the first frame at or just below this value:
  * well inside half range (65504) with its 3.3 significant digits, and
@@ -203,7 +199,7 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     if ((st = sea_cli_opt_frames(args, &s->framed, &s->frame_a, &s->frame_b, &s->rate, err)) !=
         SEA_OK)
         return st;
-    s->pov = sea_cli_args_get(args, "pov") != NULL;
+    s->pov = sea_cli_given(args, "pov");
     if ((st = sea_cli_opt_integer(args, "emission-texels", 1, SEA_BAKE_VIEW_K_MAX,
                                   BAKE_VIEW_K_DEFAULT, &s->view_k, err)) != SEA_OK)
         return st;
@@ -212,9 +208,9 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
                         "--emission-texels: %ld is even (allowed: odd, 1 to %d: the texels must "
                         "hold the facet centres)",
                         s->view_k, SEA_BAKE_VIEW_K_MAX);
-    s->blender = sea_cli_args_get(args, "blender") != NULL;
-    s->explain = sea_cli_args_get(args, "explain") != NULL;
-    s->quiet = sea_cli_args_get(args, "quiet") != NULL;
+    s->blender = sea_cli_given(args, "blender");
+    s->explain = sea_cli_given(args, "explain");
+    s->quiet = sea_cli_given(args, "quiet");
     double tolerance;
     if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
         return st;
@@ -263,7 +259,7 @@ static char *map_name(const char *group, int level, bool framed, long frame, con
 {
     char buf[128];
     if (framed)
-        snprintf(buf, sizeof buf, "%s_%d_%0*ld%s", group, level, BAKE_FRAME_DIGITS, frame, ext);
+        snprintf(buf, sizeof buf, "%s_%d_%0*ld%s", group, level, SEA_CLI_FRAME_DIGITS, frame, ext);
     else
         snprintf(buf, sizeof buf, "%s_%d%s", group, level, ext);
     return strdup(buf);
@@ -340,7 +336,7 @@ static sea_status write_level(const bake_setup *s, const char *tmp, const sea_ba
             if (st == SEA_OK) {
                 double lo, hi;
                 const float *shown = buf[BAKE_GROUPS[g].preview];
-                sea_png_range(shown, n, BAKE_PNG_CLIP, &lo, &hi);
+                sea_png_range(shown, n, SEA_CLI_PNG_CLIP, &lo, &hi);
                 st = sea_png_write_gray(png_path, (int)width, (int)height, shown, lo, hi, 8,
                                         err);
             }
@@ -884,9 +880,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     }
     if (st == SEA_OK) {
         /* mkdtemp makes it 0700; DIR gets the umask's permissions */
-        const mode_t mask = umask(0);
-        umask(mask);
-        if (chmod(tmp, 0777 & ~mask) != 0)
+        if (chmod(tmp, 0777 & ~sea_cli_umask()) != 0)
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot set the permissions of '%s': %s", tmp,
                           strerror(errno));
     }

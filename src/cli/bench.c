@@ -341,8 +341,7 @@ static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
     if ((st = sea_cli_write_chart(dir, "image_speed_accuracy", bench_image_chart_script, &bi,
                                   "bench.csv", err)) != SEA_OK)
         goto done;
-    if (ferror(out))
-        st = sea_fail(err, SEA_ERR_IO, "cannot write to standard output");
+    st = sea_cli_check_written(out, err);
 done:
     sea_cli_atomic_abort(&af);
     free(orows);

@@ -151,9 +151,7 @@ sea_status sea_cli_write_chart(const char *dir, const char *name,
         tmp = NULL;
         goto done;
     }
-    mode_t mask = umask(0);
-    umask(mask);
-    fchmod(fd, 0666 & ~mask);
+    fchmod(fd, 0666 & ~sea_cli_umask());
     if ((script = script_fn(ctx)) == NULL) {
         close(fd);
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the gnuplot script");

@@ -19,6 +19,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <sys/types.h>
 
 #include "seabake.h"
 
@@ -178,6 +179,12 @@ sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *e
  * given) and --frame-rate HZ (> 0, default SEA_CLI_FRAME_RATE_DEFAULT, only
  * with --frames). */
 #define SEA_CLI_FRAME_RATE_DEFAULT 25.0
+/* Frame numbers in the names of render's and bake's files carry at least
+ * this many digits, as Blender's "####". */
+#define SEA_CLI_FRAME_DIGITS 4
+/* The range of the PNG previews of render and bake: the 0.5 % and 99.5 %
+ * quantiles, so that a few glint pixels do not flatten the rest. */
+#define SEA_CLI_PNG_CLIP 0.005
 sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, long *b,
                               double *rate, sea_error *err);
 
@@ -200,7 +207,7 @@ sea_status sea_cli_opt_facet_method(const sea_cli_args *args, sea_facet_method *
 /* Sea state from --wind (required, one value), --fetch, --wind-dir. */
 sea_status sea_cli_opt_sea_state(const sea_cli_args *args, double *wind, double *fetch,
                                  double *wind_dir_deg, sea_error *err);
-/* --threads N, 1..1024: sets the OpenMP thread count. */
+/* --threads N, 1..1024: sets the OpenMP thread count (bench, render). */
 sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err);
 /* The smallest power of two >= x (x >= 1, finite). */
 double sea_cli_pow2_ceil(double x);
@@ -214,6 +221,11 @@ char *sea_cli_path_join(const char *dir, const char *name);
 /* SEA_ERR_IO, before any computation, when the directory of path cannot
  * take a new file (the writers create their temporary files there). */
 sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_error *err);
+/* SEA_ERR_IO "cannot write to standard output" when a write to out failed. */
+sea_status sea_cli_check_written(FILE *out, sea_error *err);
+/* The process's umask, read without changing it: a new file or directory
+ * gets 0666 or 0777 less it. */
+mode_t sea_cli_umask(void);
 
 /* A file written under "<path>.tmp.XXXXXX" next to its destination (as the
  * EXR writer does) and renamed over it only when complete. */
@@ -349,8 +361,6 @@ sea_status sea_cli_exclusive(const sea_cli_args *args, const char *name1, const 
                              sea_error *err);
 /* --method of the optics: auto (default), fast or full. */
 sea_status sea_cli_opt_method(const sea_cli_args *args, sea_emis_method *out, sea_error *err);
-/* SEA_ERR_IO when a write to out (standard output) failed. */
-sea_status sea_cli_check_written(FILE *out, sea_error *err);
 /* Sea state from --wind, --fetch, --wind-dir (--wind must be given). */
 sea_status sea_cli_sea_state(const sea_cli_args *args, sea_spectrum *spec, double *wind,
                              double *fetch, sea_error *err);

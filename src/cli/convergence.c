@@ -573,10 +573,8 @@ static sea_status run_convergence(const sea_cli_args *args, FILE *out, sea_error
         goto done;
     conv_table(out, &c, rows, nrows, per_wind);
     fflush(out);
-    if (ferror(out)) {
-        st = sea_fail(err, SEA_ERR_IO, "cannot write to standard output");
+    if ((st = sea_cli_check_written(out, err)) != SEA_OK)
         goto done;
-    }
     const conv_chart cc = {&c, rows, nrows, per_wind};
     st = sea_cli_write_chart(c.dir, "convergence", conv_script, &cc, "convergence.csv", err);
 done:

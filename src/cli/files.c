@@ -17,6 +17,29 @@
 
 /* ------------------------------------------------------------------ names */
 
+/* SEA_ERR_IO unless dir is a directory we can create files in. */
+static sea_status writable_dir(const char *opt, const char *dir, sea_error *err)
+{
+    if (access(dir, W_OK | X_OK) != 0)
+        return sea_fail(err, SEA_ERR_IO, "%s: cannot write into directory '%s': %s", opt, dir,
+                        strerror(errno));
+    return SEA_OK;
+}
+
+mode_t sea_cli_umask(void)
+{
+    const mode_t mask = umask(0);
+    umask(mask);
+    return mask;
+}
+
+sea_status sea_cli_check_written(FILE *out, sea_error *err)
+{
+    if (ferror(out))
+        return sea_fail(err, SEA_ERR_IO, "cannot write to standard output");
+    return SEA_OK;
+}
+
 bool sea_cli_has_suffix(const char *s, const char *suffix)
 {
     size_t n = strlen(s), m = strlen(suffix);
@@ -38,10 +61,7 @@ sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_
     char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
     if (dir == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    sea_status st = SEA_OK;
-    if (access(dir, W_OK | X_OK) != 0)
-        st = sea_fail(err, SEA_ERR_IO, "%s: cannot write into directory '%s': %s", opt, dir,
-                      strerror(errno));
+    sea_status st = writable_dir(opt, dir, err);
     free(dir);
     return st;
 }
@@ -52,11 +72,9 @@ sea_status sea_cli_atomic_open(sea_cli_atomic_file *af, const char *opt, const c
                                sea_error *err)
 {
     *af = (sea_cli_atomic_file){path, NULL, NULL};
-    size_t len = strlen(path) + sizeof ".tmp.XXXXXX";
-    af->tmp = malloc(len);
+    af->tmp = sea_cli_sibling_template(path, "tmp");
     if (af->tmp == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    snprintf(af->tmp, len, "%s.tmp.XXXXXX", path);
     int fd = mkstemp(af->tmp);
     if (fd < 0) {
         int e = errno;
@@ -66,9 +84,7 @@ sea_status sea_cli_atomic_open(sea_cli_atomic_file *af, const char *opt, const c
                         strerror(e));
     }
     /* mkstemp creates mode 0600; a new output file gets 0666 less the umask. */
-    mode_t mask = umask(0);
-    umask(mask);
-    if (fchmod(fd, 0666 & ~mask) != 0 || (af->f = fdopen(fd, "w")) == NULL) {
+    if (fchmod(fd, 0666 & ~sea_cli_umask()) != 0 || (af->f = fdopen(fd, "w")) == NULL) {
         int e = errno;
         close(fd);
         unlink(af->tmp);
@@ -145,10 +161,7 @@ sea_status sea_cli_make_dir(const char *opt, const char *dir, sea_error *err)
     struct stat sb;
     if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
         return sea_fail(err, SEA_ERR_IO, "%s: '%s' is not a directory", opt, dir);
-    if (access(dir, W_OK | X_OK) != 0)
-        return sea_fail(err, SEA_ERR_IO, "%s: cannot write into directory '%s': %s", opt, dir,
-                        strerror(errno));
-    return SEA_OK;
+    return writable_dir(opt, dir, err);
 }
 
 /* ------------------------------------------------------------ directories */

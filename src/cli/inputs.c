@@ -60,13 +60,6 @@ sea_status sea_cli_opt_method(const sea_cli_args *args, sea_emis_method *out, se
     return SEA_OK;
 }
 
-sea_status sea_cli_check_written(FILE *out, sea_error *err)
-{
-    if (ferror(out))
-        return sea_fail(err, SEA_ERR_IO, "cannot write to standard output");
-    return SEA_OK;
-}
-
 /* ---------------------------------------------------------- sea inputs */
 
 static sea_status water_index(const sea_cli_args *args, sea_cli_sea *sea, sea_error *err)
@@ -133,16 +126,13 @@ sea_status sea_cli_water(const sea_cli_args *args, double *wavelength_um, double
     return SEA_OK;
 }
 
-/* Sea state from --wind, --fetch, --wind-dir (--wind must be given). */
+/* Sea state from --wind, --fetch, --wind-dir (--wind must be given: the
+ * callers require it with their own message). */
 sea_status sea_cli_sea_state(const sea_cli_args *args, sea_spectrum *spec, double *wind,
                              double *fetch, sea_error *err)
 {
     double wind_dir_deg;
-    sea_status st = sea_cli_opt_number(args, "wind", &SEA_CLI_RANGE_WIND, 0.0, wind, err);
-    if (st == SEA_OK)
-        st = sea_cli_opt_number(args, "fetch", &SEA_CLI_RANGE_FETCH, INFINITY, fetch, err);
-    if (st == SEA_OK)
-        st = sea_cli_opt_number(args, "wind-dir", &SEA_CLI_RANGE_AZIMUTH, 0.0, &wind_dir_deg, err);
+    sea_status st = sea_cli_opt_sea_state(args, wind, fetch, &wind_dir_deg, err);
     if (st != SEA_OK)
         return st;
     return sea_spectrum_init(spec, *wind, *fetch, sea_cli_radians(wind_dir_deg), err);
