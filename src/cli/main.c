@@ -1,6 +1,7 @@
-/* main.c - the seabake program: dispatches a subcommand, reports errors on
- * stderr as one "seabake: error: ..." line and maps statuses to the exit
- * codes of sea_cli_exit. */
+/* main.c - the seabake program: the table of subcommands and the general
+ * usage; dispatches a subcommand, reports errors on stderr as one
+ * "seabake: error: ..." line and maps statuses to the exit codes of
+ * sea_cli_exit. */
 #ifdef HAVE_CONFIG_H
 #include <config.h>
 #endif
@@ -14,6 +15,47 @@
 #ifndef PACKAGE_VERSION
 #define PACKAGE_VERSION "unknown"
 #endif
+
+/* The subcommands, in the order the usage lists them. */
+static const sea_cli_command *const SEA_CLI_COMMANDS[] = {
+    &sea_cli_cmd_spectrum, &sea_cli_cmd_emissivity, &sea_cli_cmd_reflectivity,
+    &sea_cli_cmd_energy,   &sea_cli_cmd_slopes,     &sea_cli_cmd_convergence,
+    &sea_cli_cmd_bench,    &sea_cli_cmd_render,     &sea_cli_cmd_bake,
+};
+
+/* The subcommand called name, or NULL. */
+static const sea_cli_command *sea_cli_command_find(const char *name)
+{
+    for (size_t i = 0; i < SEA_CLI_COUNT(SEA_CLI_COMMANDS); ++i)
+        if (strcmp(SEA_CLI_COMMANDS[i]->name, name) == 0)
+            return SEA_CLI_COMMANDS[i];
+    return NULL;
+}
+
+/* The general usage: synopsis, subcommands, exit codes. */
+static void sea_cli_print_usage(FILE *f)
+{
+    fputs("Usage: seabake SUBCOMMAND [OPTIONS]\n"
+          "       seabake help [SUBCOMMAND]\n"
+          "       seabake --version\n"
+          "\n"
+          "Infrared optical properties of a wind-roughened sea surface at any\n"
+          "resolution (Caillault et al. 2007, Applied Optics 46, 5471).\n"
+          "\n"
+          "Subcommands:\n",
+          f);
+    for (size_t i = 0; i < SEA_CLI_COUNT(SEA_CLI_COMMANDS); ++i)
+        fprintf(f, "  %-13s %s\n", SEA_CLI_COMMANDS[i]->name, SEA_CLI_COMMANDS[i]->summary);
+    fputs("  help          this text, or the options of one subcommand\n"
+          "\n"
+          "The physics subcommands and slopes write CSV on standard output: a\n"
+          "header row, then one row per case; convergence and bench print a table\n"
+          "and write their files into a directory; render writes EXR and PNG\n"
+          "images of a scene file (seabake-scene(5)), bake its per-level maps and a\n"
+          "manifest into a directory.  Exit status: 0 success,\n"
+          "1 runtime failure, 2 usage error, 3 input/output error.  See seabake(1).\n",
+          f);
+}
 
 /* Prints the error as exactly one line; usage errors point to the help. */
 static int report(sea_status status, const sea_error *err, const char *command)

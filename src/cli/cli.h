@@ -1,6 +1,8 @@
-/* cli.h - the seabake program's command-line layer: option scanning, number
- * and list parsing, the subcommands.  Nothing here is part of libseabake;
- * this is the only code that sees argv, stdout, stderr or an exit code.
+/* cli.h - the seabake program's command-line layer (src/cli/): option
+ * scanning, number and list parsing, the helpers the subcommands share and
+ * the subcommands themselves, one file each.  Nothing here is part of
+ * libseabake; this is the only code that sees argv, stdout, stderr or an
+ * exit code.
  *
  * Errors.  Every helper returns a sea_status and fills a sea_error whose
  * message names the option, the offending text and the allowed range.
@@ -17,6 +19,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <sys/types.h>
 
 #include "seabake.h"
 
@@ -126,21 +129,22 @@ typedef struct {
     sea_status (*run)(const sea_cli_args *args, FILE *out, sea_error *err);
 } sea_cli_command;
 
-/* The subcommands of cli_waves.c (slopes, convergence, bench), listed by
- * sea_cli_command_find and sea_cli_print_usage after those of cli_physics.c. */
-extern const sea_cli_command sea_cli_waves_commands[];
-extern const size_t sea_cli_waves_n_commands;
+/* The subcommands, one a file (emissivity.c holds energy too); main.c
+ * lists them in the order of the general usage. */
+extern const sea_cli_command sea_cli_cmd_spectrum;     /* spectrum.c */
+extern const sea_cli_command sea_cli_cmd_emissivity;   /* emissivity.c */
+extern const sea_cli_command sea_cli_cmd_reflectivity; /* reflectivity.c */
+extern const sea_cli_command sea_cli_cmd_energy;       /* emissivity.c */
+extern const sea_cli_command sea_cli_cmd_slopes;       /* slopes.c */
+extern const sea_cli_command sea_cli_cmd_convergence;  /* convergence.c */
+extern const sea_cli_command sea_cli_cmd_bench;        /* bench.c */
+extern const sea_cli_command sea_cli_cmd_render;       /* render.c */
+extern const sea_cli_command sea_cli_cmd_bake;         /* bake.c */
 
-/* The subcommand of cli_render.c (render), listed after those of
- * cli_waves.c. */
-extern const sea_cli_command sea_cli_render_commands[];
-extern const size_t sea_cli_render_n_commands;
+/* Number of elements of an array (option tables). */
+#define SEA_CLI_COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
-/* The subcommand of cli_bake.c (bake), listed after render. */
-extern const sea_cli_command sea_cli_bake_commands[];
-extern const size_t sea_cli_bake_n_commands;
-
-/* ------------------------------------------------ helpers of the subcommands */
+/* ------------------------------------- option accessors and helpers (args.c) */
 
 /* Option `name` was given. */
 bool sea_cli_given(const sea_cli_args *args, const char *name);
@@ -175,8 +179,40 @@ sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *e
  * given) and --frame-rate HZ (> 0, default SEA_CLI_FRAME_RATE_DEFAULT, only
  * with --frames). */
 #define SEA_CLI_FRAME_RATE_DEFAULT 25.0
+/* Frame numbers in the names of render's and bake's files carry at least
+ * this many digits, as Blender's "####". */
+#define SEA_CLI_FRAME_DIGITS 4
+/* The range of the PNG previews of render and bake: the 0.5 % and 99.5 %
+ * quantiles, so that a few glint pixels do not flatten the rest. */
+#define SEA_CLI_PNG_CLIP 0.005
 sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, long *b,
                               double *rate, sea_error *err);
+
+/* The ranges of options that several subcommands take. */
+extern const sea_cli_range SEA_CLI_RANGE_WIND;         /* --wind, m/s */
+extern const sea_cli_range SEA_CLI_RANGE_FETCH;        /* --fetch, m */
+extern const sea_cli_range SEA_CLI_RANGE_AZIMUTH;      /* --wind-dir, --phi, degrees */
+extern const sea_cli_range SEA_CLI_RANGE_FACET;        /* --facet, m, [0, 1e6] */
+extern const sea_cli_range SEA_CLI_RANGE_DIRECTION[2]; /* THETA,PHI pairs, degrees */
+
+/* Largest sub-facet exponent (2^20 sub-facets per side), as the library. */
+#define SEA_CLI_N_MAX 20
+
+/* --seed: a decimal unsigned integer, read exactly (default 1). */
+sea_status sea_cli_opt_seed(const sea_cli_args *args, unsigned long *out, sea_error *err);
+/* --method of the wave subcommands (default variable-step) and --n, which
+ * only variable-step-2n takes and requires (0..SEA_CLI_N_MAX). */
+sea_status sea_cli_opt_facet_method(const sea_cli_args *args, sea_facet_method *method, int *n,
+                                    sea_error *err);
+/* Sea state from --wind (required, one value), --fetch, --wind-dir. */
+sea_status sea_cli_opt_sea_state(const sea_cli_args *args, double *wind, double *fetch,
+                                 double *wind_dir_deg, sea_error *err);
+/* --threads N, 1..1024: sets the OpenMP thread count (bench, render). */
+sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err);
+/* The smallest power of two >= x (x >= 1, finite). */
+double sea_cli_pow2_ceil(double x);
+
+/* --------------------------------------------------------- files (files.c) */
 
 /* s ends with suffix (ASCII case ignored) and is longer than it. */
 bool sea_cli_has_suffix(const char *s, const char *suffix);
@@ -185,6 +221,47 @@ char *sea_cli_path_join(const char *dir, const char *name);
 /* SEA_ERR_IO, before any computation, when the directory of path cannot
  * take a new file (the writers create their temporary files there). */
 sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_error *err);
+/* SEA_ERR_IO "cannot write to standard output" when a write to out failed. */
+sea_status sea_cli_check_written(FILE *out, sea_error *err);
+/* The process's umask, read without changing it: a new file or directory
+ * gets 0666 or 0777 less it. */
+mode_t sea_cli_umask(void);
+
+/* A file written under "<path>.tmp.XXXXXX" next to its destination (as the
+ * EXR writer does) and renamed over it only when complete. */
+typedef struct {
+    const char *path;
+    char *tmp;
+    FILE *f;
+} sea_cli_atomic_file;
+/* Creates the temporary file (mode 0666 less the umask); opt names the
+ * option in messages. */
+sea_status sea_cli_atomic_open(sea_cli_atomic_file *af, const char *opt, const char *path,
+                               sea_error *err);
+/* Removes the temporary file; nothing is left at the destination.  Safe on
+ * a file already committed or aborted, or one that {NULL, NULL, NULL}
+ * initialised. */
+void sea_cli_atomic_abort(sea_cli_atomic_file *af);
+/* Flushes, syncs and renames the file to its destination. */
+sea_status sea_cli_atomic_commit(sea_cli_atomic_file *af, const char *opt, sea_error *err);
+/* mkdir -p dir, then checks that it is a writable directory. */
+sea_status sea_cli_make_dir(const char *opt, const char *dir, sea_error *err);
+
+/* The atomic output directory of bake: files go into a fresh sibling
+ * DIR.tmp.XXXXXX (mkdtemp on sea_cli_sibling_template(DIR, "tmp")), which
+ * sea_cli_commit_dir puts in place of DIR. */
+/* "DIR.<what>.XXXXXX", malloc'ed. */
+char *sea_cli_sibling_template(const char *dir, const char *what);
+/* DIR must be absent or a directory. */
+sea_status sea_cli_check_dir(const char *dir, sea_error *err);
+/* Puts the finished temporary directory in place of dir (an existing dir is
+ * renamed aside, then removed). */
+sea_status sea_cli_commit_dir(const char *tmp, const char *dir, sea_error *err);
+/* Removes a directory tree we created; best effort. */
+int sea_cli_remove_tree(const char *path);
+
+/* --------------------------------------------------- progress (progress.c) */
+
 /* Monotonic wall-clock seconds. */
 double sea_cli_seconds(void);
 
@@ -200,11 +277,15 @@ typedef struct {
  * sea_cli_progress; never stops the work. */
 int sea_cli_progress_bar(void *ctx, double fraction);
 
+/* ---------------------------------------------------- --explain (explain.c) */
+
 /* --explain (render, bake; lines start "WHAT: "): the levels, windows, sub-facets, emissivity
  * rule, wave components, fallbacks and spectral samples that
  * sea_render_prepare chose for the scene file scene_path, and why, on
  * standard error. */
 void sea_cli_explain(const char *what, const char *scene_path, const sea_render *r);
+
+/* ------------------------------------------------------ charts (chart.c) */
 
 /* A gnuplot script built in memory.  sea_cli_gnuplot_begin opens it with
  * the lines drawing a width x height PNG (pngcairo if gnuplot has it, else
@@ -222,6 +303,81 @@ typedef struct {
 FILE *sea_cli_gnuplot_begin(sea_cli_script *s, int width, int height);
 char *sea_cli_gnuplot_end(sea_cli_script *s);
 
+/* A chart's gnuplot script, drawing to its standard output. */
+typedef char *(*sea_cli_chart_script_fn)(const void *ctx);
+/* DIR/NAME.png drawn by gnuplot through a temporary name; csv names the
+ * table already written, for the message when gnuplot is missing. */
+sea_status sea_cli_write_chart(const char *dir, const char *name,
+                               sea_cli_chart_script_fn script_fn, const void *ctx,
+                               const char *csv, sea_error *err);
+
+/* ------------------------------ inputs of the physics subcommands (inputs.c) */
+
+/* What every optics subcommand computes from: the water's complex index
+ * at the wavelength and the facet's slope statistics. */
+typedef struct {
+    double wavelength_um;
+    double complex N;
+    sea_slope_stats stats;
+} sea_cli_sea;
+
+/* The options of the water and of the slope statistics (sea_cli_sea_inputs). */
+#define SEA_CLI_SEA_OPTIONS \
+    {"wavelength", 0}, {"water", 0}, {"salinity", 0}, {"index", 0}, {"mean", 0}, {"wind", 0}, \
+        {"fetch", 0}, {"wind-dir", 0}, {"facet", 0}, \
+    { \
+        "cov", 0 \
+    }
+
+/* Help text shared by the physics subcommands. */
+#define SEA_CLI_HELP_LIST \
+    "LIST is A:B:STEP (A to B inclusive, STEP > 0), A,B,C or one value;\n" \
+    "at most 100000 values.  Options take --opt VALUE or --opt=VALUE.\n"
+
+#define SEA_CLI_HELP_WATER \
+    "\nWater:\n" \
+    "  --wavelength UM     wavelength, um, > 0 (required); inside the band of the\n" \
+    "                      water table (about 2.4-15.5 um) unless --index is given\n" \
+    "  --water TABLE       hale-querry (default), segelstein, or a CSV file with\n" \
+    "                      columns wavelength_um,n,k\n" \
+    "  --salinity S        salinity, g/kg, [0, 45]; default 35\n" \
+    "  --index N,K         refractive index n + i k instead of a table (n > 0,\n" \
+    "                      k >= 0); not with --water or --salinity\n"
+
+#define SEA_CLI_HELP_SLOPE_STATS \
+    "\nSlope statistics:\n" \
+    "  --mean MX,MY        mean slope of the facet, each in [-5, 5]; default 0,0\n" \
+    "  --wind U            wind speed at 10 m, m/s, [0.5, 40]; required unless --cov\n" \
+    "  --fetch F           fetch, m, [1000, inf]; default inf (fully developed)\n" \
+    "  --wind-dir DEG      wind azimuth from the x axis, degrees; default 0\n" \
+    "  --facet L           facet size, m, [0, 1e6]: covariance of the waves\n" \
+    "                      shorter than L (k > pi/L); default 0 = all waves\n" \
+    "  --cov SXX,SYY,SXY   slope covariance given directly: SXX, SYY in [0, 10],\n" \
+    "                      SXY^2 <= SXX*SYY; not with --wind, --fetch, --wind-dir\n" \
+    "                      or --facet\n"
+
+/* Refuses name2 when name1 was given. */
+sea_status sea_cli_exclusive(const sea_cli_args *args, const char *name1, const char *name2,
+                             sea_error *err);
+/* --method of the optics: auto (default), fast or full. */
+sea_status sea_cli_opt_method(const sea_cli_args *args, sea_emis_method *out, sea_error *err);
+/* Sea state from --wind, --fetch, --wind-dir (--wind must be given). */
+sea_status sea_cli_sea_state(const sea_cli_args *args, sea_spectrum *spec, double *wind,
+                             double *fetch, sea_error *err);
+/* Covariance of the waves shorter than a facet of size L (0: all waves). */
+sea_status sea_cli_facet_cov(const sea_spectrum *spec, double facet, double *kc, sea_cov2 *cov,
+                             sea_error *err);
+/* Parses every input of an optics subcommand; the water table is read last
+ * so that a typing mistake is reported before any file is opened. */
+sea_status sea_cli_sea_inputs(const sea_cli_args *args, sea_cli_sea *sea, sea_error *err);
+/* mx,my,sxx,syy,sxy of the sea, without a newline. */
+void sea_cli_print_sea_columns(FILE *out, const sea_cli_sea *sea);
+/* SEA_ERR_NUMERIC: what at (theta, phi) is not finite. */
+sea_status sea_cli_not_finite(const char *what, double theta_deg, double phi_deg, sea_error *err);
+/* --theta (required) and --phi (default 0) as lists. */
+sea_status sea_cli_direction_grid(const sea_cli_args *args, sea_cli_list *theta,
+                                  sea_cli_list *phi, sea_error *err);
+
 /* The complex refractive index of the water at --wavelength (required, um)
  * from --water (table name or CSV file, default hale-querry), --salinity
  * (default 35 g/kg) and, if the subcommand has it, --index.  The same
@@ -230,7 +386,7 @@ char *sea_cli_gnuplot_end(sea_cli_script *s);
 sea_status sea_cli_water(const sea_cli_args *args, double *wavelength_um, double complex *N,
                          sea_error *err);
 
-/* ------------------------------------------------- bench (cli_bench.c) */
+/* ---------------------------------------------- bench (bench_optics.c) */
 
 /* One row of bench.csv: a time per call and, where there is a reference,
  * the largest and RMS absolute error against it over the conditions (NAN:
@@ -273,10 +429,5 @@ bool sea_cli_bench_is_reference(const sea_cli_bench_row *r);
  * the max error, one labelled point per setting, the Pareto front as a
  * line.  malloc'ed; NULL when out of memory. */
 char *sea_cli_bench_chart_script(const sea_cli_bench_row *rows, size_t nrows);
-
-/* The subcommand called name, or NULL. */
-const sea_cli_command *sea_cli_command_find(const char *name);
-/* The general usage: synopsis, subcommands, exit codes. */
-void sea_cli_print_usage(FILE *f);
 
 #endif /* SEABAKE_CLI_H */

@@ -1,4 +1,4 @@
-/* cli_bake.c - the bake subcommand of seabake: a scene file
+/* bake.c - the bake subcommand of seabake: a scene file
  * (seabake-scene(5)) to a directory of per-level maps and a manifest.
  *
  * One prepare (as render), then one sea_bake_frame per frame.  Each
@@ -17,7 +17,6 @@
  * temporary directory is removed and DIR is exactly as it was. */
 #define _XOPEN_SOURCE 700
 #include <errno.h>
-#include <ftw.h>
 #include <math.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -38,7 +37,6 @@
 
 /* ------------------------------------------------------------ constants */
 
-enum { BAKE_FRAME_DIGITS = 4 };
 /* Emission texels per facet side, odd.  Radiance is not linear in the slope
  * moments (the glint above all), so a renderer's bilinear lookup of the
  * radiance matches seabake render's bilinear lookup of the moments only on
@@ -49,8 +47,6 @@ enum { BAKE_FRAME_DIGITS = 4 };
  * (oblique) and pov_glint.ini (nadir): K = 1, 2.9 % and 0.65 %; K = 3,
  * 0.61 % and 0.23 %; K = 5, 0.25 % and 0.095 %; K = 7, 0.15 % and 0.055 %. */
 enum { BAKE_VIEW_K_DEFAULT = 3 };
-/* Preview range: 0.5 % and 99.5 % quantiles, as render's. */
-static const double BAKE_PNG_CLIP = 0.005;
 /* The emission maps carry radiance x scale, scale a power of ten putting
  * the largest radiance of the first frame at or just below this value:
  * well inside half range (65504) with its 3.3 significant digits, and
@@ -203,7 +199,7 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     if ((st = sea_cli_opt_frames(args, &s->framed, &s->frame_a, &s->frame_b, &s->rate, err)) !=
         SEA_OK)
         return st;
-    s->pov = sea_cli_args_get(args, "pov") != NULL;
+    s->pov = sea_cli_given(args, "pov");
     if ((st = sea_cli_opt_integer(args, "emission-texels", 1, SEA_BAKE_VIEW_K_MAX,
                                   BAKE_VIEW_K_DEFAULT, &s->view_k, err)) != SEA_OK)
         return st;
@@ -212,9 +208,9 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
                         "--emission-texels: %ld is even (allowed: odd, 1 to %d: the texels must "
                         "hold the facet centres)",
                         s->view_k, SEA_BAKE_VIEW_K_MAX);
-    s->blender = sea_cli_args_get(args, "blender") != NULL;
-    s->explain = sea_cli_args_get(args, "explain") != NULL;
-    s->quiet = sea_cli_args_get(args, "quiet") != NULL;
+    s->blender = sea_cli_given(args, "blender");
+    s->explain = sea_cli_given(args, "explain");
+    s->quiet = sea_cli_given(args, "quiet");
     double tolerance;
     if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
         return st;
@@ -223,89 +219,6 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     sea_cli_apply_tolerance(tolerance, &s->sc);
     if ((s->dir = strndup(out, len)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    return SEA_OK;
-}
-
-/* ------------------------------------------------------------ directories */
-
-static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-    (void)sb;
-    (void)flag;
-    (void)ftw;
-    return remove(path);
-}
-
-/* Removes a directory tree we created; best effort (used on failure paths
- * and for the old DIR after the new one is in place). */
-static int remove_tree(const char *path)
-{
-    return nftw(path, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
-}
-
-/* "DIR.<what>.XXXXXX", malloc'ed. */
-static char *sibling_template(const char *dir, const char *what)
-{
-    const size_t len = strlen(dir) + strlen(what) + 10;
-    char *p = malloc(len);
-    if (p != NULL)
-        snprintf(p, len, "%s.%s.XXXXXX", dir, what);
-    return p;
-}
-
-/* DIR must be absent or a directory. */
-static sea_status check_dir(const char *dir, sea_error *err)
-{
-    struct stat sb;
-    if (lstat(dir, &sb) != 0) {
-        if (errno == ENOENT)
-            return SEA_OK;
-        return sea_fail(err, SEA_ERR_IO, "-o: cannot examine '%s': %s", dir, strerror(errno));
-    }
-    if (!S_ISDIR(sb.st_mode))
-        return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory", dir);
-    return SEA_OK;
-}
-
-/* Puts the finished temporary directory in place of dir. */
-static sea_status commit_dir(const char *tmp, const char *dir, sea_error *err)
-{
-    struct stat sb;
-    if (lstat(dir, &sb) != 0) {
-        if (rename(tmp, dir) != 0)
-            return sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", tmp, dir,
-                            strerror(errno));
-        return SEA_OK;
-    }
-    if (!S_ISDIR(sb.st_mode))
-        return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory", dir);
-    char *old = sibling_template(dir, "old");
-    if (old == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    /* mkdtemp reserves a unique name; renaming a directory onto an empty
-     * directory replaces it (POSIX rename). */
-    if (mkdtemp(old) == NULL) {
-        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot create '%s': %s", old,
-                                 strerror(errno));
-        free(old);
-        return st;
-    }
-    if (rename(dir, old) != 0) {
-        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot move '%s' aside to '%s': %s", dir,
-                                 old, strerror(errno));
-        rmdir(old);
-        free(old);
-        return st;
-    }
-    if (rename(tmp, dir) != 0) {
-        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", tmp, dir,
-                                 strerror(errno));
-        rename(old, dir); /* put the old one back */
-        free(old);
-        return st;
-    }
-    remove_tree(old);
-    free(old);
     return SEA_OK;
 }
 
@@ -346,7 +259,7 @@ static char *map_name(const char *group, int level, bool framed, long frame, con
 {
     char buf[128];
     if (framed)
-        snprintf(buf, sizeof buf, "%s_%d_%0*ld%s", group, level, BAKE_FRAME_DIGITS, frame, ext);
+        snprintf(buf, sizeof buf, "%s_%d_%0*ld%s", group, level, SEA_CLI_FRAME_DIGITS, frame, ext);
     else
         snprintf(buf, sizeof buf, "%s_%d%s", group, level, ext);
     return strdup(buf);
@@ -423,7 +336,7 @@ static sea_status write_level(const bake_setup *s, const char *tmp, const sea_ba
             if (st == SEA_OK) {
                 double lo, hi;
                 const float *shown = buf[BAKE_GROUPS[g].preview];
-                sea_png_range(shown, n, BAKE_PNG_CLIP, &lo, &hi);
+                sea_png_range(shown, n, SEA_CLI_PNG_CLIP, &lo, &hi);
                 st = sea_png_write_gray(png_path, (int)width, (int)height, shown, lo, hi, 8,
                                         err);
             }
@@ -952,8 +865,8 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     double prepare = 0.0;
     sea_status st = bake_parse(args, &s, err);
     if (st == SEA_OK)
-        st = check_dir(s.dir, err);
-    if (st == SEA_OK && (tmp = sibling_template(s.dir, "tmp")) == NULL)
+        st = sea_cli_check_dir(s.dir, err);
+    if (st == SEA_OK && (tmp = sea_cli_sibling_template(s.dir, "tmp")) == NULL)
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     /* The temporary directory first: an unwritable parent must not cost a
      * whole bake. */
@@ -967,9 +880,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     }
     if (st == SEA_OK) {
         /* mkdtemp makes it 0700; DIR gets the umask's permissions */
-        const mode_t mask = umask(0);
-        umask(mask);
-        if (chmod(tmp, 0777 & ~mask) != 0)
+        if (chmod(tmp, 0777 & ~sea_cli_umask()) != 0)
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot set the permissions of '%s': %s", tmp,
                           strerror(errno));
     }
@@ -996,9 +907,9 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     if (st == SEA_OK && bake_signal != 0)
         st = bake_interrupted(err);
     if (st == SEA_OK)
-        st = commit_dir(tmp, s.dir, err);
+        st = sea_cli_commit_dir(tmp, s.dir, err);
     if (st != SEA_OK && tmp != NULL)
-        remove_tree(tmp);
+        sea_cli_remove_tree(tmp);
     for (size_t i = 0; i < BAKE_N_SIGNALS; i++)
         sigaction(BAKE_SIGNALS[i], &saved[i], NULL);
     if (bake_signal != 0 && st != SEA_OK) {
@@ -1039,9 +950,6 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"tolerance", 0},
     {"quiet", SEA_CLI_OPT_FLAG}};
 
-const sea_cli_command sea_cli_bake_commands[] = {
-    {"bake", "per-level EXR maps, previews and a manifest of a scene file", BAKE_HELP,
-     BAKE_OPTIONS, sizeof BAKE_OPTIONS / sizeof BAKE_OPTIONS[0], run_bake},
-};
-const size_t sea_cli_bake_n_commands =
-    sizeof sea_cli_bake_commands / sizeof sea_cli_bake_commands[0];
+const sea_cli_command sea_cli_cmd_bake = {
+    "bake", "per-level EXR maps, previews and a manifest of a scene file", BAKE_HELP,
+    BAKE_OPTIONS, SEA_CLI_COUNT(BAKE_OPTIONS), run_bake};

@@ -1,4 +1,4 @@
-/* cli_render.c - the render subcommand of seabake: a scene file
+/* render.c - the render subcommand of seabake: a scene file
  * (seabake-scene(5)) to images.
  *
  * One prepare (camera, levels, spectral samples, wave plan), then one
@@ -21,23 +21,12 @@
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #include "cli.h"
 #include "exr.h"
 #include "preview.h"
 
 /* ------------------------------------------------------------ constants */
-
-/* Frames (sea_cli_parse_frames): names carry at least 4 digits, as
- * Blender's "####". */
-enum { RENDER_FRAME_DIGITS = 4 };
-/* The preview's range: the 0.5 % and 99.5 % quantiles, so that a few
- * glint pixels do not flatten the rest of the image. */
-static const double RENDER_PNG_CLIP = 0.005;
-#define RENDER_THREADS_MAX 1024
 
 /* Arbitrary output variables, each in its own file OUT.<name>.exr. */
 typedef enum { AOV_LEVEL, AOV_EMISSIVITY, AOV_REFLECTIVITY, AOV_TEMPERATURE, AOV_COUNT } render_aov;
@@ -179,7 +168,7 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
         return st;
     if (depth != 8 && depth != 16)
         return sea_fail(err, SEA_ERR_DOMAIN, "--png-depth: %ld is not 8 or 16", depth);
-    if (!s->png && sea_cli_args_get(args, "png-depth") != NULL)
+    if (!s->png && sea_cli_given(args, "png-depth"))
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "--png-depth applies only to a preview, not --png none");
     s->png_depth = (int)depth;
@@ -190,17 +179,11 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
     if ((st = sea_cli_opt_frames(args, &s->framed, &s->frame_a, &s->frame_b, &s->rate, err)) !=
         SEA_OK)
         return st;
-    long threads;
-    st = sea_cli_opt_integer(args, "threads", 1, RENDER_THREADS_MAX, 0, &threads, err);
-    if (st != SEA_OK)
+    if ((st = sea_cli_opt_threads(args, err)) != SEA_OK)
         return st;
-#ifdef _OPENMP
-    if (threads > 0)
-        omp_set_num_threads((int)threads);
-#endif
-    s->half = sea_cli_args_get(args, "half") != NULL;
-    s->quiet = sea_cli_args_get(args, "quiet") != NULL;
-    s->explain = sea_cli_args_get(args, "explain") != NULL;
+    s->half = sea_cli_given(args, "half");
+    s->quiet = sea_cli_given(args, "quiet");
+    s->explain = sea_cli_given(args, "explain");
     s->progress = !s->quiet && isatty(STDERR_FILENO);
     double tolerance;
     if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
@@ -239,7 +222,7 @@ static char *frame_path(const char *stem, bool framed, long frame, const char *m
 {
     char num[32] = "";
     if (framed)
-        snprintf(num, sizeof num, "_%0*ld", RENDER_FRAME_DIGITS, frame);
+        snprintf(num, sizeof num, "_%0*ld", SEA_CLI_FRAME_DIGITS, frame);
     const size_t len = strlen(stem) + strlen(num) + strlen(middle) + strlen(ext) + 1;
     char *p = malloc(len);
     if (p != NULL)
@@ -327,7 +310,7 @@ static sea_status write_frame(const render_setup *s, const sea_image *img, long 
     if (st == SEA_OK && s->png) {
         const size_t npix = (size_t)img->width * (size_t)img->height;
         double lo, hi;
-        sea_png_range(img->temperature, npix, RENDER_PNG_CLIP, &lo, &hi);
+        sea_png_range(img->temperature, npix, SEA_CLI_PNG_CLIP, &lo, &hi);
         if ((path = frame_path(s->png_stem, s->framed, frame, "", s->png_ext)) == NULL) {
             st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         } else {
@@ -455,9 +438,6 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"quiet", SEA_CLI_OPT_FLAG},
     {"explain", SEA_CLI_OPT_FLAG}};
 
-const sea_cli_command sea_cli_render_commands[] = {
-    {"render", "images of a scene file: radiance EXR, AOVs, PNG preview", RENDER_HELP,
-     RENDER_OPTIONS, sizeof RENDER_OPTIONS / sizeof RENDER_OPTIONS[0], run_render},
-};
-const size_t sea_cli_render_n_commands =
-    sizeof sea_cli_render_commands / sizeof sea_cli_render_commands[0];
+const sea_cli_command sea_cli_cmd_render = {
+    "render", "images of a scene file: radiance EXR, AOVs, PNG preview", RENDER_HELP,
+    RENDER_OPTIONS, SEA_CLI_COUNT(RENDER_OPTIONS), run_render};

@@ -1,12 +1,19 @@
-/* cli_args.c - option scanning and number/list parsing for the seabake
- * program.  Every failure leaves a one-line message naming the option, the
- * text the user gave and what would have been accepted. */
+/* args.c - option scanning and number/list parsing for the seabake
+ * program, the accessors of options (given, required, number, list,
+ * integer, frames, tolerance, scene), and the ranges and option helpers
+ * that several subcommands share (seed, facet method, sea state, threads).
+ * Every failure leaves a one-line message naming the option, the text the
+ * user gave and what would have been accepted. */
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "cli.h"
 
@@ -386,4 +393,241 @@ sea_status sea_cli_parse_list(const char *opt, const char *text, const sea_cli_r
         begin = end + 1;
     }
     return SEA_OK;
+}
+
+/* ------------------------------------------------------------- accessors */
+
+/* Option names in the tables carry no dashes; messages show "--name". */
+static const char *dashed(const char *name, char *buf, size_t size)
+{
+    snprintf(buf, size, "--%s", name);
+    return buf;
+}
+
+bool sea_cli_given(const sea_cli_args *args, const char *name)
+{
+    return sea_cli_args_get(args, name) != NULL;
+}
+
+sea_status sea_cli_require(const sea_cli_args *args, const char *name, const char *why,
+                           sea_error *err)
+{
+    if (sea_cli_given(args, name))
+        return SEA_OK;
+    return sea_fail(err, SEA_ERR_DOMAIN, "missing --%s%s", name, why ? why : "");
+}
+
+sea_status sea_cli_opt_number(const sea_cli_args *args, const char *name,
+                              const sea_cli_range *range, double def, double *out, sea_error *err)
+{
+    char opt[48];
+    const char *text = sea_cli_args_get(args, name);
+    if (!text) {
+        *out = def;
+        return SEA_OK;
+    }
+    return sea_cli_parse_number(dashed(name, opt, sizeof opt), text, range, out, err);
+}
+
+/* The range of [model] tolerance in scene.c. */
+static const sea_cli_range SEA_CLI_RANGE_SCENE_TOL = {0.0, 0.1, true, false, ""};
+
+sea_status sea_cli_opt_tolerance(const sea_cli_args *args, double *out, sea_error *err)
+{
+    return sea_cli_opt_number(args, "tolerance", &SEA_CLI_RANGE_SCENE_TOL, NAN, out, err);
+}
+
+sea_status sea_cli_scene_arg(const sea_cli_args *args, const char **path, sea_error *err)
+{
+    *path = sea_cli_args_get(args, "scene");
+    if (*path == NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "missing SCENE.ini (the scene file, seabake-scene(5))");
+    if ((*path)[0] == '\0')
+        return sea_fail(err, SEA_ERR_PARSE, "empty scene file name");
+    return SEA_OK;
+}
+
+void sea_cli_apply_tolerance(double tolerance, sea_scene *sc)
+{
+    if (!isnan(tolerance))
+        sc->tolerance = tolerance;
+}
+
+sea_status sea_cli_opt_list(const sea_cli_args *args, const char *name, const sea_cli_range *range,
+                            const char *def, sea_cli_list *out, sea_error *err)
+{
+    char opt[48];
+    const char *text = sea_cli_args_get(args, name);
+    return sea_cli_parse_list(dashed(name, opt, sizeof opt), text ? text : def, range, out, err);
+}
+
+sea_status sea_cli_opt_integer(const sea_cli_args *args, const char *name, long lo, long hi,
+                               long def, long *out, sea_error *err)
+{
+    const char *text = sea_cli_args_get(args, name);
+    if (!text) {
+        *out = def;
+        return SEA_OK;
+    }
+    char opt[48];
+    const sea_cli_range range = {(double)lo, (double)hi, false, false, ""};
+    double v;
+    sea_status st = sea_cli_parse_number(dashed(name, opt, sizeof opt), text, &range, &v, err);
+    if (st != SEA_OK)
+        return st;
+    if (v != floor(v))
+        return sea_fail(err, SEA_ERR_DOMAIN, "%s: %s is not an integer", opt, text);
+    *out = (long)v;
+    return SEA_OK;
+}
+
+sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *err)
+{
+    static const sea_cli_range frame = {0.0, SEA_CLI_FRAME_MAX, false, false, ""};
+    const char *colon = strchr(text, ':');
+    char first[64];
+    if (colon == NULL || strchr(colon + 1, ':') != NULL || (size_t)(colon - text) >= sizeof first)
+        return sea_fail(err, SEA_ERR_PARSE, "--frames: expected A:B (two frame numbers), got '%s'",
+                        text);
+    memcpy(first, text, (size_t)(colon - text));
+    first[colon - text] = '\0';
+    double va, vb;
+    sea_status st = sea_cli_parse_number("--frames", first, &frame, &va, err);
+    if (st == SEA_OK)
+        st = sea_cli_parse_number("--frames", colon + 1, &frame, &vb, err);
+    if (st != SEA_OK)
+        return st;
+    if (va != floor(va) || vb != floor(vb))
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' must hold integers", text);
+    if (va > vb)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' runs backwards (A:B needs A <= B)",
+                        text);
+    if (vb - va + 1.0 > SEA_CLI_FRAMES_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frames: '%s' has %.0f frames, more than %d", text,
+                        vb - va + 1.0, SEA_CLI_FRAMES_MAX);
+    *a = (long)va;
+    *b = (long)vb;
+    return SEA_OK;
+}
+
+sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, long *b,
+                              double *rate, sea_error *err)
+{
+    static const sea_cli_range RATE = {0.0, INFINITY, true, true, "Hz"};
+    const char *frames = sea_cli_args_get(args, "frames");
+    sea_status st;
+    *framed = frames != NULL;
+    *a = *b = 0;
+    if (*framed && (st = sea_cli_parse_frames(frames, a, b, err)) != SEA_OK)
+        return st;
+    const char *text = sea_cli_args_get(args, "frame-rate");
+    *rate = SEA_CLI_FRAME_RATE_DEFAULT;
+    if (text == NULL)
+        return SEA_OK;
+    if (!*framed)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--frame-rate applies only with --frames");
+    return sea_cli_parse_number("--frame-rate", text, &RATE, rate, err);
+}
+
+/* ------------------------------------------------- shared ranges, helpers */
+
+const sea_cli_range SEA_CLI_RANGE_WIND = {SEA_WIND_MIN, SEA_WIND_MAX, false, false, "m/s"};
+const sea_cli_range SEA_CLI_RANGE_FETCH = {SEA_FETCH_MIN, INFINITY, false, false, "m"};
+const sea_cli_range SEA_CLI_RANGE_AZIMUTH = {-INFINITY, INFINITY, true, true, "degrees"};
+/* Largest facet size: far beyond the size at which the high-resolution
+ * statistics have converged to the low-resolution ones (PHYSICS.md 4). */
+#define SEA_CLI_FACET_MAX 1e6
+const sea_cli_range SEA_CLI_RANGE_FACET = {0.0, SEA_CLI_FACET_MAX, false, false, "m"};
+/* A THETA,PHI pair: signed zenith and azimuth. */
+const sea_cli_range SEA_CLI_RANGE_DIRECTION[2] = {
+    {-90.0, 90.0, true, true, "degrees"},
+    {-INFINITY, INFINITY, true, true, "degrees"}};
+
+/* --seed: a decimal unsigned integer, read exactly (not through a double). */
+sea_status sea_cli_opt_seed(const sea_cli_args *args, unsigned long *out, sea_error *err)
+{
+    const char *text = sea_cli_args_get(args, "seed");
+    if (!text) {
+        *out = 1;
+        return SEA_OK;
+    }
+    size_t len = strlen(text);
+    if (len == 0 || strspn(text, "0123456789") != len)
+        return sea_fail(err, SEA_ERR_PARSE, "--seed: '%s' is not an unsigned integer", text);
+    errno = 0;
+    unsigned long v = strtoul(text, NULL, 10);
+    if (errno == ERANGE)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--seed: %s is outside [0, %lu]", text, ULONG_MAX);
+    *out = v;
+    return SEA_OK;
+}
+
+/* --method (default variable-step) and --n, which only variable-step-2n
+ * takes and requires. */
+sea_status sea_cli_opt_facet_method(const sea_cli_args *args, sea_facet_method *method, int *n,
+                                    sea_error *err)
+{
+    const char *text = sea_cli_args_get(args, "method");
+    int m = sea_facet_method_from_name(text ? text : "variable-step");
+    if (m < 0)
+        return sea_fail(err, SEA_ERR_PARSE,
+                        "--method: '%s' is not one of variable-step, variable-step-2n, one-meter",
+                        text);
+    *method = (sea_facet_method)m;
+    *n = 0;
+    if (*method != SEA_METHOD_VARIABLE_STEP_2N) {
+        if (sea_cli_given(args, "n"))
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "--n applies only to --method variable-step-2n, not %s",
+                            sea_facet_method_name(*method));
+        return SEA_OK;
+    }
+    long v;
+    sea_status st =
+        sea_cli_require(args, "n", " (the sub-facet exponent of variable-step-2n)", err);
+    if (st == SEA_OK)
+        st = sea_cli_opt_integer(args, "n", 0, SEA_CLI_N_MAX, 0, &v, err);
+    if (st == SEA_OK)
+        *n = (int)v;
+    return st;
+}
+
+/* Sea state from --wind (one value), --fetch, --wind-dir. */
+sea_status sea_cli_opt_sea_state(const sea_cli_args *args, double *wind, double *fetch,
+                                 double *wind_dir_deg, sea_error *err)
+{
+    sea_status st = sea_cli_require(args, "wind", NULL, err);
+    if (st == SEA_OK)
+        st = sea_cli_opt_number(args, "wind", &SEA_CLI_RANGE_WIND, 0.0, wind, err);
+    if (st == SEA_OK)
+        st = sea_cli_opt_number(args, "fetch", &SEA_CLI_RANGE_FETCH, INFINITY, fetch, err);
+    if (st == SEA_OK)
+        st = sea_cli_opt_number(args, "wind-dir", &SEA_CLI_RANGE_AZIMUTH, 0.0, wind_dir_deg, err);
+    return st;
+}
+
+/* --threads N: sets the OpenMP thread count. */
+sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err)
+{
+    long n;
+    sea_status st = sea_cli_opt_integer(args, "threads", 1, 1024, 0, &n, err);
+    if (st != SEA_OK)
+        return st;
+#ifdef _OPENMP
+    if (n > 0)
+        omp_set_num_threads((int)n);
+#endif
+    return SEA_OK;
+}
+
+/* The smallest power of two >= x (x >= 1, finite). */
+double sea_cli_pow2_ceil(double x)
+{
+    double e = ceil(log2(x));
+    if (exp2(e - 1.0) >= x)
+        e -= 1.0;
+    if (exp2(e) < x)
+        e += 1.0;
+    return exp2(e);
 }

@@ -1,4 +1,4 @@
-/* cli_bench.c - the optics half of `seabake bench`: speed against accuracy
+/* bench_optics.c - the optics half of `seabake bench`: speed against accuracy
  * of every way the program computes the emissivity (the adaptive reference
  * of Eq 7, Eq 12, the default, fixed product rules of several orders), of
  * the reflectivity and of the energy balance, over one fixed set of

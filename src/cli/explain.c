@@ -1,0 +1,124 @@
+/* explain.c - --explain of render and bake: the levels, windows,
+ * sub-facets, emissivity rule, wave components, fallbacks and spectral
+ * samples that sea_render_prepare chose, and why, on standard error. */
+#include <math.h>
+#include <stdio.h>
+
+#include "cli.h"
+
+/* Wavelengths listed by --explain before "...". */
+enum { EXPLAIN_SAMPLES = 16 };
+
+/* --explain of render and bake: what sea_render_prepare chose, and why. */
+void sea_cli_explain(const char *what, const char *scene_path, const sea_render *r)
+{
+    const sea_scene *sc = sea_render_scene(r);
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    const size_t npix = (size_t)sc->width * (size_t)sc->height;
+    size_t sea_pixels = 0;
+    for (size_t i = 0; i < n; ++i)
+        sea_pixels += lv[i].pixels;
+    fprintf(stderr,
+            "%s: %s: %d x %d pixels, %zu sea and %zu sky; %zu clipmap level%s of facets "
+            "%g m x 2^l (grid %d, tolerance %g, method %s):\n", what,
+            scene_path, sc->width, sc->height, sea_pixels, npix - sea_pixels, n,
+            n == 1 ? "" : "s", sc->finest, sc->grid, sc->tolerance,
+            sea_facet_method_name((sea_facet_method)sc->method));
+    for (size_t i = 0; i < n; ++i) {
+        const sea_clip_level *l = &lv[i];
+        if (l->low_res)
+            fprintf(stderr,
+                    "  level %2d: %.10g m, low-resolution (m = 0, C = C_LR, no facets), generated "
+                    "share %.3g, %zu pixels\n",
+                    l->level, l->facet, l->generated_share, l->pixels);
+        else
+            fprintf(stderr,
+                    "  level %2d: %.10g m, window %zu x %zu facets from (%ld, %ld) = (%g m, %g m), "
+                    "generated share %.3g, %zu pixels, sub-facets 2^%d x 2^%d%s\n",
+                    l->level, l->facet, l->nx, l->ny, l->i0, l->j0, (double)l->i0 * l->facet,
+                    (double)l->j0 * l->facet, l->generated_share, l->pixels, l->sub_n, l->sub_n,
+                    l->sub_skipped ? " (skipped)" : "");
+    }
+    /* Sub-facets: what each level resolves, and which the tolerance skipped. */
+    for (size_t i = 0; i < n; ++i) {
+        const sea_clip_level *l = &lv[i];
+        if (l->low_res || (l->sub_n == 0 && !l->sub_skipped))
+            continue;
+        const int want = l->sub_skipped ? (sc->n < l->level ? sc->n : l->level) : l->sub_n;
+        fprintf(stderr,
+                "  level %2d: sub-facets of %g m resolve %.3g of the slope variance: %s\n",
+                l->level, l->facet / (double)(1L << want), l->sub_share,
+                l->sub_skipped ? "skipped, less than the tolerance (n = 0)"
+                               : "computed, at least the tolerance");
+    }
+    /* The first low-resolution level is the end of every pixel's chain. */
+    for (size_t i = 0; i < n; ++i) {
+        if (!lv[i].low_res)
+            continue;
+        fprintf(stderr,
+                "  levels from %g m are low-resolution: the waves longer than 2 x %g m carry "
+                "%.3g of the slope variance, less than the tolerance %g\n",
+                lv[i].facet, lv[i].facet, lv[i].generated_share, sc->tolerance);
+        break;
+    }
+    fprintf(stderr,
+            "  a pixel of footprint F reads level round(log2(F / %g m)), or a coarser one outside "
+            "that level's window; \"pixels\" counts the pixels whose footprint chose it\n",
+            sc->finest);
+    /* The fallbacks of seabake(1), LIMITS AND FALLBACKS, that this scene takes. */
+    sea_spectrum sp;
+    if (sea_spectrum_init(&sp, sc->wind_speed, sc->fetch, sc->wind_dir, NULL) == SEA_OK &&
+        sea_spectrum_alpha_m_continued(&sp))
+        fprintf(stderr,
+                "%s: fallback: at %g m/s u*/c_m is below exp(-3/4): the short-wave "
+                "alpha_m = %.3g comes from the positive low-wind continuation, not Elfouhaily's "
+                "1e-2 (1 + ln(u*/c_m)) (seabake(1), LIMITS AND FALLBACKS)\n", what,
+                sc->wind_speed, sp.alpha_m);
+    if (sc->sun_zenith >= M_PI / 2.0)
+        fprintf(stderr,
+                "%s: fallback: the sun (zenith %g deg) is below the horizon%s: no sun term, "
+                "as with irradiance 0\n", what,
+                sc->sun_zenith * 180.0 / M_PI,
+                sc->earth == SEA_EARTH_SPHERICAL ? " at the nadir point" : "");
+    if (sc->windows == SEA_WINDOWS_CLIPMAP)
+        fprintf(stderr, "  windows = clipmap: every high-resolution level is %d x %d facets "
+                        "around the point the optical axis meets, whether pixels read it or not\n",
+                sc->grid, sc->grid);
+    const sea_render_choices ch = sea_render_choices_of(r);
+    if (sc->emissivity_method == SEA_EMIS_AUTO)
+        fprintf(stderr,
+                "%s: emissivity: auto rule, orders x %g (%s): n_gl = ceil(%g (16 + 12 s_X)), "
+                "n_gh = ceil(%g (2 + 6 s + 16 s^2))\n", what,
+                ch.emis_scale,
+                ch.emis_scale < 1.0 ? "scaled down: the tolerance allows an emissivity error "
+                                      "of a tenth of it"
+                                    : "the full rule, about 1e-5",
+                ch.emis_scale, ch.emis_scale);
+    else
+        fprintf(stderr, "%s: emissivity: %s (not scaled by the tolerance)\n", what,
+                sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+    if (ch.wave_count == 0)
+        fprintf(stderr, "%s: waves: none (every level is low-resolution)\n", what);
+    else if (ch.directions > 0)
+        fprintf(stderr,
+                "%s: waves: %zu sinusoids, %d bins per octave x %d directions (the same "
+                "at every tolerance)\n",
+                what, ch.wave_count, ch.bins_per_octave, ch.directions);
+    else
+        fprintf(stderr, "%s: waves: %zu FFT modes (the same at every tolerance)\n", what,
+                ch.wave_count);
+    const double *wl, *wt;
+    const size_t k = sea_render_samples(r, &wl, &wt);
+    if (sc->wavelength > 0.0) {
+        fprintf(stderr, "%s: 1 spectral sample, at %g um\n", what, wl[0] * 1e6);
+        return;
+    }
+    fprintf(stderr, "%s: %zu spectral sample%s over %g-%g um (%s, %s response):", what, k,
+            k == 1 ? "" : "s", sc->band_min * 1e6, sc->band_max * 1e6,
+            sc->band_samples > 0 ? "samples in the scene" : "chosen by the tolerance",
+            sc->response_file[0] ? "the file's" : "flat");
+    for (size_t i = 0; i < k && i < EXPLAIN_SAMPLES; ++i)
+        fprintf(stderr, "%s%.4g", i ? ", " : " ", wl[i] * 1e6);
+    fprintf(stderr, "%s um\n", k > EXPLAIN_SAMPLES ? ", ..." : "");
+}
