@@ -486,6 +486,127 @@ sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double co
     return expect(p, method, &f, emissivity_fn, &n, out, err);
 }
 
+/* The nodes of a fixed rule, in the order expect_fixed visits them: the
+ * outer weights w_i (0 where expect_fixed skips the node), for each the
+ * inner weights (the rule's Gauss-Hermite weights, shared, or 1 for Eq 12)
+ * and cos psi at every node; an integrand then sums as expect_fixed does. */
+typedef struct {
+    int n_i, n_j;          /* n_j = 1 for Eq 12 (weight 1) */
+    int zero;              /* every facet turned away: the result is 0 */
+    int plain;             /* no outer average (delta): the result is the inner sum */
+    double w_i[SEA_EMIS_GL_MAX], w_j[SEA_EMIS_GH_MAX];
+    double cos_psi[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX];
+} fixed_nodes;
+
+static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, double gX, double mY,
+                        fixed_nodes *nd, int i)
+{
+    if (n_gh == 0) {
+        nd->cos_psi[i] = cos_psi_of(f, gX, f->m_Y);
+        return;
+    }
+    const double *x = &p->gh_x[SEA_TRI(n_gh - 1)];
+    for (int j = 0; j < n_gh; j++)
+        nd->cos_psi[i * n_gh + j] = cos_psi_of(f, gX, mY + f->s_Y_given_X * x[j]);
+}
+
+static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, fixed_nodes *nd)
+{
+    nd->zero = nd->plain = 0;
+    nd->n_j = r.n_gh > 0 ? r.n_gh : 1;
+    if (r.n_gh > 0)
+        memcpy(nd->w_j, &p->gh_w[SEA_TRI(r.n_gh - 1)], (size_t)r.n_gh * sizeof(double));
+    else
+        nd->w_j[0] = 1.0;
+    if (f->delta) {
+        nd->zero = f->cos_th - f->m_X * f->sin_th <= 0.0;
+        nd->plain = 1;
+        nd->n_i = 1;
+        nd->w_i[0] = 1.0;
+        inner_nodes(p, f, r.n_gh, f->m_X, f->m_Y, nd, 0);
+        return;
+    }
+    double t_lo, t_hi;
+    view_window(f, r.t_cut, &t_lo, &t_hi);
+    const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
+    const double *x = &p->gl_x[SEA_TRI(r.n_gl - 1)], *wx = &p->gl_w[SEA_TRI(r.n_gl - 1)];
+    nd->n_i = r.n_gl;
+    for (int i = 0; i < r.n_gl; i++) {
+        const double t = mid + half * x[i];
+        const double w = wx[i] * view_weight(f, t);
+        nd->w_i[i] = w > 0.0 ? w : 0.0;
+        if (w > 0.0)
+            inner_nodes(p, f, r.n_gh, f->m_X + f->s_X * t, f->m_Y + f->b_YX * t, nd, i);
+    }
+}
+
+/* 1 - rho averaged over the nodes for index N, summed as expect_fixed and
+ * fixed_inner sum emissivity_fn (so the result is the same to the bit). */
+static double emissivity_of_nodes(const fixed_nodes *nd, double complex N)
+{
+    if (nd->zero)
+        return 0.0;
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < nd->n_i; i++) {
+        const double w = nd->w_i[i];
+        if (!nd->plain && w <= 0.0)
+            continue;
+        const double *c = &nd->cos_psi[i * nd->n_j];
+        double acc;
+        if (nd->n_j == 1 && nd->w_j[0] == 1.0) {
+            acc = 1.0 - sea_fresnel_unpolarized(c[0], N);
+        } else {
+            acc = 0.0;
+            for (int j = 0; j < nd->n_j; j++)
+                acc += nd->w_j[j] * (1.0 - sea_fresnel_unpolarized(c[j], N));
+        }
+        if (nd->plain)
+            return acc;
+        num += w * acc;
+        den += w;
+    }
+    return den > 0.0 ? num / den : 0.0;
+}
+
+sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
+                            const sea_emis_rule *rule, const double complex *N, size_t n,
+                            const sea_slope_stats *st, sea_dir v, double *out, sea_error *err)
+{
+    sea_status s;
+    if (rule == NULL && method == SEA_EMIS_FULL) {
+        for (size_t i = 0; i < n; i++)
+            if ((s = sea_emissivity(p, method, N[i], st, v, &out[i], err)) != SEA_OK)
+                return s;
+        return SEA_OK;
+    }
+    if (rule != NULL && (rule->n_gl < 1 || rule->n_gl > SEA_EMIS_GL_MAX || rule->n_gh < 0 ||
+                         rule->n_gh > SEA_EMIS_GH_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "product rule %d x %d is outside 1..%d Gauss-Legendre x 0..%d "
+                        "Gauss-Hermite nodes",
+                        rule->n_gl, rule->n_gh, SEA_EMIS_GL_MAX, SEA_EMIS_GH_MAX);
+    if (rule == NULL && method != SEA_EMIS_AUTO && method != SEA_EMIS_FAST)
+        return sea_fail(err, SEA_ERR_DOMAIN, "unknown emissivity method %d", (int)method);
+    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
+        return s;
+    view_frame f;
+    view_frame_init(st, v, &f);
+    fixed_rule r;
+    if (rule != NULL) {
+        r = (fixed_rule){rule->n_gl, rule->n_gh, SEA_RULE_T_CUT};
+    } else if (method == SEA_EMIS_FAST) {
+        r = (fixed_rule){64, 0, SEA_T_CUT};
+    } else {
+        const sea_emis_rule a = auto_rule(&f);
+        r = (fixed_rule){a.n_gl, a.n_gh, SEA_RULE_T_CUT};
+    }
+    fixed_nodes nd;
+    nodes_fixed(p, &f, r, &nd);
+    for (size_t i = 0; i < n; i++)
+        out[i] = emissivity_of_nodes(&nd, N[i]);
+    return SEA_OK;
+}
+
 sea_emis_rule sea_emissivity_auto_rule(const sea_slope_stats *st, sea_dir v)
 {
     view_frame f;

@@ -55,6 +55,7 @@ struct sea_render {
     sea_waves *waves;
     size_t nsamp;
     double *wl, *wt, *esun, *lsky;
+    double *lsea;    /* blackbody radiance at the sea's temperature, per sample */
     double complex *N;
     double wsum;
     sea_moments lr;  /* moments of a low-resolution facet */
@@ -115,6 +116,7 @@ void sea_render_free(sea_render *r)
     free(r->wt);
     free(r->esun);
     free(r->lsky);
+    free(r->lsea);
     free(r->N);
     free(r->px);
     free(r);
@@ -161,13 +163,15 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     free(r->wt);
     free(r->esun);
     free(r->lsky);
+    free(r->lsea);
     free(r->N);
     r->wl = malloc(k * sizeof(double));
     r->wt = malloc(k * sizeof(double));
     r->esun = malloc(k * sizeof(double));
     r->lsky = malloc(k * sizeof(double));
+    r->lsea = malloc(k * sizeof(double));
     r->N = malloc(k * sizeof(double complex));
-    if (!r->wl || !r->wt || !r->esun || !r->lsky || !r->N)
+    if (!r->wl || !r->wt || !r->esun || !r->lsky || !r->lsea || !r->N)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu spectral samples", k);
     r->nsamp = k;
     const sea_scene *sc = &r->sc;
@@ -197,6 +201,7 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
                                sea_planck_radiance(r->wl[i], sc->sun_temperature);
         r->lsky[i] = sc->sky_radiance >= 0.0 ? sc->sky_radiance
                                              : sea_planck_radiance(r->wl[i], sc->sky_temperature);
+        r->lsea[i] = sea_planck_radiance(r->wl[i], sc->temperature);
         r->wsum += r->wt[i];
     }
     if (!(r->wsum > 0.0))
@@ -241,17 +246,17 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
     if (scaled && sea_slope_stats_check(st, NULL) == SEA_OK && obs.theta >= 0.0 &&
         obs.theta < M_PI_2)
         rule = sea_render_emis_rule(r->choices.emis_scale, st, obs);
+    /* Every sample's emissivity from one set of nodes: the geometry is the
+     * same at every wavelength. */
+    double eps_all[SEA_SCENE_BAND_MAX];
+    sea_status s = sea_emissivity_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
+                                    scaled ? &rule : NULL, r->N, r->nsamp, st, obs, eps_all, err);
+    if (s != SEA_OK)
+        return s;
     for (size_t i = 0; i < r->nsamp; i++) {
-        double eps;
-        sea_status s = scaled ? sea_emissivity_rule(r->optics, rule, r->N[i], st, obs, &eps, err)
-                              : sea_emissivity(r->optics,
-                                               (sea_emis_method)r->sc.emissivity_method, r->N[i],
-                                               st, obs, &eps, err);
-        if (s != SEA_OK)
-            return s;
+        const double eps = eps_all[i];
         const double rr = sun_up ? sea_reflectivity(r->N[i], st, sun, obs) : 0.0;
-        const double Li = rr * r->esun[i] + (1.0 - eps) * r->lsky[i] +
-                          eps * sea_planck_radiance(r->wl[i], r->sc.temperature);
+        const double Li = rr * r->esun[i] + (1.0 - eps) * r->lsky[i] + eps * r->lsea[i];
         sl += r->wt[i] * Li;
         se += r->wt[i] * eps;
         sr += r->wt[i] * rr;

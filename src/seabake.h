@@ -358,6 +358,18 @@ sea_status sea_emissivity_rule(const sea_optics *p, sea_emis_rule rule, double c
                                const sea_slope_stats *st, sea_dir v, double *out,
                                sea_error *err);
 
+/* The emissivity toward v for n complex indices at once (the spectral
+ * samples of a band): out[i] is exactly what sea_emissivity (with method)
+ * or sea_emissivity_rule (with *rule, when rule is not NULL) gives for
+ * N[i], bit for bit, but what does not depend on the wavelength (the view
+ * frame, the nodes and weights, cos psi, the shadowing and projected-area
+ * weights) is computed once: only the Fresnel sums are done n times.  A
+ * SEA_EMIS_FULL method falls back to n adaptive quadratures.  Same errors;
+ * reads p. */
+sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
+                            const sea_emis_rule *rule, const double complex *N, size_t n,
+                            const sea_slope_stats *st, sea_dir v, double *out, sea_error *err);
+
 /* ------------------------------------ effective reflectivity (Eq 13-14, 20) */
 
 /* Effective reflectivity rho~(inc; obs) of Eq 13 with the bistatic Smith

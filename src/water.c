@@ -412,14 +412,37 @@ sea_status sea_water_index(const sea_water *w, double wavelength, double complex
 
 double sea_fresnel_unpolarized(double cos_psi, double complex N)
 {
+    /* In real arithmetic: the complex square root and the two complex
+     * divisions (csqrt, __divdc3, which guard against overflow that the
+     * bounded indices of water cannot reach) cost 6x as much.  With
+     * N^2 = A + iB and w = sqrt(N^2 - sin^2 psi) = p + iq (principal root,
+     * p >= 0): |r_s|^2 = ((c - p)^2 + q^2)/((c + p)^2 + q^2) and
+     * |r_p|^2 = ((Ac - p)^2 + (Bc - q)^2)/((Ac + p)^2 + (Bc + q)^2). */
     const double c = fmin(fmax(cos_psi, 0.0), 1.0);
-    const double sin2 = 1.0 - c * c;
-    const double complex N2 = N * N;
-    const double complex w = csqrt(N2 - sin2);
-    const double complex r_s = (c - w) / (c + w);
-    const double complex r_p = (N2 * c - w) / (N2 * c + w);
-    const double rs2 = creal(r_s) * creal(r_s) + cimag(r_s) * cimag(r_s);
-    const double rp2 = creal(r_p) * creal(r_p) + cimag(r_p) * cimag(r_p);
+    const double n = creal(N), k = cimag(N);
+    const double A = (n - k) * (n + k), B = 2.0 * n * k;
+    /* |z| without hypot's overflow guard: |a|, B <= 2 n^2 + 2 k^2 for the
+     * bounded indices of water (SEA_WATER_N_MAX, SEA_WATER_K_MAX). */
+    const double a = A - (1.0 - c * c), mod = sqrt(a * a + B * B);
+    /* p = sqrt((|z| + a)/2), q = B/(2p); where a < 0 the sum cancels, so
+     * q = sign(B) sqrt((|z| - a)/2) first and p = |B|/(2|q|). */
+    double p, q;
+    if (a >= 0.0) {
+        p = sqrt(0.5 * (mod + a));
+        q = p > 0.0 ? 0.5 * B / p : 0.0;
+    } else {
+        q = copysign(sqrt(0.5 * (mod - a)), B);
+        p = 0.5 * fabs(B) / fabs(q);
+    }
+    const double cs_m = c - p, cs_p = c + p;
+    const double rs_den = cs_p * cs_p + q * q;
+    const double rs2 = rs_den > 0.0 ? (cs_m * cs_m + q * q) / rs_den : 1.0;
+    const double Ac = A * c, Bc = B * c;
+    const double rp_num = (Ac - p) * (Ac - p) + (Bc - q) * (Bc - q);
+    const double rp_den = (Ac + p) * (Ac + p) + (Bc + q) * (Bc + q);
+    /* A denominator is 0 only at grazing incidence on a lossless medium of
+     * index 1 (c = 0, w = 0): the limit is total reflection. */
+    const double rp2 = rp_den > 0.0 ? rp_num / rp_den : 1.0;
     /* A passive surface reflects at most what falls on it: the bound keeps
      * 1 - rho >= 0 where total reflection rounds to 1 + 2e-16 (n < 1). */
     return fmin(0.5 * (rs2 + rp2), 1.0);

@@ -453,6 +453,52 @@ static void test_property_sweep(void)
     CU_ASSERT(bad == 0);
 }
 
+/* Many indices at once (the spectral samples of a band): every value is
+ * the single-index call's, to the bit, for the default, Eq 12, fixed rules
+ * and the adaptive reference, over random stats, directions and indices,
+ * including the sliver (every facet turned away) and delta (s_X = 0) cases. */
+static void test_emissivity_n(void)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 7);
+    double complex N[6] = { N4, N10, 1.09 + 0.0 * I, 1.48 + 0.42 * I, 2.7 + 9.0 * I, 1.0 + 0.0 * I };
+    double many[6], one;
+    sea_error err = { "" };
+    int mismatches = 0;
+    for (int c = 0; c < 300; c++) {
+        const double sx = c % 7 == 0 ? 0.0 : 0.6 * gsl_rng_uniform(rng);
+        const double sy = 0.6 * gsl_rng_uniform(rng);
+        const double rho = c % 7 == 0 ? 0.0 : 1.6 * gsl_rng_uniform(rng) - 0.8;
+        sea_slope_stats st = { { 1.2 * gsl_rng_uniform(rng) - 0.6, 1.2 * gsl_rng_uniform(rng) - 0.6 },
+                               { sx * sx, sy * sy, rho * sx * sy } };
+        sea_dir v = { (c % 11 == 0 ? 0.0 : 89.9 * gsl_rng_uniform(rng)) * DEG,
+                      2 * M_PI * gsl_rng_uniform(rng) };
+        const sea_emis_rule rule = { 1 + (int)(40 * gsl_rng_uniform(rng)),
+                                     (int)(9 * gsl_rng_uniform(rng)) };
+        const sea_emis_method methods[] = { SEA_EMIS_AUTO, SEA_EMIS_FAST, SEA_EMIS_FULL };
+        for (int m = 0; m < 4; m++) {
+            if (m == 2 && c % 10 != 0)
+                continue; /* the adaptive reference is slow: a tenth of the cases */
+            const sea_emis_rule *r = m == 3 ? &rule : NULL;
+            const sea_emis_method method = m == 3 ? SEA_EMIS_AUTO : methods[m];
+            CU_ASSERT_FATAL(sea_emissivity_n(P, method, r, N, 6, &st, v, many, &err) == SEA_OK);
+            for (int i = 0; i < 6; i++) {
+                const sea_status s1 = r != NULL
+                                          ? sea_emissivity_rule(P, *r, N[i], &st, v, &one, &err)
+                                          : sea_emissivity(P, method, N[i], &st, v, &one, &err);
+                CU_ASSERT_FATAL(s1 == SEA_OK);
+                mismatches += memcmp(&one, &many[i], sizeof one) != 0;
+            }
+        }
+    }
+    CU_ASSERT_EQUAL(mismatches, 0);
+    const sea_emis_rule bad = { 0, 4 };
+    sea_slope_stats st = lr10();
+    CU_ASSERT(sea_emissivity_n(P, SEA_EMIS_AUTO, &bad, N, 6, &st, (sea_dir){ 1.0, 0.0 }, many,
+                               &err) == SEA_ERR_DOMAIN);
+    gsl_rng_free(rng);
+}
+
 static void test_errors(void)
 {
     sea_slope_stats bad = { { 0, 0 }, { 0.01, 0.01, 0.02 } };
@@ -494,5 +540,6 @@ int test_optics_register(void)
            !CU_add_test(s, "narrow glint", test_narrow_glint) ||
            !CU_add_test(s, "energy at low resolution (Fig. 4)", test_energy_low_resolution) ||
            !CU_add_test(s, "property sweep", test_property_sweep) ||
+           !CU_add_test(s, "many indices at once, to the bit", test_emissivity_n) ||
            !CU_add_test(s, "error paths", test_errors);
 }
