@@ -663,9 +663,19 @@ static double lambda_along(const sea_slope_stats *st, sea_dir d)
     return sea_shadow_lambda(d.theta, m, s);
 }
 
-double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs)
+/* Everything of Eq 13-14 but the Fresnel factor: the mirror facet's cos psi0,
+ * its slope density, g/D, the bistatic shadowing S and the Jacobian J (kept
+ * apart, so that rho(psi0) pdf g/D S J is multiplied in one order whatever
+ * the index); zero when there is no mirror facet seen from obs. */
+typedef struct {
+    int zero;
+    double cos_psi0, pdf, g_over_D, S, J;
+} mirror_geom;
+
+static void mirror_geom_of(const sea_slope_stats *st, sea_dir inc, sea_dir obs, mirror_geom *m)
 {
     double ui[3], uo[3];
+    m->zero = 1;
     dir_vec(inc, ui);
     dir_vec(obs, uo);
     /* Half vector h = ui + uo: 1 + cos(ui, uo) = |h|^2 / 2.  Written as a
@@ -677,33 +687,56 @@ double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc
     const double cos_sum = h[2];
     const double h2 = h[0] * h[0] + h[1] * h[1] + h[2] * h[2];
     if (!(cos_sum > 0.0) || !(h2 > 0.0))
-        return 0.0; /* both on the horizon, or opposite: no mirror facet */
+        return; /* both on the horizon, or opposite: no mirror facet */
     /* Eq 14a-b: slope of the facet whose normal bisects inc and obs. */
     const double gx0 = -h[0] / cos_sum;
     const double gy0 = -h[1] / cos_sum;
-    const double J = 0.5 * h2 / (cos_sum * cos_sum * cos_sum); /* Eq 14d */
-    const double cos_psi0 = 0.5 * sqrt(h2);
+    m->J = 0.5 * h2 / (cos_sum * cos_sum * cos_sum); /* Eq 14d */
+    m->cos_psi0 = 0.5 * sqrt(h2);
     /* g/D toward obs (Eq 9b, 10), written without tan theta_o:
      * g/D = (cot - gX)(1 + L_o) / E[(cot - gamma_X)+].  The mirror facet
      * always faces obs: cot th_o - gX = |h|^2 / (2 sin th_o cos_sum) > 0,
      * used in this form because cot - gX, a difference of two terms, is
      * round-off (and may come out negative) when both directions graze. */
-    double m_o, s_o, L_o = 0.0, g_over_D = 1.0;
+    double m_o, s_o, L_o = 0.0;
+    m->g_over_D = 1.0;
     sea_slope_project(st, obs.phi, &m_o, &s_o);
     if (obs.theta >= SEA_NADIR_THETA) {
         const double mu = 1.0 / tan(obs.theta);
         const double mu_minus_gX = 0.5 * h2 / (sin(obs.theta) * cos_sum);
         const double vis = sea_shadow_visible(mu, m_o, s_o);
         if (!(vis > 0.0))
-            return 0.0; /* D underflows: no facet seen from obs */
+            return; /* D underflows: no facet seen from obs */
         L_o = sea_shadow_lambda(obs.theta, m_o, s_o);
-        g_over_D = mu_minus_gX * (1.0 + L_o) / vis;
+        m->g_over_D = mu_minus_gX * (1.0 + L_o) / vis;
     }
     const double L_i = lambda_along(st, inc);
-    const double S = 1.0 / (1.0 + L_o + L_i); /* Eq 14c */
-    const double r = sea_fresnel_unpolarized(cos_psi0, N) * slope_pdf(st, gx0, gy0) * g_over_D *
-                     S * J;
-    return r;
+    m->S = 1.0 / (1.0 + L_o + L_i); /* Eq 14c */
+    m->pdf = slope_pdf(st, gx0, gy0);
+    m->zero = 0;
+}
+
+static double mirror_reflectivity(const mirror_geom *m, double complex N)
+{
+    if (m->zero)
+        return 0.0;
+    return sea_fresnel_unpolarized(m->cos_psi0, N) * m->pdf * m->g_over_D * m->S * m->J;
+}
+
+double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs)
+{
+    mirror_geom m;
+    mirror_geom_of(st, inc, obs, &m);
+    return mirror_reflectivity(&m, N);
+}
+
+void sea_reflectivity_n(const double complex *N, size_t n, const sea_slope_stats *st,
+                        sea_dir inc, sea_dir obs, double *out)
+{
+    mirror_geom m;
+    mirror_geom_of(st, inc, obs, &m);
+    for (size_t i = 0; i < n; i++)
+        out[i] = mirror_reflectivity(&m, N[i]);
 }
 
 double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs)

@@ -248,14 +248,16 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
         rule = sea_render_emis_rule(r->choices.emis_scale, st, obs);
     /* Every sample's emissivity from one set of nodes: the geometry is the
      * same at every wavelength. */
-    double eps_all[SEA_SCENE_BAND_MAX];
+    double eps_all[SEA_SCENE_BAND_MAX], rr_all[SEA_SCENE_BAND_MAX];
     sea_status s = sea_emissivity_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
                                     scaled ? &rule : NULL, r->N, r->nsamp, st, obs, eps_all, err);
     if (s != SEA_OK)
         return s;
+    if (sun_up)
+        sea_reflectivity_n(r->N, r->nsamp, st, sun, obs, rr_all);
     for (size_t i = 0; i < r->nsamp; i++) {
         const double eps = eps_all[i];
-        const double rr = sun_up ? sea_reflectivity(r->N[i], st, sun, obs) : 0.0;
+        const double rr = sun_up ? rr_all[i] : 0.0;
         const double Li = rr * r->esun[i] + (1.0 - eps) * r->lsky[i] + eps * r->lsea[i];
         sl += r->wt[i] * Li;
         se += r->wt[i] * eps;

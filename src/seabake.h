@@ -376,6 +376,10 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
  * shadowing of Eq 14c, per steradian of incidence: the radiance reflected
  * toward obs is int rho~(w_i; obs) L(w_i) dw_i.  >= 0, finite.  Pure. */
 double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
+/* out[i] = sea_reflectivity(N[i], st, inc, obs) for n indices, to the bit,
+ * with the geometry (mirror facet, density, shadowing) computed once.  Pure. */
+void sea_reflectivity_n(const double complex *N, size_t n, const sea_slope_stats *st,
+                        sea_dir inc, sea_dir obs, double *out);
 /* BRDF f = rho~ / cos(theta_inc) (Eq 20), sr^-1.  Pure. */
 double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
 

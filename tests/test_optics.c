@@ -492,6 +492,21 @@ static void test_emissivity_n(void)
         }
     }
     CU_ASSERT_EQUAL(mismatches, 0);
+    /* the same for the reflectivity, glint and off-glint, grazing included */
+    mismatches = 0;
+    for (int c = 0; c < 2000; c++) {
+        const double sx = 0.5 * gsl_rng_uniform(rng), sy = 0.5 * gsl_rng_uniform(rng);
+        sea_slope_stats st = { { 0.8 * gsl_rng_uniform(rng) - 0.4, 0.8 * gsl_rng_uniform(rng) - 0.4 },
+                               { sx * sx, sy * sy, 0.3 * sx * sy } };
+        sea_dir inc = { 89.99 * DEG * gsl_rng_uniform(rng), 2 * M_PI * gsl_rng_uniform(rng) };
+        sea_dir obs = { 89.99 * DEG * gsl_rng_uniform(rng), 2 * M_PI * gsl_rng_uniform(rng) };
+        sea_reflectivity_n(N, 6, &st, inc, obs, many);
+        for (int i = 0; i < 6; i++) {
+            one = sea_reflectivity(N[i], &st, inc, obs);
+            mismatches += memcmp(&one, &many[i], sizeof one) != 0;
+        }
+    }
+    CU_ASSERT_EQUAL(mismatches, 0);
     const sea_emis_rule bad = { 0, 4 };
     sea_slope_stats st = lr10();
     CU_ASSERT(sea_emissivity_n(P, SEA_EMIS_AUTO, &bad, N, 6, &st, (sea_dir){ 1.0, 0.0 }, many,
@@ -540,6 +555,6 @@ int test_optics_register(void)
            !CU_add_test(s, "narrow glint", test_narrow_glint) ||
            !CU_add_test(s, "energy at low resolution (Fig. 4)", test_energy_low_resolution) ||
            !CU_add_test(s, "property sweep", test_property_sweep) ||
-           !CU_add_test(s, "many indices at once, to the bit", test_emissivity_n) ||
+           !CU_add_test(s, "many indices at once (emissivity, reflectivity), to the bit", test_emissivity_n) ||
            !CU_add_test(s, "error paths", test_errors);
 }
