@@ -29,6 +29,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -247,6 +250,55 @@ static sea_status exr_write_fail(sea_error *err, const char *path, const char *w
                     exr_get_default_error_message(rv));
 }
 
+/* Chunks per thread in a batch: enough to balance chunks of uneven cost,
+ * few enough that a batch's buffers stay small (a 2048-wide RGBA float
+ * chunk of 16 lines is 0.5 MB packed). */
+enum { SEA_EXR_BATCH_PER_THREAD = 4 };
+/* encode_chunk's own failure: the library listed a channel we did not add. */
+static const exr_result_t SEA_EXR_UNEXPECTED_CHANNEL = -1;
+
+/* Stores nothing: the chunk is written later, in order, by the caller. */
+static exr_result_t keep_chunk(exr_encode_pipeline_t *pipeline)
+{
+    (void)pipeline;
+    return EXR_ERR_SUCCESS;
+}
+
+/* Packs and compresses one chunk into enc (initialised on first use, *live
+ * then set), leaving the bytes to write in enc->compressed_buffer and
+ * compressed_bytes.  Safe to call for different chunks from several threads. */
+static exr_result_t encode_chunk(exr_context_t ctx, int part, const exr_chunk_info_t *cinfo,
+                                 exr_encode_pipeline_t *enc, int *live, int width,
+                                 const sea_exr_channel *channels, size_t n_channels)
+{
+    exr_result_t rv = *live ? exr_encoding_update(ctx, part, cinfo, enc)
+                            : exr_encoding_initialize(ctx, part, cinfo, enc);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    const int first = !*live;
+    *live = 1;
+    for (int16_t k = 0; k < enc->channel_count; k++) {
+        exr_coding_channel_info_t *ch = &enc->channels[k];
+        const float *src = NULL;
+        for (size_t c = 0; c < n_channels && src == NULL; c++)
+            if (strcmp(channels[c].name, ch->channel_name) == 0)
+                src = channels[c].data;
+        if (src == NULL)
+            return SEA_EXR_UNEXPECTED_CHANNEL;
+        /* Float input whatever the stored type: the packer converts. */
+        ch->user_data_type = EXR_PIXEL_FLOAT;
+        ch->user_bytes_per_element = (int16_t)sizeof(float);
+        ch->user_pixel_stride = (int32_t)sizeof(float);
+        ch->user_line_stride = (int32_t)(sizeof(float) * (size_t)width);
+        ch->encode_from_ptr = (const uint8_t *)(src + (size_t)(cinfo->start_y) * (size_t)width);
+    }
+    if (first && (rv = exr_encoding_choose_default_routines(ctx, part, enc)) != EXR_ERR_SUCCESS)
+        return rv;
+    enc->yield_until_ready_fn = NULL;
+    enc->write_fn = keep_chunk;
+    return exr_encoding_run(ctx, part, enc);
+}
+
 /* Header, then every chunk of scanlines.  The caller owns ctx. */
 static sea_status encode_image(exr_context_t ctx, const char *path, int width, int height,
                                const sea_exr_channel *channels, size_t n_channels,
@@ -295,57 +347,62 @@ static sea_status encode_image(exr_context_t ctx, const char *path, int width, i
     if ((rv = exr_get_scanlines_per_chunk(ctx, part, &lines)) != EXR_ERR_SUCCESS || lines < 1)
         return exr_write_fail(err, path, "exr_get_scanlines_per_chunk", rv, sink);
 
-    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-    int enc_live = 0;
+    /* Chunks are packed and compressed in parallel, a batch at a time (one
+     * pipeline per chunk of the batch), and written in order by this
+     * thread: a scanline file's chunks go out in increasing y.  The
+     * library packs under the context's lock and compresses outside it
+     * (exr_encoding_run), so the compression, nearly all of the time with
+     * ZIP or PIZ, runs on every thread. */
+    const int nchunks = (height + lines - 1) / lines;
+#ifdef _OPENMP
+    const int threads = opt->compression == SEA_EXR_NONE ? 1 : omp_get_max_threads();
+#else
+    const int threads = 1;
+#endif
+    const int batch = nchunks < SEA_EXR_BATCH_PER_THREAD * threads
+                          ? nchunks
+                          : SEA_EXR_BATCH_PER_THREAD * threads;
+    exr_encode_pipeline_t *enc = calloc((size_t)batch, sizeof *enc);
+    exr_chunk_info_t *cinfo = calloc((size_t)batch, sizeof *cinfo);
+    exr_result_t *rc = calloc((size_t)batch, sizeof *rc);
+    int *live = calloc((size_t)batch, sizeof *live);
     sea_status st = SEA_OK;
-    for (int y = 0; y < height; y += lines) {
-        exr_chunk_info_t cinfo;
-        if ((rv = exr_write_scanline_chunk_info(ctx, part, y, &cinfo)) != EXR_ERR_SUCCESS) {
-            st = exr_write_fail(err, path, "exr_write_scanline_chunk_info", rv, sink);
-            break;
-        }
-        rv = enc_live ? exr_encoding_update(ctx, part, &cinfo, &enc)
-                      : exr_encoding_initialize(ctx, part, &cinfo, &enc);
-        if (rv != EXR_ERR_SUCCESS) {
-            st = exr_write_fail(err, path,
-                                enc_live ? "exr_encoding_update" : "exr_encoding_initialize", rv,
-                                sink);
-            break;
-        }
-        enc_live = 1;
-        for (int16_t k = 0; k < enc.channel_count; k++) {
-            exr_coding_channel_info_t *ch = &enc.channels[k];
-            const float *src = NULL;
-            for (size_t c = 0; c < n_channels && src == NULL; c++)
-                if (strcmp(channels[c].name, ch->channel_name) == 0)
-                    src = channels[c].data;
-            if (src == NULL) { /* the library listed a channel we did not add */
-                st = sea_fail(err, SEA_ERR_IO, "cannot write %s: unexpected channel '%s'", path,
-                              ch->channel_name);
-                break;
+    if (enc == NULL || cinfo == NULL || rc == NULL || live == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
+        goto done;
+    }
+    for (int c0 = 0; c0 < nchunks && st == SEA_OK; c0 += batch) {
+        const int nb = nchunks - c0 < batch ? nchunks - c0 : batch;
+        for (int k = 0; k < nb; k++) {
+            rv = exr_write_scanline_chunk_info(ctx, part, (c0 + k) * lines, &cinfo[k]);
+            if (rv != EXR_ERR_SUCCESS) {
+                st = exr_write_fail(err, path, "exr_write_scanline_chunk_info", rv, sink);
+                goto done;
             }
-            /* Float input whatever the stored type: the packer converts. */
-            ch->user_data_type = EXR_PIXEL_FLOAT;
-            ch->user_bytes_per_element = (int16_t)sizeof(float);
-            ch->user_pixel_stride = (int32_t)sizeof(float);
-            ch->user_line_stride = (int32_t)(sizeof(float) * (size_t)width);
-            ch->encode_from_ptr =
-                (const uint8_t *)(src + (size_t)(cinfo.start_y) * (size_t)width);
         }
-        if (st != SEA_OK)
-            break;
-        if (y == 0 && (rv = exr_encoding_choose_default_routines(ctx, part, &enc)) !=
-                          EXR_ERR_SUCCESS) {
-            st = exr_write_fail(err, path, "exr_encoding_choose_default_routines", rv, sink);
-            break;
-        }
-        if ((rv = exr_encoding_run(ctx, part, &enc)) != EXR_ERR_SUCCESS) {
-            st = exr_write_fail(err, path, "exr_encoding_run", rv, sink);
-            break;
+#pragma omp parallel for schedule(dynamic) num_threads(threads) if (threads > 1)
+        for (int k = 0; k < nb; k++)
+            rc[k] = encode_chunk(ctx, part, &cinfo[k], &enc[k], &live[k], width, channels,
+                                 n_channels);
+        for (int k = 0; k < nb && st == SEA_OK; k++) {
+            if (rc[k] == SEA_EXR_UNEXPECTED_CHANNEL)
+                st = sea_fail(err, SEA_ERR_IO, "cannot write %s: unexpected channel", path);
+            else if (rc[k] != EXR_ERR_SUCCESS)
+                st = exr_write_fail(err, path, "exr_encoding_run", rc[k], sink);
+            else if ((rv = exr_write_scanline_chunk(ctx, part, cinfo[k].start_y,
+                                                    enc[k].compressed_buffer,
+                                                    enc[k].compressed_bytes)) != EXR_ERR_SUCCESS)
+                st = exr_write_fail(err, path, "exr_write_scanline_chunk", rv, sink);
         }
     }
-    if (enc_live)
-        exr_encoding_destroy(ctx, &enc);
+done:
+    for (int k = 0; live != NULL && k < batch; k++)
+        if (live[k])
+            exr_encoding_destroy(ctx, &enc[k]);
+    free(enc);
+    free(cinfo);
+    free(rc);
+    free(live);
     return st;
 }
 

@@ -15,6 +15,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <openexr.h>
 
 #include "exr.h"
@@ -302,6 +305,62 @@ static void test_float_round_trip(void)
         free(c);
     }
     clear_dir();
+}
+
+/* The whole file as bytes (malloc'ed), *n its size. */
+static unsigned char *file_bytes(const char *path, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    CU_ASSERT_FATAL(f != NULL);
+    fseek(f, 0, SEEK_END);
+    *n = (size_t)ftell(f);
+    rewind(f);
+    unsigned char *b = malloc(*n);
+    CU_ASSERT_FATAL(b != NULL && fread(b, 1, *n, f) == *n);
+    fclose(f);
+    return b;
+}
+
+/* Chunks compressed on several threads (a batch at a time) and written in
+ * order: the file is the same, byte for byte, as with one thread, for every
+ * codec and pixel type, with more chunks than one batch holds. */
+static void test_threads_same_file(void)
+{
+#ifdef _OPENMP
+    const int w = 300, h = 16 * 40 + 7; /* ZIP: 40 chunks of 16 lines and a short one */
+    const size_t n = (size_t)w * (size_t)h;
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    CU_ASSERT_FATAL(a != NULL && b != NULL);
+    fill_any_finite(a, n, 5);
+    for (size_t i = 0; i < n; i++)
+        b[i] = (float)sin(0.001 * (double)i); /* compressible */
+    sea_exr_channel ch[] = { { "R", a }, { "G", b } };
+    char p1[8192], p2[8192];
+    join(p1, sizeof p1, "one.exr");
+    join(p2, sizeof p2, "many.exr");
+    const int saved = omp_get_max_threads();
+    for (size_t k = 0; k < 3; k++)
+        for (int half = 0; half < 2; half++) {
+            sea_exr_options opt = { half ? SEA_EXR_HALF : SEA_EXR_FLOAT, COMPRESSIONS[k] };
+            sea_error err = { "" };
+            if (half) /* inside half range */
+                for (size_t i = 0; i < n; i++)
+                    a[i] = (float)fmod((double)i * 0.37, 100.0);
+            omp_set_num_threads(1);
+            CU_ASSERT_FATAL(sea_exr_write(p1, w, h, ch, 2, NULL, 0, &opt, &err) == SEA_OK);
+            omp_set_num_threads(3);
+            CU_ASSERT_FATAL(sea_exr_write(p2, w, h, ch, 2, NULL, 0, &opt, &err) == SEA_OK);
+            size_t n1, n2;
+            unsigned char *f1 = file_bytes(p1, &n1), *f2 = file_bytes(p2, &n2);
+            CU_ASSERT(n1 == n2 && memcmp(f1, f2, n1) == 0);
+            free(f1);
+            free(f2);
+        }
+    omp_set_num_threads(saved);
+    free(a);
+    free(b);
+    clear_dir();
+#endif
 }
 
 /* HALF: values spread over 1e-3..1e3 in magnitude (inside the normal half
@@ -801,6 +860,7 @@ int test_exr_register(void)
     if (s == NULL)
         return 1;
     return !CU_add_test(s, "FLOAT round trip, bit exact", test_float_round_trip) ||
+           !CU_add_test(s, "threads write the same file", test_threads_same_file) ||
            !CU_add_test(s, "HALF round trip within 2^-11", test_half_round_trip) ||
            !CU_add_test(s, "HALF range refused", test_half_range) ||
            !CU_add_test(s, "channels matched by name", test_channel_order) ||
