@@ -178,13 +178,13 @@ sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch,
 
 /* Short-wave coefficient alpha_m(x), x = u_star / c_m.  Elfouhaily's 1997 formula,
  * 1e-2 (1 + ln x) for x = u_star / c_m <= 1 and 1e-2 (1 + 3 ln x) above, turns
- * negative for x < 1/e (U10 below about 2.7 m/s).  Below ln x = -3/4 it is
- * continued by 1e-2 (1/4) exp(4 (ln x + 3/4)) = 1e-2 (e^3/4) x^4, which
- * matches value and slope at the junction and stays positive; from ln x =
- * -3/4 upwards the 1997 formula is used unchanged. */
+ * negative for x < 1/e (U10 below 2.74 m/s, fully developed).  Below ln x =
+ * -0.9 (U10 = 2.98 m/s) it is continued by 1e-2 (1/10) exp(10 (ln x + 0.9))
+ * = 1e-3 e^9 x^10, which matches value and slope at the junction and stays
+ * positive; from ln x = -0.9 upwards the 1997 formula is used unchanged. */
 double sea_spectrum_alpha_m(double u_star_over_c_m);
 /* 1 when s uses that low-wind continuation instead of the 1997 formula
- * (u_star / c_m < exp(-3/4)), 0 otherwise. */
+ * (u_star / c_m < exp(-0.9)), 0 otherwise. */
 int sea_spectrum_alpha_m_continued(const sea_spectrum *s);
 /* Curvature spectrum B(k) = k^3 S(k) = B_l + B_h (dimensionless), k > 0. */
 double sea_spectrum_curvature(const sea_spectrum *s, double k);
