@@ -1,7 +1,7 @@
 /* exr.h - single-part scanline OpenEXR files through the OpenEXR C API
  * (libOpenEXRCore), written atomically.
  *
- * Files are what Blender 3.4 and POV-Ray 3.7 read (../shared/CLIENTS.md):
+ * Files are what Blender 3.4 and POV-Ray 3.7 read (seabake(1), bake):
  * one part, scanline, lossless compression, FLOAT or HALF channels.
  * Row 0 of every buffer is the top row of the image.
  *

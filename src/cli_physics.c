@@ -14,7 +14,7 @@
 
 static const double SEA_CLI_M_PER_UM = 1e-6;
 /* Largest facet size: far beyond the size at which the high-resolution
- * statistics have converged to the low-resolution ones (PHYSICS.md 4). */
+ * statistics have converged to the low-resolution ones (seabake-model(7)). */
 #define SEA_CLI_FACET_MAX 1e6
 /* Mean slopes beyond 5 (79 degrees of tilt) are not a sea surface. */
 #define SEA_CLI_MEAN_MAX 5.0

@@ -1,7 +1,7 @@
 /* cli_waves.c - the large-scale wave subcommands of seabake:
  *
  * - slopes: the facet slope moments of one seeded realisation of the waves
- *   (Variable Step, Variable Step L/2^n, 1 Meter Step; PHYSICS.md 4-5) over
+ *   (Variable Step, Variable Step L/2^n, 1 Meter Step; seabake-model(7)) over
  *   a rectangle of facets centred on the origin, as CSV or EXR;
  * - convergence: the paper's Fig. 5-6 study, high-resolution emissivity and
  *   reflectivity of growing facets against the low-resolution values, with a

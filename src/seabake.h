@@ -1,6 +1,6 @@
 /* seabake.h - public interface of libseabake, the physics of an infrared,
  * wind-roughened sea surface at any resolution (Caillault et al. 2007,
- * Applied Optics 46, 5471).  Formulas are restated in PHYSICS.md; the
+ * Applied Optics 46, 5471).  Formulas are written out in seabake-model(7); the
  * equation numbers (Eq N) below are the paper's.
  *
  * Conventions.  SI units and radians everywhere; units appear in names only
@@ -151,7 +151,7 @@ double sea_planck_brightness_temperature(double wavelength, double radiance);
 /* ------------------------------------------------ Elfouhaily 1997 spectrum */
 
 /* Sea state and the derived constants of the Elfouhaily et al. (1997)
- * directional spectrum, as restated in PHYSICS.md section 3. */
+ * directional spectrum, as written out in seabake-model(7), THE SEA SPECTRUM. */
 typedef struct {
     double wind_speed; /* U10, m/s */
     double fetch;      /* m; INFINITY = fully developed */
@@ -212,7 +212,7 @@ sea_status sea_spectrum_slope_cov(const sea_spectrum *s, double kc, sea_cov2 *ou
 
 /* G(t) = phi(t) - t Q(t) = int_t^inf Q(u) du, with phi the standard normal
  * density and Q its upper tail.  Positive, decreasing, G(t) - G(-t) = -t.
- * Evaluated without cancellation for every t (continued fraction for t > 2). */
+ * Evaluated without cancellation for every t (continued fraction for t > 3). */
 double sea_shadow_G(double t);
 /* For a slope gamma ~ N(m, s^2) and a threshold mu = cot(theta):
  * hidden  = E[(gamma - mu)+] = s G((mu - m)/s)   (facets turned away),
@@ -305,7 +305,7 @@ sea_status sea_energy_balance(const sea_optics *p, sea_emis_method method, doubl
                               sea_error *err);
 
 
-/* ------------------------------------------ large-scale waves (section 5) */
+/* ---------------------- large-scale waves (seabake-model(7), LARGE-SCALE WAVES) */
 
 /* Moments of the slopes of one facet, linearly filterable (LEAN mapping):
  * averaging the moments of fine facets gives those of the coarse facet they
@@ -402,7 +402,8 @@ sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, dou
 void sea_waves_at(const sea_waves *w, double kc, double x, double y, double t, double *h,
                   sea_vec2 *slope);
 
-/* How the large-scale slopes of a facet of size L are obtained (section 4). */
+/* How the large-scale slopes of a facet of size L are obtained (the paper's
+ * section 2.B; seabake-model(7), TWO SCALES). */
 typedef enum {
     SEA_METHOD_VARIABLE_STEP = 0, /* slope at the centre, waves |k| <= pi/L; C = C_<L */
     SEA_METHOD_VARIABLE_STEP_2N,  /* 2^n x 2^n sub-facets of L/2^n (Eq 19) */

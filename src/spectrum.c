@@ -1,7 +1,7 @@
 /* spectrum.c - the Elfouhaily et al. (1997) directional wave spectrum and
  * the slope covariance of the waves above a cutoff (Eq 15, 17).
  *
- * Formulas and constants as restated in PHYSICS.md section 3.  The short-wave
+ * Formulas and constants as in seabake-model(7), THE SEA SPECTRUM.  The short-wave
  * curvature uses F_m = L_PM J_p exp(-(k/k_m - 1)^2 / 4), the variant that
  * carries the long-wave peak factors L_PM J_p into the short-wave term (as in
  * the spectrum's widely used erratum form); the paper's sigma_x = 0.19,
