@@ -1,4 +1,4 @@
-/* blender.h - the Blender 3.4 import of a baked sea (issue 5, ../shared/CLIENTS.md).
+/* blender.h - the Blender 3.4 import of a baked sea (issue 5; seabake(1), bake).
  *
  * The import is a Python script, exporters/blender/seabake_import.py
  * (installed for users in $(pkgdatadir)/blender), compiled in as text

@@ -2,8 +2,8 @@
  * (libOpenEXRCore), written atomically.  Installed as <seabake/exr.h>;
  * ownership and the thread-safety words follow seabake.h.
  *
- * Files are what Blender 3.4 and POV-Ray 3.7 read: one part, scanline,
- * lossless compression, FLOAT or HALF channels.
+ * Files are what Blender 3.4 and POV-Ray 3.7 read (seabake(1), bake):
+ * one part, scanline, lossless compression, FLOAT or HALF channels.
  * Row 0 of every buffer is the top row of the image.
  *
  * Writing goes to a temporary file in the destination's directory, which is

@@ -1,4 +1,4 @@
-/* povray.h - POV-Ray 3.7 scenes of a baked sea (issue 5, ../shared/CLIENTS.md).
+/* povray.h - POV-Ray 3.7 scenes of a baked sea (issue 5; seabake(1), bake).
  *
  * A scene is a directory holding scene.pov, scene.ini, seabake.inc (the
  * macros of exporters/povray/seabake.inc) and the level maps the caller

@@ -1,4 +1,4 @@
-/* render.c - radiance images of a scene (PHYSICS.md section 9, Eq 23):
+/* render.c - radiance images of a scene (Eq 23; seabake-model(7), RADIANCE):
  * per-pixel geometry, the clipmap levels the view needs, facet moments per
  * level from one wave realisation, and the optics of each pixel.
  *

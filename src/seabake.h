@@ -1,9 +1,9 @@
 /* seabake.h - public interface of libseabake, the physics of an infrared,
  * wind-roughened sea surface at any resolution (Caillault et al. 2007,
- * Applied Optics 46, 5471); the equation numbers (Eq N) below are the
- * paper's.  Compile and link with `pkg-config --cflags --libs seabake`;
- * examples/emissivity.c (installed in share/seabake/examples) is a short
- * program that uses it.
+ * Applied Optics 46, 5471).  Formulas are written out in seabake-model(7); the
+ * equation numbers (Eq N) below are the paper's.  Compile and link with
+ * `pkg-config --cflags --libs seabake`; examples/emissivity.c (installed in
+ * share/seabake/examples) is a short program that uses it.
  *
  * Conventions.  SI units and radians everywhere; units appear in names only
  * at the edges.  Axes: x along the wind axis of the spectrum frame rotated by
@@ -213,8 +213,8 @@ double sea_planck_brightness_temperature(double wavelength, double radiance);
 /* ------------------------------------------------ Elfouhaily 1997 spectrum */
 
 /* Sea state and the derived constants of the Elfouhaily et al. (1997)
- * directional spectrum (its constants: seabake(1), SEA SPECTRUM).  A plain
- * struct: nothing to free. */
+ * directional spectrum, as written out in seabake-model(7), THE SEA SPECTRUM.
+ * A plain struct: nothing to free. */
 typedef struct {
     double wind_speed; /* U10, m/s */
     double fetch;      /* m; INFINITY = fully developed */
@@ -244,13 +244,13 @@ sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch,
 
 /* Short-wave coefficient alpha_m(x), x = u_star / c_m.  Elfouhaily's 1997 formula,
  * 1e-2 (1 + ln x) for x = u_star / c_m <= 1 and 1e-2 (1 + 3 ln x) above, turns
- * negative for x < 1/e (U10 below about 2.7 m/s).  Below ln x = -3/4 it is
- * continued by 1e-2 (1/4) exp(4 (ln x + 3/4)) = 1e-2 (e^3/4) x^4, which
- * matches value and slope at the junction and stays positive; from ln x =
- * -3/4 upwards the 1997 formula is used unchanged. */
+ * negative for x < 1/e (U10 below 2.74 m/s, fully developed).  Below ln x =
+ * -0.9 (U10 = 2.98 m/s) it is continued by 1e-2 (1/10) exp(10 (ln x + 0.9))
+ * = 1e-3 e^9 x^10, which matches value and slope at the junction and stays
+ * positive; from ln x = -0.9 upwards the 1997 formula is used unchanged. */
 double sea_spectrum_alpha_m(double u_star_over_c_m);
 /* 1 when s uses that low-wind continuation instead of the 1997 formula
- * (u_star / c_m < exp(-3/4)), 0 otherwise. */
+ * (u_star / c_m < exp(-0.9)), 0 otherwise. */
 int sea_spectrum_alpha_m_continued(const sea_spectrum *s);
 /* Curvature spectrum B(k) = k^3 S(k) = B_l + B_h (dimensionless), k > 0. */
 double sea_spectrum_curvature(const sea_spectrum *s, double k);
@@ -281,7 +281,7 @@ sea_status sea_spectrum_slope_cov(const sea_spectrum *s, double kc, sea_cov2 *ou
 
 /* G(t) = phi(t) - t Q(t) = int_t^inf Q(u) du, with phi the standard normal
  * density and Q its upper tail.  Positive, decreasing, G(t) - G(-t) = -t.
- * Evaluated without cancellation for every t (continued fraction for t > 2). */
+ * Evaluated without cancellation for every t (continued fraction for t > 3). */
 double sea_shadow_G(double t);
 /* For a slope gamma ~ N(m, s^2) and a threshold mu = cot(theta):
  * hidden  = E[(gamma - mu)+] = s G((mu - m)/s)   (facets turned away),
@@ -398,7 +398,7 @@ sea_status sea_energy_balance(const sea_optics *p, sea_emis_method method, doubl
                               sea_error *err);
 
 
-/* ------------------------------------------ large-scale waves (section 5) */
+/* ---------------------- large-scale waves (seabake-model(7), LARGE-SCALE WAVES) */
 
 /* Moments of the slopes of one facet, linearly filterable (LEAN mapping):
  * averaging the moments of fine facets gives those of the coarse facet they
@@ -508,7 +508,8 @@ sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, dou
 void sea_waves_at(const sea_waves *w, double kc, double x, double y, double t, double *h,
                   sea_vec2 *slope);
 
-/* How the large-scale slopes of a facet of size L are obtained (section 4). */
+/* How the large-scale slopes of a facet of size L are obtained (the paper's
+ * section 2.B; seabake-model(7), TWO SCALES). */
 typedef enum {
     SEA_METHOD_VARIABLE_STEP = 0, /* slope at the centre, waves |k| <= pi/L; C = C_<L */
     SEA_METHOD_VARIABLE_STEP_2N,  /* 2^n x 2^n sub-facets of L/2^n (Eq 19) */

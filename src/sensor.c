@@ -1,6 +1,7 @@
-/* sensor.c - a pinhole sensor above a flat or spherical sea (PHYSICS.md
- * section 9): pixel rays, where they meet the sea, the local observation
- * direction and the IRA projection size L of each pixel.
+/* sensor.c - a pinhole sensor above a flat or spherical sea (seabake-model(7),
+ * SENSOR, FOOTPRINTS AND CLIPMAP LEVELS; ROUND EARTH): pixel rays, where they
+ * meet the sea, the local observation direction and the IRA projection size L
+ * of each pixel.
  *
  * The footprint of a pixel is the quadrilateral its four corner rays cut on
  * the sea; L is the square root of its area, so L follows range, pixel

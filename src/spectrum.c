@@ -1,7 +1,7 @@
 /* spectrum.c - the Elfouhaily et al. (1997) directional wave spectrum and
  * the slope covariance of the waves above a cutoff (Eq 15, 17).
  *
- * Formulas and constants as restated in PHYSICS.md section 3.  The short-wave
+ * Formulas and constants as in seabake-model(7), THE SEA SPECTRUM.  The short-wave
  * curvature uses F_m = L_PM J_p exp(-(k/k_m - 1)^2 / 4), the variant that
  * carries the long-wave peak factors L_PM J_p into the short-wave term (as in
  * the spectrum's widely used erratum form); the paper's sigma_x = 0.19,
@@ -20,8 +20,15 @@ static const double SEA_K_M = 370.0;    /* gravity-capillary wavenumber, rad/m *
 static const double SEA_C_M = 0.23;     /* minimum phase speed, m/s */
 static const double SEA_X0 = 2.2e4;     /* fetch scale of Omega_c */
 static const double SEA_KAPPA = 0.4;    /* von Karman */
-/* alpha_m: junction of the low-wind continuation, in ln(u_star / c_m). */
-static const double SEA_ALPHA_M_JUNCTION = -0.75;
+/* alpha_m: junction of the low-wind continuation, in ln(u_star / c_m).
+ * Elfouhaily's 1e-2 (1 + ln x) is positive down to ln x = -1 (U10 = 2.74 m/s
+ * fully developed), and a continuation of value and slope must leave it
+ * before its zero.  It leaves at -0.9 (U10 = 2.98 m/s): from 3 m/s up the
+ * spectrum is the published one, and below, where the formula heads for
+ * zero, alpha_m decays like x^10 instead.  (The earlier junction, -3/4 or
+ * 3.40 m/s, replaced the formula where it is well defined: the slope
+ * variance came out 2.3 % above the published spectrum's at 3 m/s.) */
+static const double SEA_ALPHA_M_JUNCTION = -0.9;
 /* Integration limits in k relative to k_p and k_m.  Below k_p/40, L_PM =
  * exp(-1.25 * 1600) vanishes; above 60 k_m the short-wave Gaussian is below
  * exp(-840).  Both tails are far below double precision of the integral. */
@@ -49,7 +56,7 @@ double sea_spectrum_alpha_m(double x)
     if (lx >= SEA_ALPHA_M_JUNCTION)
         return 1e-2 * (1.0 + lx);
     /* f(l) = (1 + l0) exp((l - l0) / (1 + l0)) matches 1 + l and its slope
-     * at l0 and decays like x^4 for l0 = -3/4. */
+     * at l0 and decays like x^(1 / (1 + l0)) = x^10 for l0 = -0.9. */
     const double f0 = 1.0 + SEA_ALPHA_M_JUNCTION;
     return 1e-2 * f0 * exp((lx - SEA_ALPHA_M_JUNCTION) / f0);
 }

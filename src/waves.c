@@ -1,6 +1,6 @@
-/* waves.c - one seeded realisation of the large-scale waves (PHYSICS.md
- * section 5) and the facet slope moments of the Variable Step, L/2^n and
- * 1 Meter Step methods (section 4, Eq 16-19).
+/* waves.c - one seeded realisation of the large-scale waves and the facet
+ * slope moments of the Variable Step, L/2^n and 1 Meter Step methods (Eq
+ * 16-19; seabake-model(7), TWO SCALES and LARGE-SCALE WAVES).
  *
  * A plan (sea_waves) holds the wave components; sampling evaluates the waves
  * with |k| <= pi/step at cell centres of any lattice.  Two generators:

@@ -783,6 +783,9 @@ else
     diff=$(printf '%s\n' "$SB_OUT" | sed -n 's/.*max |difference| \([0-9.e+-]*\) relative$/\1/p')
     num_check bench.same_waves 'd >= 0 && d < 1e-9' d="$diff"
     check_match bench.optics_table "$SB_OUT" "^quantity +method +settings +s/call +max err +rms err$"
+    # No NaN in the tables: the reflectivity, which has no reference, shows "-".
+    check_no_match bench.table_no_nan "$SB_OUT" "[Nn][Aa][Nn]|[Ii][Nn][Ff]"
+    check_match bench.reflectivity_no_error "$SB_OUT" "^reflectivity +closed-form .* [0-9.e+-]+ +- +-$"
     check_match bench.summary "$SB_OUT" \
         "^Default emissivity \(auto\) over 56 conditions, theta <= 85 deg: [0-9.e+-]+ s per call, [0-9.e+-]+ times faster than full \([0-9.e+-]+ s\); max \|error\| [0-9.e+-]+, RMS [0-9.e+-]+$"
     SB_OUT=$(cat "$SB_TMP/bench/bench.csv" 2>/dev/null)

@@ -1,7 +1,8 @@
 #!/bin/bash
 # man_examples.sh - runs every command of the EXAMPLES in seabake(1), so
-# that the manual cannot drift from the program, and checks that every
-# option the program knows is documented there.
+# that the manual cannot drift from the program, checks that every
+# option the program knows is documented there, and that every page of the
+# manual formats cleanly and cites pages that exist.
 #
 # An example is a line starting with "seabake " inside an .EX/.EE block;
 # a line ending with a backslash continues on the next one.  The roff
@@ -109,12 +110,27 @@ for cmd in $commands; do
     done
 done
 
-# The page formats without warnings where a formatter is installed.
-if command -v groff >/dev/null 2>&1; then
-    warnings=$(groff -man -ww -z "$MANPAGE" 2>&1)
-    check_eq "groff warnings" "$warnings" ""
-else
+# Every page of the manual (those beside $MANPAGE: seabake.1,
+# seabake-scene.5, seabake-model.7) formats without warnings where a
+# formatter is installed, names only seabake pages that exist, and cites
+# nothing outside the project.
+mandir=$(dirname "$MANPAGE")
+pages=$(cd "$mandir" && ls seabake*.[1-9] 2>/dev/null)
+check_match "manual pages" "$pages" "^seabake-model\.7$"
+for page in $pages; do
+    if command -v groff >/dev/null 2>&1; then
+        warnings=$(groff -man -ww -z "$mandir/$page" 2>&1)
+        check_eq "groff warnings $page" "$warnings" ""
+    fi
+    # .BR seabake\-scene (5) and the like, roff's \- written as -.
+    for ref in $(sed -n 's/^\.BR* \(seabake[a-z\\-]*\) (\([1-9]\)).*/\1.\2/p' "$mandir/$page" |
+        sed 's/\\-/-/g' | sort -u); do
+        check "$page cites $ref" test -r "$mandir/$ref"
+    done
+    check_no_match "$page cites only the project" "$(cat "$mandir/$page")" \
+        "PHYSICS\.md|DESIGN\.md|STYLE\.md|CLIENTS\.md|shared/"
+done
+command -v groff >/dev/null 2>&1 ||
     echo "man_examples: groff not installed, formatting check skipped" >&2
-fi
 
 finish

@@ -1,5 +1,5 @@
 /* test_waves.c - the large-scale wave realisation and facet slope moments
- * (PHYSICS.md sections 4-5): statistics against the spectrum integrals,
+ * (seabake-model(7), TWO SCALES): statistics against the spectrum integrals,
  * FFT against the direct sum of its own modes, exact LEAN averaging,
  * determinism, time, convergence of high to low resolution, bad input. */
 #include <stdint.h>

@@ -536,7 +536,7 @@ const sea_cli_range SEA_CLI_RANGE_WIND = {SEA_WIND_MIN, SEA_WIND_MAX, false, fal
 const sea_cli_range SEA_CLI_RANGE_FETCH = {SEA_FETCH_MIN, INFINITY, false, false, "m"};
 const sea_cli_range SEA_CLI_RANGE_AZIMUTH = {-INFINITY, INFINITY, true, true, "degrees"};
 /* Largest facet size: far beyond the size at which the high-resolution
- * statistics have converged to the low-resolution ones (PHYSICS.md 4). */
+ * statistics have converged to the low-resolution ones (seabake-model(7)). */
 #define SEA_CLI_FACET_MAX 1e6
 const sea_cli_range SEA_CLI_RANGE_FACET = {0.0, SEA_CLI_FACET_MAX, false, false, "m"};
 /* A THETA,PHI pair: signed zenith and azimuth. */

@@ -71,7 +71,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     if (sea_spectrum_init(&sp, sc->wind_speed, sc->fetch, sc->wind_dir, NULL) == SEA_OK &&
         sea_spectrum_alpha_m_continued(&sp))
         fprintf(stderr,
-                "%s: fallback: at %g m/s u*/c_m is below exp(-3/4): the short-wave "
+                "%s: fallback: at %g m/s u*/c_m is below exp(-0.9): the short-wave "
                 "alpha_m = %.3g comes from the positive low-wind continuation, not Elfouhaily's "
                 "1e-2 (1 + ln(u*/c_m)) (seabake(1), LIMITS AND FALLBACKS)\n", what,
                 sc->wind_speed, sp.alpha_m);

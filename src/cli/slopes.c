@@ -1,6 +1,6 @@
 /* slopes.c - the slopes subcommand of seabake: the facet slope moments of
  * one seeded realisation of the waves (Variable Step, Variable Step L/2^n,
- * 1 Meter Step; PHYSICS.md 4-5) over a rectangle of facets centred on the
+ * 1 Meter Step; seabake-model(7)) over a rectangle of facets centred on the
  * origin, as CSV (standard output or a file) or EXR.
  *
  * Every option is validated before anything is allocated or written; sizes
