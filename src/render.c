@@ -437,6 +437,27 @@ static void choose_levels(const sea_render *r, double lam, int *level, int *neig
     *alpha = a;
 }
 
+/* The memory a render of npix pixels holds at once, checked as a whole
+ * before anything is allocated (each array alone may fit while together
+ * they do not: 16384^2 pixels need 22 GiB of geometry and 5 GiB of image).
+ * The per-level moments are bounded by the grid and checked when known. */
+static sea_status check_plan(size_t npix, sea_error *err)
+{
+    const double GiB = 1073741824.0;
+    const double image = (double)npix * 5.0 * sizeof(float);    /* sea_image_alloc */
+    const double geometry = (double)npix * (double)sizeof(pixel); /* r->px */
+    const double scratch = (double)npix * 2.0 * sizeof(double);  /* median_point */
+    const double need = image + geometry + scratch;
+    const double avail = (double)sea_memory_available();
+    if (need > avail)
+        return sea_fail(err, SEA_ERR_NOMEM,
+                        "the render of %zu pixels needs %.3g GiB (image %.3g, per-pixel geometry "
+                        "%.3g, scratch %.3g GiB); this process may use %.3g GiB",
+                        npix, need / GiB, image / GiB, geometry / GiB, scratch / GiB,
+                        avail / GiB);
+    return SEA_OK;
+}
+
 sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err)
 {
     *out = NULL;
@@ -471,7 +492,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     /* per-pixel geometry */
     const size_t W = (size_t)sc->width, H = (size_t)sc->height;
     r->npix = W * H;
-    TRY(sea_check_size(r->npix, sizeof(pixel), "pixel geometry", err));
+    TRY(check_plan(r->npix, err));
     r->px = malloc(r->npix * sizeof(pixel));
     if (r->px == NULL) {
         sea_render_free(r);

@@ -537,8 +537,9 @@ sea_status sea_facet_method_n(const sea_waves *w, sea_facet_method m, int n, dou
 sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double t,
                             sea_moments *out, sea_error *err);
 
-/* Bytes of physical memory, for refusing sizes that cannot fit.
- * Thread-safe (asks the system). */
+/* Bytes of memory this process may use, for refusing sizes that cannot fit:
+ * the physical memory, or the address-space or data limit of the process
+ * (ulimit -v, -d) when lower.  Thread-safe (asks the system). */
 size_t sea_memory_available(void);
 /* Checks count * size for overflow and against the physical memory;
  * what names the array in the message.  Thread-safe. */

@@ -24,6 +24,7 @@
 #include <pthread.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <sys/resource.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -83,12 +84,19 @@ void sea_waves_params_default(sea_waves_params *p)
 
 size_t sea_memory_available(void)
 {
+    size_t avail = SIZE_MAX;
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    if (pages <= 0 || page <= 0)
-        return SIZE_MAX;
-    if ((unsigned long)pages > SIZE_MAX / (unsigned long)page)
-        return SIZE_MAX;
-    return (size_t)pages * (size_t)page;
+    if (pages > 0 && page > 0 && (unsigned long)pages <= SIZE_MAX / (unsigned long)page)
+        avail = (size_t)pages * (size_t)page;
+    /* A limit set on this process (ulimit -v, -d) binds before the RAM. */
+    const int limits[] = { RLIMIT_AS, RLIMIT_DATA };
+    for (size_t i = 0; i < sizeof limits / sizeof limits[0]; i++) {
+        struct rlimit rl;
+        if (getrlimit(limits[i], &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+            rl.rlim_cur < avail)
+            avail = (size_t)rl.rlim_cur;
+    }
+    return avail;
 }
 
 sea_status sea_check_size(size_t count, size_t size, const char *what, sea_error *err)

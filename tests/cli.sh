@@ -889,6 +889,27 @@ fifo_case scene_response render "$RDIR/fifo_resp.ini" -o "$RDIR/fifo.exr"
 check_eq fifo.nothing_written "$(find "$RDIR" -name 'fifo*.exr*' -o -name 'fifo*.png*' | grep -c '')" 0
 rm -f "$RDIR/fifo" "$RDIR"/fifo_*.ini
 
+# The whole plan is checked against memory before anything is allocated:
+# 16384^2 pixels need 31 GiB together (each array alone fits in 24 GiB).
+sed -e 's/^width = .*/width = 16384/' -e 's/^height = .*/height = 16384/' "$RSCENE" \
+    >"$RDIR/huge.ini"
+sb_run render "$RDIR/huge.ini" -o "$RDIR/huge.exr"
+check_error render.memory_plan 1 "needs [0-9.]+ GiB \(image [0-9.]+, per-pixel geometry [0-9.]+, scratch [0-9.]+ GiB\); this process may use"
+check render.memory_plan_nothing [ ! -e "$RDIR/huge.exr" -a ! -e "$RDIR/huge.png" ]
+if [ -z "$SEABAKE_WRAPPER" ]; then
+    # A limit on the process (ulimit -v) counts, not only the RAM: 2048^2
+    # pixels (0.5 GiB) under a 256 MiB limit.
+    sed -e 's/^width = .*/width = 2048/' -e 's/^height = .*/height = 2048/' "$RSCENE" \
+        >"$RDIR/big.ini"
+    SB_CMD="seabake render big.ini (ulimit -v 262144)"
+    (ulimit -v 262144 && exec "$SEABAKE" render "$RDIR/big.ini" -o "$RDIR/big.exr") \
+        >"$SB_TMP/out" 2>"$SB_TMP/err"
+    SB_RC=$?
+    SB_OUT=$(cat "$SB_TMP/out")
+    SB_ERR=$(cat "$SB_TMP/err")
+    check_error render.memory_rlimit 1 "needs [0-9.]+ GiB .*this process may use 0.25 GiB"
+fi
+
 sb_run render "$RSCENE" -o "$RDIR/out.exr" --aov level,emissivity,reflectivity,temperature
 check_rc render.rc 0
 check_eq render.stdout "$SB_OUT" ""
