@@ -582,12 +582,20 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
         any_hr = 1;
         const double L = lv->facet;
         const size_t grid = (size_t)sc->grid;
-        /* margin: the fading edge (see edge_weight) plus one facet, so that
-         * a window that is not capped holds its pixels at full weight */
-        const double span = fmax(xmax - xmin, ymax - ymin) / L;
-        const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
-        long i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
-        long j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
+        long i_lo, i_hi, j_lo, j_hi;
+        if (xmin <= xmax) {
+            /* margin: the fading edge (see edge_weight) plus one facet, so
+             * that a window that is not capped holds its pixels at full
+             * weight */
+            const double span = fmax(xmax - xmin, ymax - ymin) / L;
+            const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
+            i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
+            j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
+        } else {
+            /* No pixel reads this level (a clipmap window all the same):
+             * the bounds stay infinite, and converting them is undefined. */
+            i_lo = i_hi = j_lo = j_hi = 0;
+        }
         if (clipmap) {
             /* concentric: grid x grid facets around the look point */
             i_lo = (long)floor(look_x / L) - (long)grid / 2;

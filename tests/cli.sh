@@ -889,6 +889,15 @@ fifo_case scene_response render "$RDIR/fifo_resp.ini" -o "$RDIR/fifo.exr"
 check_eq fifo.nothing_written "$(find "$RDIR" -name 'fifo*.exr*' -o -name 'fifo*.png*' | grep -c '')" 0
 rm -f "$RDIR/fifo" "$RDIR"/fifo_*.ini
 
+# windows = clipmap with a level no pixel reads: its (infinite) pixel bounds
+# were converted to integers before the clipmap window replaced them
+# (undefined behaviour, caught by the UBSan run of scripts/test).
+printf '%s\n' '[sea]' 'wind_speed = 8' '[sensor]' 'altitude = 50' 'look_zenith = 60' \
+    'hfov = 40' 'width = 8' 'height = 6' 'wavelength = 4' '[model]' 'windows = clipmap' \
+    >"$RDIR/clip_unread.ini"
+sb_run render "$RDIR/clip_unread.ini" -o "$RDIR/clip_unread.exr" --quiet --png none
+check_rc render.clipmap_unread_level 0
+
 # The whole plan is checked against memory before anything is allocated:
 # 16384^2 pixels need 31 GiB together (each array alone fits in 24 GiB).
 sed -e 's/^width = .*/width = 16384/' -e 's/^height = .*/height = 16384/' "$RSCENE" \
