@@ -27,6 +27,8 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <string.h>
 
 #include <gsl/gsl_errno.h>
@@ -77,7 +79,31 @@ static const double SEA_NADIR_THETA = 1e-12;
 /* Node tables of every order up to the maxima, the rule of order n at
  * offset n (n - 1)/2: a fixed rule then costs no allocation per call. */
 #define SEA_TRI(n) ((n) * ((n) + 1) / 2)
+/* Fresnel reflectance of one index tabulated in cos psi on [0, 1], for the
+ * emissivity's quadrature nodes: SEA_FRESNEL_INTERVALS equal intervals and
+ * 4-point Lagrange interpolation (one-sided at the ends).  A table is used
+ * only where it was checked, when built, against the formula at every
+ * interval's midpoint and near grazing incidence: within
+ * SEA_FRESNEL_TABLE_TOL absolute (measured on water, 1.09-1.48 + 0.001-0.42 i:
+ * below 1e-11); otherwise (an index near 1, whose reflectance jumps at
+ * grazing) the formula is evaluated at every node.  Up to
+ * SEA_FRESNEL_CACHE indices are tabulated per plan (a band's samples); any
+ * more are evaluated directly. */
+enum { SEA_FRESNEL_INTERVALS = 2048, SEA_FRESNEL_CACHE = 64 };
+static const double SEA_FRESNEL_TABLE_TOL = 1e-10;
+typedef struct {
+    double complex N;
+    int usable;
+    double v[SEA_FRESNEL_INTERVALS + 1];
+} fresnel_table;
+
 struct sea_optics {
+    /* The Fresnel tables, filled on first use of an index under the lock;
+     * n_fresnel is published after its table is complete, so readers scan
+     * without the lock. */
+    pthread_mutex_t fresnel_lock;
+    atomic_size_t n_fresnel;
+    fresnel_table *fresnel[SEA_FRESNEL_CACHE];
     gsl_integration_glfixed_table *gl_inner;
     double gl_x[SEA_TRI(SEA_EMIS_GL_MAX)]; /* Gauss-Legendre nodes on [-1, 1] */
     double gl_w[SEA_TRI(SEA_EMIS_GL_MAX)];
@@ -91,6 +117,8 @@ sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
     sea_optics *p = calloc(1, sizeof *p);
     if (p == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    pthread_mutex_init(&p->fresnel_lock, NULL);
+    atomic_init(&p->n_fresnel, 0);
     p->gl_inner = gsl_integration_glfixed_table_alloc(SEA_GL_INNER_NODES);
     if (p->gl_inner == NULL)
         goto nomem;
@@ -133,6 +161,10 @@ void sea_optics_free(sea_optics *p)
         return;
     if (p->gl_inner != NULL)
         gsl_integration_glfixed_table_free(p->gl_inner);
+    const size_t n = atomic_load(&p->n_fresnel);
+    for (size_t i = 0; i < n; i++)
+        free(p->fresnel[i]);
+    pthread_mutex_destroy(&p->fresnel_lock);
     free(p);
 }
 
@@ -245,49 +277,6 @@ typedef struct {
     int n_gl, n_gh;
     double t_cut;
 } fixed_rule;
-
-/* Average of fn over the conditional gamma_Y given gamma_X = gX, at
- * conditional mean mY; the plain value at m_Y for Eq 12. */
-static double fixed_inner(const sea_optics *p, const view_frame *f, int n_gh, double gX,
-                          double mY, facet_fn fn, void *ctx)
-{
-    if (n_gh == 0)
-        return fn(f, gX, f->m_Y, cos_psi_of(f, gX, f->m_Y), ctx);
-    const double *x = &p->gh_x[SEA_TRI(n_gh - 1)], *w = &p->gh_w[SEA_TRI(n_gh - 1)];
-    double acc = 0.0;
-    for (int j = 0; j < n_gh; j++) {
-        const double gY = mY + f->s_Y_given_X * x[j];
-        acc += w[j] * fn(f, gX, gY, cos_psi_of(f, gX, gY), ctx);
-    }
-    return acc;
-}
-
-static double expect_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, facet_fn fn,
-                           void *ctx)
-{
-    if (f->delta) {
-        if (f->cos_th - f->m_X * f->sin_th <= 0.0)
-            return 0.0; /* every facet turned away: the limit of a sliver at grazing */
-        return fixed_inner(p, f, r.n_gh, f->m_X, f->m_Y, fn, ctx);
-    }
-    double t_lo, t_hi;
-    view_window(f, r.t_cut, &t_lo, &t_hi);
-    const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
-    const double *x = &p->gl_x[SEA_TRI(r.n_gl - 1)], *wx = &p->gl_w[SEA_TRI(r.n_gl - 1)];
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i < r.n_gl; i++) {
-        const double t = mid + half * x[i];
-        const double w = wx[i] * view_weight(f, t);
-        if (w <= 0.0)
-            continue;
-        const double gX = f->m_X + f->s_X * t;
-        num += w * fixed_inner(p, f, r.n_gh, gX, f->m_Y + f->b_YX * t, fn, ctx);
-        den += w;
-    }
-    /* den == 0 only when every node lies on turned-away facets, i.e. the
-     * sliver limit handled above; keep the result finite regardless. */
-    return den > 0.0 ? num / den : 0.0;
-}
 
 /* ------------------------------------------ adaptive reference (Eq 7) */
 
@@ -439,31 +428,92 @@ static sea_emis_rule auto_rule(const view_frame *f)
     return (sea_emis_rule){ (int)fmin(n_gl, SEA_EMIS_GL_MAX), (int)fmin(n_gh, SEA_EMIS_GH_MAX) };
 }
 
-static sea_status expect(const sea_optics *p, sea_emis_method method, const view_frame *f,
-                         facet_fn fn, void *ctx, double *out, sea_error *err)
+/* ------------------------------------------------------------ emissivity */
+
+/* The table's interpolation at c in [0, 1]. */
+static inline double fresnel_interp(const fresnel_table *t, double c)
 {
-    switch (method) {
-    case SEA_EMIS_FAST:
-        *out = expect_fixed(p, f, (fixed_rule){64, 0, SEA_T_CUT}, fn, ctx);
-        return SEA_OK;
-    case SEA_EMIS_AUTO: {
-        const sea_emis_rule r = auto_rule(f);
-        *out = expect_fixed(p, f, (fixed_rule){r.n_gl, r.n_gh, SEA_RULE_T_CUT}, fn, ctx);
-        return SEA_OK;
-    }
-    case SEA_EMIS_FULL:
-        return expect_reference(p, f, fn, ctx, 0, out, err);
-    }
-    return sea_fail(err, SEA_ERR_DOMAIN, "unknown emissivity method %d", (int)method);
+    const int M = SEA_FRESNEL_INTERVALS;
+    const double u = (c < 0.0 ? 0.0 : c > 1.0 ? 1.0 : c) * M;
+    int b = (int)u - 1; /* nodes b .. b + 3 around the interval */
+    b = b < 0 ? 0 : b > M - 3 ? M - 3 : b;
+    const double x = u - b; /* in [0, 3] */
+    const double *v = &t->v[b];
+    const double x0 = x, x1 = x - 1.0, x2 = x - 2.0, x3 = x - 3.0;
+    /* Lagrange weights on nodes 0..3; constants multiplied, not divided */
+    const double sixth = 1.0 / 6.0, x01 = x0 * x1, x23 = x2 * x3;
+    const double r = sixth * (v[3] * x01 * x2 - v[0] * x1 * x23) +
+                     0.5 * (v[1] * x0 * x23 - v[2] * x01 * x3);
+    return r < 0.0 ? 0.0 : r > 1.0 ? 1.0 : r; /* a reflectance, as the formula's */
 }
 
-/* ------------------------------------------------------------ emissivity */
+static void fresnel_build(fresnel_table *t, double complex N)
+{
+    const int M = SEA_FRESNEL_INTERVALS;
+    t->N = N;
+    for (int k = 0; k <= M; k++)
+        t->v[k] = sea_fresnel_unpolarized((double)k / M, N);
+    double worst = 0.0;
+    for (int k = 0; k < M; k++) {
+        const double c = (k + 0.5) / M;
+        worst = fmax(worst, fabs(fresnel_interp(t, c) - sea_fresnel_unpolarized(c, N)));
+    }
+    static const double near_grazing[] = { 1e-9, 1e-6, 1e-4, 1e-3 };
+    for (size_t k = 0; k < sizeof near_grazing / sizeof near_grazing[0]; k++)
+        worst = fmax(worst, fabs(fresnel_interp(t, near_grazing[k]) -
+                                 sea_fresnel_unpolarized(near_grazing[k], N)));
+    t->usable = worst <= SEA_FRESNEL_TABLE_TOL;
+}
+
+/* The usable table of N, built on first use; NULL when the formula must be
+ * evaluated (no usable table, or the cache is full).  The plan is const to
+ * its users: its cache is filled under its own lock. */
+static const fresnel_table *fresnel_of(const sea_optics *pc, double complex N)
+{
+    sea_optics *p = (sea_optics *)pc;
+    size_t n = atomic_load_explicit(&p->n_fresnel, memory_order_acquire);
+    for (size_t i = 0; i < n; i++)
+        if (p->fresnel[i]->N == N)
+            return p->fresnel[i]->usable ? p->fresnel[i] : NULL;
+    const fresnel_table *found = NULL;
+    pthread_mutex_lock(&p->fresnel_lock);
+    n = atomic_load_explicit(&p->n_fresnel, memory_order_relaxed);
+    size_t i = 0;
+    while (i < n && p->fresnel[i]->N != N)
+        i++;
+    if (i < n) {
+        found = p->fresnel[i];
+    } else if (n < SEA_FRESNEL_CACHE) {
+        fresnel_table *t = malloc(sizeof *t);
+        if (t != NULL) { /* out of memory: the formula, no table */
+            fresnel_build(t, N);
+            p->fresnel[n] = t;
+            atomic_store_explicit(&p->n_fresnel, n + 1, memory_order_release);
+            found = t;
+        }
+    }
+    pthread_mutex_unlock(&p->fresnel_lock);
+    return found != NULL && found->usable ? found : NULL;
+}
+
+/* What the emissivity integrates: 1 - rho(psi) of index N, from its table
+ * when it has one. */
+typedef struct {
+    double complex N;
+    const fresnel_table *table;
+} emis_ctx;
+
+static inline double one_minus_rho(const emis_ctx *e, double cos_psi)
+{
+    return 1.0 - (e->table != NULL ? fresnel_interp(e->table, cos_psi)
+                                   : sea_fresnel_unpolarized(cos_psi, e->N));
+}
 
 static double emissivity_fn(const view_frame *f, double gX, double gY, double cos_psi,
                             void *ctx)
 {
     (void)f, (void)gX, (void)gY;
-    return 1.0 - sea_fresnel_unpolarized(cos_psi, *(const double complex *)ctx);
+    return one_minus_rho(ctx, cos_psi);
 }
 
 static sea_status check_dir(sea_dir v, const char *what, sea_error *err)
@@ -477,19 +527,25 @@ static sea_status check_dir(sea_dir v, const char *what, sea_error *err)
 sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double complex N,
                           const sea_slope_stats *st, sea_dir v, double *out, sea_error *err)
 {
+    if (method != SEA_EMIS_FULL) /* the fixed rules: one index of the many-index path */
+        return sea_emissivity_n(p, method, NULL, &N, 1, st, v, out, err);
     sea_status s;
     if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
         return s;
     view_frame f;
     view_frame_init(st, v, &f);
-    double complex n = N;
-    return expect(p, method, &f, emissivity_fn, &n, out, err);
+    /* The reference evaluates the formula itself, never a table. */
+    emis_ctx e = { N, NULL };
+    return expect_reference(p, &f, emissivity_fn, &e, 0, out, err);
 }
 
-/* The nodes of a fixed rule, in the order expect_fixed visits them: the
- * outer weights w_i (0 where expect_fixed skips the node), for each the
- * inner weights (the rule's Gauss-Hermite weights, shared, or 1 for Eq 12)
- * and cos psi at every node; an integrand then sums as expect_fixed does. */
+/* The nodes of a fixed product rule (Eq 7: n_gl Gauss-Legendre nodes in t
+ * over the window of the cut t_cut, n_gh Gauss-Hermite nodes over the
+ * conditional gamma_Y; Eq 12: n_gh = 0, gamma_Y = m_Y in psi, Eq 11): the
+ * outer weights w_i (0 where a node lies on turned-away facets), the inner
+ * weights (the rule's Gauss-Hermite weights, shared, or 1 for Eq 12) and
+ * cos psi at every node.  Computed once for the view; an integrand of psi
+ * (1 - rho for each index) then sums over them. */
 typedef struct {
     int n_i, n_j;          /* n_j = 1 for Eq 12 (weight 1) */
     int zero;              /* every facet turned away: the result is 0 */
@@ -505,9 +561,17 @@ static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, doub
         nd->cos_psi[i] = cos_psi_of(f, gX, f->m_Y);
         return;
     }
+    /* cos_psi_of with what does not change along gamma_Y hoisted (the same
+     * operations in the same order, so the same bits): a loop of one
+     * square root and one division per node, which the compiler vectorises. */
     const double *x = &p->gh_x[SEA_TRI(n_gh - 1)];
-    for (int j = 0; j < n_gh; j++)
-        nd->cos_psi[i * n_gh + j] = cos_psi_of(f, gX, mY + f->s_Y_given_X * x[j]);
+    const double num = f->cos_th - gX * f->sin_th, one_gX2 = 1.0 + gX * gX;
+    const double s = f->s_Y_given_X;
+    double *out = &nd->cos_psi[i * n_gh];
+    for (int j = 0; j < n_gh; j++) {
+        const double gY = mY + s * x[j];
+        out[j] = num / sqrt(one_gX2 + gY * gY);
+    }
 }
 
 static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, fixed_nodes *nd)
@@ -540,10 +604,15 @@ static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, 
     }
 }
 
-/* 1 - rho averaged over the nodes for index N, summed as expect_fixed and
- * fixed_inner sum emissivity_fn (so the result is the same to the bit). */
-static double emissivity_of_nodes(const fixed_nodes *nd, double complex N)
+/* 1 - rho averaged over the nodes: the inner sums weighted by w_i over the
+ * sum of w_i; with every facet turned away (the limit of a sliver at
+ * grazing) 0; in the delta case (s_X = 0) the inner sum alone. */
+static double emissivity_of_nodes(const fixed_nodes *nd, const emis_ctx *ec)
 {
+    /* A facet without slope spread (delta) has a handful of nodes: the
+     * formula itself, so a mirror facet's emissivity stays 1 - rho(psi_m)
+     * to round-off. */
+    const emis_ctx exact = { ec->N, NULL }, *e = nd->plain ? &exact : ec;
     if (nd->zero)
         return 0.0;
     double num = 0.0, den = 0.0;
@@ -554,11 +623,11 @@ static double emissivity_of_nodes(const fixed_nodes *nd, double complex N)
         const double *c = &nd->cos_psi[i * nd->n_j];
         double acc;
         if (nd->n_j == 1 && nd->w_j[0] == 1.0) {
-            acc = 1.0 - sea_fresnel_unpolarized(c[0], N);
+            acc = one_minus_rho(e, c[0]);
         } else {
             acc = 0.0;
             for (int j = 0; j < nd->n_j; j++)
-                acc += nd->w_j[j] * (1.0 - sea_fresnel_unpolarized(c[j], N));
+                acc += nd->w_j[j] * one_minus_rho(e, c[j]);
         }
         if (nd->plain)
             return acc;
@@ -602,8 +671,10 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
     }
     fixed_nodes nd;
     nodes_fixed(p, &f, r, &nd);
-    for (size_t i = 0; i < n; i++)
-        out[i] = emissivity_of_nodes(&nd, N[i]);
+    for (size_t i = 0; i < n; i++) {
+        const emis_ctx e = { N[i], fresnel_of(p, N[i]) };
+        out[i] = emissivity_of_nodes(&nd, &e);
+    }
     return SEA_OK;
 }
 
@@ -617,21 +688,7 @@ sea_emis_rule sea_emissivity_auto_rule(const sea_slope_stats *st, sea_dir v)
 sea_status sea_emissivity_rule(const sea_optics *p, sea_emis_rule rule, double complex N,
                                const sea_slope_stats *st, sea_dir v, double *out, sea_error *err)
 {
-    sea_status s;
-    if (rule.n_gl < 1 || rule.n_gl > SEA_EMIS_GL_MAX || rule.n_gh < 0 ||
-        rule.n_gh > SEA_EMIS_GH_MAX)
-        return sea_fail(err, SEA_ERR_DOMAIN,
-                        "product rule %d x %d is outside 1..%d Gauss-Legendre x 0..%d "
-                        "Gauss-Hermite nodes",
-                        rule.n_gl, rule.n_gh, SEA_EMIS_GL_MAX, SEA_EMIS_GH_MAX);
-    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
-        return s;
-    view_frame f;
-    view_frame_init(st, v, &f);
-    double complex n = N;
-    *out = expect_fixed(p, &f, (fixed_rule){rule.n_gl, rule.n_gh, SEA_RULE_T_CUT}, emissivity_fn,
-                        &n);
-    return SEA_OK;
+    return sea_emissivity_n(p, SEA_EMIS_AUTO, &rule, &N, 1, st, v, out, err);
 }
 
 /* ---------------------------------------------------------- reflectivity */
