@@ -341,8 +341,9 @@ typedef struct {
     "  --water TABLE       hale-querry (default), segelstein, or a CSV file with\n" \
     "                      columns wavelength_um,n,k\n" \
     "  --salinity S        salinity, g/kg, [0, 45]; default 35\n" \
-    "  --index N,K         refractive index n + i k instead of a table (n > 0,\n" \
-    "                      k >= 0); not with --water or --salinity\n"
+    "  --index N,K         refractive index n + i k instead of a table, n in\n" \
+    "                      [1, 3], k in [0, 10] (as a water table's); not with\n" \
+    "                      --water or --salinity\n"
 
 #define SEA_CLI_HELP_SLOPE_STATS \
     "\nSlope statistics:\n" \
@@ -359,8 +360,10 @@ typedef struct {
 /* Refuses name2 when name1 was given. */
 sea_status sea_cli_exclusive(const sea_cli_args *args, const char *name1, const char *name2,
                              sea_error *err);
-/* --method of the optics: auto (default), fast or full. */
-sea_status sea_cli_opt_method(const sea_cli_args *args, sea_emis_method *out, sea_error *err);
+/* --emissivity of the optics (the scene file's [model] emissivity): auto
+ * (default), fast or full. */
+sea_status sea_cli_opt_emissivity(const sea_cli_args *args, sea_emis_method *out,
+                                  sea_error *err);
 /* Sea state from --wind, --fetch, --wind-dir (--wind must be given). */
 sea_status sea_cli_sea_state(const sea_cli_args *args, sea_spectrum *spec, double *wind,
                              double *fetch, sea_error *err);
