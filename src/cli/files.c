@@ -251,13 +251,18 @@ static sea_status take_lock(sea_cli_out_dir *od, bool quiet, sea_error *err)
 {
     if (od->lock_fd < 0) {
         od->lock_fd = open(od->lock, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+        /* another user's lock file: flock needs no write access */
+        if (od->lock_fd < 0 && errno == EACCES)
+            od->lock_fd = open(od->lock, O_RDONLY | O_CLOEXEC);
         if (od->lock_fd < 0)
             return sea_fail(err, SEA_ERR_IO, "-o: cannot create the lock file '%s': %s",
                             od->lock, strerror(errno));
     }
     if (flock(od->lock_fd, LOCK_EX | LOCK_NB) == 0)
         return SEA_OK;
-    if (errno == EWOULDBLOCK && !quiet)
+    if (errno != EWOULDBLOCK)
+        return SEA_OK; /* no flock on this file system: unlocked, as before */
+    if (!quiet)
         fprintf(stderr, "bake: waiting for another bake to finish writing '%s'\n", od->user);
     while (flock(od->lock_fd, LOCK_EX) != 0) {
         if (errno != EINTR || sea_cli_interrupted() != 0)
@@ -416,12 +421,13 @@ sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quie
     }
     od->made = st == SEA_OK;
     if (st == SEA_OK) {
-        /* The flock that tells other bakes this temporary is alive. */
+        /* The flock that tells other bakes this temporary is alive.  Where
+         * the file system has no flock, theirs fails too and they keep it. */
         od->tmp_fd = open(od->tmp, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-        if (od->tmp_fd < 0 || flock(od->tmp_fd, LOCK_EX | LOCK_NB) != 0)
-            st = sea_fail(err, SEA_ERR_IO, "-o: cannot lock '%s': %s", od->tmp, strerror(errno));
+        if (od->tmp_fd >= 0)
+            flock(od->tmp_fd, LOCK_EX | LOCK_NB);
         /* mkdtemp makes it 0700; DIR gets the umask's permissions */
-        else if (chmod(od->tmp, 0777 & ~sea_cli_umask()) != 0)
+        if (chmod(od->tmp, 0777 & ~sea_cli_umask()) != 0)
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot set the permissions of '%s': %s", od->tmp,
                           strerror(errno));
     }

@@ -403,8 +403,14 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
         prog.bar.index = (size_t)(f - first);
         st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
-        if (st == SEA_OK && sea_cli_interrupted() == 0)
+        bool wrote = false;
+        if (st == SEA_OK && sea_cli_interrupted() == 0) {
             st = write_frame(s, &img, f, t, levels, err);
+            wrote = st == SEA_OK;
+        }
+        /* a frame written before the signal was seen is complete: counted */
+        if (wrote)
+            ++done;
         if (sea_cli_interrupted() != 0) {
             st = done == 0 ? sea_fail(err, SEA_ERR_CANCELLED,
                                       "interrupted by signal %d: no file written",
@@ -417,7 +423,6 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
         }
         if (st != SEA_OK)
             break;
-        ++done;
         for (size_t q = 0; q < npix; ++q) {
             t_min = fmin(t_min, img.temperature[q]);
             t_max = fmax(t_max, img.temperature[q]);
