@@ -249,9 +249,21 @@ check_error error.cov_and_wind 2 "--wind cannot be combined with --cov"
 sb_run emissivity "${SEA[@]}" --theta 0 --index 1.35,0.0046 --water segelstein
 check_error error.index_and_water 2 "--water cannot be combined with --index"
 sb_run emissivity "${SEA[@]}" --theta 0 --index 0,0.1
-check_error error.index_n 2 "--index: 0 is outside \(0, inf\)"
+check_error error.index_n 2 "--index: 0 is outside \[1, 3\]"
 sb_run emissivity "${SEA[@]}" --theta 0 --index 1.3,-0.1
-check_error error.index_k 2 "--index: -0.1 is outside \[0, inf\)"
+check_error error.index_k 2 "--index: -0.1 is outside \[0, 10\]"
+# --index is bounded as a water table's columns (n in [1, 3], k in [0, 10]):
+# an absurd index is refused, not turned into a reflectivity of 0.
+sb_run reflectivity --index 1e155,0 --wavelength 4 --wind 8 --inc 30,0 --obs 30,180
+check_error error.index_huge 2 "--index: 1e155 is outside \[1, 3\]"
+sb_run energy "${SEA[@]}" --theta 0 --index 1.3,11
+check_error error.index_k_max 2 "--index: 11 is outside \[0, 10\]"
+sb_run emissivity "${SEA[@]}" --theta 0 --index 3,10
+check_ok error.index_bounds_ok
+# Everything is validated before anything is printed: a facet size too
+# small for its cutoff pi/L leaves standard output empty.
+sb_run spectrum --wind 8 --facet 1,4.9e-324
+check_error spectrum.facet_tiny 2 "--facet: 4.94066e-324 m is too small \(its cutoff wavenumber pi/L is not finite\)"
 
 sb_run emissivity "${SEA[@]}" --theta 0:10:0
 check_error error.list_zero_step 2 "--theta: the step of '0:10:0' must be > 0"
@@ -278,8 +290,16 @@ check_error error.overflow 2 "--phi: 1e999 is too large"
 sb_run emissivity "${SEA[@]}" --theta 0 --phi inf
 check_error error.phi_inf 2 "--phi: inf is not a finite number"
 
-sb_run emissivity "${SEA[@]}" --theta 0 --method bogus
-check_error error.method 2 "--method: 'bogus' is not one of auto, fast, full"
+# The emissivity rule is --emissivity, as the scene file's [model]
+# emissivity key; --method is the facet method of slopes and convergence.
+sb_run emissivity "${SEA[@]}" --theta 0 --emissivity bogus
+check_error error.emissivity_rule 2 "--emissivity: 'bogus' is not one of auto, fast, full"
+sb_run emissivity "${SEA[@]}" --theta 0 --method fast
+check_error error.emissivity_no_method 2 "unknown option '--method'"
+sb_run energy "${SEA[@]}" --theta 0 --method fast
+check_error error.energy_no_method 2 "unknown option '--method'"
+sb_run energy "${SEA[@]}" --theta 0 --emissivity full
+check_ok energy.emissivity_full
 sb_run emissivity "${SEA[@]}" --theta 0 --water /nonexistent.csv
 check_error error.water_unreadable 3 "--water: /nonexistent.csv"
 check_no_match error.io_no_help_hint "$SB_ERR" "see 'seabake help"
@@ -352,7 +372,7 @@ for sea in "--wind 0.5" "--wind 30" "--wind 10 --mean 1,0" "--wind 5 --facet 2 -
     check_eq "sweep.emissivity_in_0_1[$sea]" "$bad" ""
 
     # shellcheck disable=SC2086
-    sb_run emissivity --wavelength 11 $sea --theta $THETAS --method fast
+    sb_run emissivity --wavelength 11 $sea --theta $THETAS --emissivity fast
     check_ok "sweep.fast[$sea]"
     check_csv_shape "sweep.fast_shape[$sea]"
 
@@ -425,7 +445,7 @@ num_check reflectivity.glint 'm > 1000 * a && m > 1000 * b' \
 # The fast method (Eq 12) stays within 1 % of Eq 7 for the paper's case.
 sb_run emissivity --wavelength 4 --cov 0.0361,0.0256,0 --mean 0.15,-0.15 --theta -60:60:20
 auto_e=$(csv_all emissivity | tr '\n' ' ')
-sb_run emissivity --wavelength 4 --cov 0.0361,0.0256,0 --mean 0.15,-0.15 --theta -60:60:20 --method fast
+sb_run emissivity --wavelength 4 --cov 0.0361,0.0256,0 --mean 0.15,-0.15 --theta -60:60:20 --emissivity fast
 fast_e=$(csv_all emissivity | tr '\n' ' ')
 check_close emissivity.fast_vs_auto "$fast_e" "$auto_e" 0.01
 
@@ -594,7 +614,8 @@ slopes_error slopes.memory 1 "--size 65536,65536 needs [0-9.]+ GiB; this machine
 sb_run slopes --wind 10 --facet 4 -o "$SB_TMP/bad.txt"
 check_error slopes.extension 2 "-o: '.*bad.txt' must end in .csv or .exr"
 sb_run slopes --wind 10 --facet 4 -o "$SB_TMP/no/such/dir/x.csv"
-check_error slopes.no_directory 3 "-o: cannot write into directory '.*no/such/dir'"
+check_error slopes.no_directory 3 "-o: the directory '.*no/such/dir' does not exist"
+check slopes.no_directory_nothing_made test ! -e "$SB_TMP/no"
 sb_run slopes --wind 10 --facet 4 -o
 check_error slopes.o_value 2 "-o needs a value"
 check_eq slopes.errors_no_temporary "$(find "$SB_TMP" -maxdepth 1 -name '*.tmp.*' | grep -c '')" 0
@@ -609,7 +630,9 @@ if have gnuplot gnuplot-nox; then
     check_eq convergence.png_magic "$(od -An -tx1 -N8 "$SB_TMP/conv/convergence.png" 2>/dev/null |
         tr -d ' \n')" "89504e470d0a1a0a"
 else
-    check_error convergence.no_gnuplot 1 "gnuplot not found: convergence.csv written, chart not drawn"
+    # without gnuplot: the CSV and the table (the result), no chart, exit 1
+    check_rc convergence.no_gnuplot 1
+    check_match convergence.no_gnuplot_msg "$SB_ERR" "gnuplot not found: convergence.csv written, chart not drawn"
 fi
 conv_out=$SB_OUT
 check_match convergence.table "$conv_out" "^U10_m_s +x +L_m +facets"
@@ -629,7 +652,7 @@ conv_csv=$(cat "$SB_TMP/conv/convergence.csv" 2>/dev/null)
 check_match convergence.comments "$(printf '%s\n' "$conv_csv" | grep '^#')" \
     "wavelength_um=4 theta_obs_deg=80 phi_obs_deg=0 theta_inc_deg=-80 phi_inc_deg=0"
 check_match convergence.comment_seed "$(printf '%s\n' "$conv_csv" | grep '^#')" \
-    "seed=1 method=variable-step .*tolerance=0.001"
+    "seed=1 method=variable-step .*converged=0.001"
 check_match convergence.comment_water "$(printf '%s\n' "$conv_csv" | grep '^#')" \
     "water=hale-querry salinity_g_kg=35"
 SB_OUT=$(printf '%s\n' "$conv_csv" | grep -v '^#')
@@ -686,6 +709,7 @@ check_match convergence.absent_msg "$SB_ERR" \
     "^seabake: error: gnuplot not found: convergence.csv written, chart not drawn$"
 check convergence.absent_csv [ -s "$SB_TMP/conv5/convergence.csv" ]
 check convergence.absent_no_png [ ! -e "$SB_TMP/conv5/convergence.png" ]
+check_match convergence.absent_table "$SB_OUT" "^U10 = 5 m/s: emissivity"
 # A gnuplot that fails: exit 3, its message, no chart and no temporary file.
 printf '#!/bin/sh\necho "fake gnuplot: refused" >&2\nexit 1\n' >"$SB_TMP/fakebin/gnuplot"
 chmod +x "$SB_TMP/fakebin/gnuplot"
@@ -694,8 +718,25 @@ PATH="$SB_TMP/fakebin:$SB_TMP/bin" sb_run convergence --wavelength 4 --wind 5 --
 check_rc convergence.gnuplot_fails_rc 3
 check_match convergence.gnuplot_fails_msg "$SB_ERR" "gnuplot failed: fake gnuplot: refused"
 check convergence.gnuplot_fails_no_png [ ! -e "$SB_TMP/conv6/convergence.png" ]
+# All or nothing, as render and bake: no CSV, no table on standard output,
+# and the directory this run created is removed again.
+check_eq convergence.gnuplot_fails_no_table "$SB_OUT" ""
+check convergence.gnuplot_fails_no_csv [ ! -e "$SB_TMP/conv6/convergence.csv" ]
+check convergence.gnuplot_fails_no_dir [ ! -e "$SB_TMP/conv6" ]
+# Into an existing directory: its earlier results are left as they were.
+mkdir -p "$SB_TMP/conv7" && printf 'earlier\n' >"$SB_TMP/conv7/convergence.csv"
+PATH="$SB_TMP/fakebin:$SB_TMP/bin" sb_run convergence --wavelength 4 --wind 5 --theta 80 \
+    --facets 2 --sizes 1:3 --quiet -o "$SB_TMP/conv7"
+check_error convergence.gnuplot_fails_keeps_rc 3 "gnuplot failed: fake gnuplot: refused"
+check_eq convergence.gnuplot_fails_keeps "$(cat "$SB_TMP/conv7/convergence.csv")" earlier
 check_eq convergence.gnuplot_fails_no_temporary \
-    "$(find "$SB_TMP/conv6" -name '*.tmp.*' | grep -c '')" 0
+    "$(find "$SB_TMP/conv7" -name '*.tmp.*' | grep -c '')" 0
+# One rule for output paths: -o is created, its parent must exist (no
+# nested creation); the error names the missing parent.
+sb_run convergence --wavelength 4 --wind 5 --theta 80 --facets 1 --sizes 1 --quiet \
+    -o "$SB_TMP/new/sub"
+check_error convergence.no_parent 3 "-o: the directory '.*/new' does not exist$"
+check convergence.no_parent_nothing_made [ ! -e "$SB_TMP/new" ]
 
 # No output name becomes gnuplot syntax (gnuplot expands backquotes and has
 # system()): the chart goes to gnuplot's standard output.  A name with a
@@ -706,6 +747,8 @@ evil_quote="q''x"
 evil_shell="b\`touch $SB_TMP/PWNED2\`\$(touch $SB_TMP/PWNED3)'\""
 mkdir -p "$SB_TMP/evil"
 for name in "$evil_cmd" "$evil_quote" "$evil_shell"; do
+    # the names hold slashes: their parent directories must exist
+    mkdir -p "$(dirname "$SB_TMP/evil/$name")"
     sb_run convergence --wavelength 4 --wind 8 --theta 30 --facets 1 --sizes 1:1 --quiet \
         -o "$SB_TMP/evil/$name"
     check_rc convergence.hostile_name_rc 0
@@ -735,8 +778,12 @@ sb_run "${CONV_ERR[@]}" --facets 0
 check_error convergence.facets 2 "--facets: 0 is outside \[1, 256\]"
 sb_run "${CONV_ERR[@]}" --facets 300
 check_error convergence.facets_max 2 "--facets: 300 is outside \[1, 256\]"
-sb_run "${CONV_ERR[@]}" --tolerance 0
-check_error convergence.tolerance 2 "--tolerance: 0 is outside \(0, 1\)"
+# --converged REL: the relative deviation within which a size counts as
+# converged (render's and bake's --tolerance is an accuracy target).
+sb_run "${CONV_ERR[@]}" --converged 0
+check_error convergence.converged 2 "--converged: 0 is outside \(0, 1\)"
+sb_run "${CONV_ERR[@]}" --tolerance 0.01
+check_error convergence.no_tolerance 2 "unknown option '--tolerance'"
 sb_run "${CONV_ERR[@]}" --sizes 5:3
 check_error convergence.sizes_backwards 2 "--sizes: '5:3' runs backwards"
 sb_run "${CONV_ERR[@]}" --sizes 0:4
@@ -759,7 +806,7 @@ check_error convergence.o_not_directory 3 "-o: '.*plainfile' is not a directory"
 # ================================================================= bench
 
 sb_run bench --threads 0
-check_error bench.threads 2 "--threads: 0 is outside \[1, 1024\]"
+check_error bench.threads 2 "--threads: 0 is outside \[1, [0-9]+\] \(at most 4 threads a CPU, [0-9]+ online\)"
 sb_run bench --quick=1
 check_error bench.quick_value 2 "--quick takes no value"
 sb_run bench --size 4
@@ -769,6 +816,7 @@ if [ -n "$SEABAKE_WRAPPER" ]; then
 else
     # A directory name gnuplot would interpret, as for convergence above.
     bench_dir="$SB_TMP/bench"$'\nsystem("touch '"$SB_TMP"$'/PWNED_BENCH")\n'"q''x"
+    mkdir -p "$(dirname "$bench_dir")"
     sb_run bench --quick --threads 2 -o "$bench_dir"
     check_rc bench.rc 0
     check bench.hostile_nothing_ran [ ! -e "$SB_TMP/PWNED_BENCH" ]
@@ -965,7 +1013,7 @@ sb_run render "$RSCENE" -o "$RDIR/again.exr" --threads 2 --quiet
 check render.same_bytes_threads cmp -s "$RDIR/out.exr" "$RDIR/again.exr"
 
 # Default names: the scene's base name in the current directory; --png none;
-# a 16-bit preview; --half.
+# a 16-bit preview; --format half (the level AOV stays 32-bit).
 # shellcheck disable=SC2086
 (cd "$RDIR/cwd" && $SEABAKE_WRAPPER "$SEABAKE" render ../sea.ini --quiet) 2>"$RDIR/err"
 check_eq render.default_err "$(cat "$RDIR/err")" ""
@@ -977,7 +1025,7 @@ check render.png_none test ! -e "$RDIR/nopng.png"
 sb_run render "$RSCENE" -o "$RDIR/deep.exr" --png "$RDIR/preview16.png" --png-depth 16 --quiet
 check_eq render.png_depth_16 "$(od -An -tu1 -j24 -N1 "$RDIR/preview16.png" | tr -d ' ')" 16
 check render.png_named_not_default test ! -e "$RDIR/deep.png"
-sb_run render "$RSCENE" -o "$RDIR/half.exr" --half --aov level --png none --quiet
+sb_run render "$RSCENE" -o "$RDIR/half.exr" --format half --aov level --png none --quiet
 check_rc render.half_rc 0
 if have exrheader openexr; then
     check_match render.half_channel "$(exrheader "$RDIR/half.exr" 2>&1)" "Y, 16-bit floating-point"
@@ -1110,8 +1158,24 @@ render_usage render.tolerance_zero "--tolerance: 0 is outside \(0, 0.1\]" \
 render_usage render.tolerance_high "--tolerance: 0.2 is outside \(0, 0.1\]" \
     "$RSCENE" -o "$RDIR/bad.exr" --tolerance 0.2
 render_usage render.tolerance_text "--tolerance: " "$RSCENE" -o "$RDIR/bad.exr" --tolerance abc
-render_usage render.threads "--threads: 0 is outside \[1, 1024\]" "$RSCENE" -o "$RDIR/bad.exr" --threads 0
-render_usage render.half_value "--half takes no value" "$RSCENE" -o "$RDIR/bad.exr" --half=1
+render_usage render.threads "--threads: 0 is outside \[1, [0-9]+\]" "$RSCENE" -o "$RDIR/bad.exr" --threads 0
+# Threads are capped at 4 x the online CPUs: --threads 1024 is a usage
+# error naming the range, not libgomp's "Thread creation failed".
+cpus=$(getconf _NPROCESSORS_ONLN)
+render_usage render.threads_cap "--threads: 1024 is outside \[1, $((4 * cpus))\] \(at most 4 threads a CPU, $cpus online\)" \
+    "$RSCENE" -o "$RDIR/bad.exr" --threads 1024
+render_usage render.threads_over "--threads: $((4 * cpus + 1)) is outside" \
+    "$RSCENE" -o "$RDIR/bad.exr" --threads $((4 * cpus + 1))
+sb_run render "$RSCENE" -o "$RDIR/cap.exr" --threads $((4 * cpus)) --png none --quiet
+check_rc render.threads_at_cap 0
+rm -f "$RDIR"/cap.*
+# render and bake share --format float|half and --compression none|zip|piz;
+# --half is gone (an unknown option).
+render_usage render.no_half "unknown option '--half'" "$RSCENE" -o "$RDIR/bad.exr" --half
+render_usage render.bad_format "--format: 'double' is not float or half" \
+    "$RSCENE" -o "$RDIR/bad.exr" --format double
+render_usage render.bad_compression "--compression: 'lzw' is not none, zip or piz" \
+    "$RSCENE" -o "$RDIR/bad.exr" --compression lzw
 cp "$RSCENE" "$RDIR/bad.exr"
 sb_run render "$RDIR/bad.exr" -o "$RDIR/bad.exr"
 check_error render.scene_is_output 2 "-o: '.*bad.exr' is the scene file"
@@ -1120,12 +1184,13 @@ rm -f "$RDIR/bad.exr"
 
 # Output errors: exit 3 before any work, nothing left.
 sb_run render "$RSCENE" -o "$RDIR/no/such/dir/x.exr"
-check_error render.no_directory 3 "-o: cannot write into directory '.*no/such/dir'"
+check_error render.no_directory 3 "-o: the directory '.*no/such/dir' does not exist"
+check render.no_directory_nothing_made test ! -e "$RDIR/no"
 printf 'x\n' >"$RDIR/plainfile"
 sb_run render "$RSCENE" -o "$RDIR/plainfile/x.exr"
-check_error render.not_directory 3 "-o: cannot write into directory '.*plainfile'"
+check_error render.not_directory 3 "-o: '.*plainfile' is not a directory"
 sb_run render "$RSCENE" -o "$RDIR/ok.exr" --png "$RDIR/no/such/dir/x.png"
-check_error render.png_no_directory 3 "--png: cannot write into directory"
+check_error render.png_no_directory 3 "--png: the directory '.*no/such/dir' does not exist"
 check render.png_no_directory_no_exr test ! -e "$RDIR/ok.exr"
 # A file of the frame that fails after others were written (the preview's
 # name is a directory): the frame's files are removed.
@@ -1134,6 +1199,71 @@ sb_run render "$RSCENE" -o "$RDIR/partial.exr" --aov level --png "$RDIR/taken.pn
 check_error render.partial 3 "taken.png"
 check_eq render.partial_removed "$(render_files 'partial*')" 0
 check_eq render.errors_no_temporary "$(render_files '*.tmp.*')" 0
+
+# --format and --compression as in bake; the default stays FLOAT, ZIP.
+if have exrheader openexr; then
+    check_match render.default_zip "$(exrheader "$RDIR/out.exr" 2>&1)" "compression \(type compression\): zip"
+    sb_run render "$RSCENE" -o "$RDIR/piz.exr" --format half --compression piz --aov level --png none --quiet
+    check_rc render.piz_rc 0
+    check_match render.piz "$(exrheader "$RDIR/piz.exr" 2>&1)" "compression \(type compression\): piz"
+    check_match render.piz_level "$(exrheader "$RDIR/piz.level.exr" 2>&1)" "compression \(type compression\): piz"
+    sb_run render "$RSCENE" -o "$RDIR/none.exr" --compression none --png none --quiet
+    check_match render.none "$(exrheader "$RDIR/none.exr" 2>&1)" "compression \(type compression\): none"
+    check_match render.none_float "$(exrheader "$RDIR/none.exr" 2>&1)" "Y, 32-bit floating-point"
+fi
+
+# --set SECTION.KEY=VALUE overrides a scene key, validated as in the file;
+# repeatable; the error names the option.
+sb_run render "$RSCENE" -o "$RDIR/set.exr" --png none --set sensor.width=20 --set sensor.height=10
+check_rc render.set_rc 0
+check_match render.set_applied "$SB_ERR" "^render: .*set\.exr: 20 x 10,"
+sb_run render "$RSCENE" -o "$RDIR/set.exr" --png none --quiet --set sea.wind_speed=12
+check render.set_wind_differs absent cmp -s "$RDIR/set.exr" "$RDIR/out.exr"
+render_usage render.set_range "--set sea.wind_speed=99: \[sea\] wind_speed: 99 is out of range \(allowed: \[0.5, 40\] m/s\)" \
+    "$RSCENE" -o "$RDIR/bad.exr" --set sea.wind_speed=99
+render_usage render.set_form "--set bogus: not SECTION.KEY=VALUE" "$RSCENE" -o "$RDIR/bad.exr" --set bogus
+render_usage render.set_key "--set sea.wind=8: \[sea\] wind: unknown key" \
+    "$RSCENE" -o "$RDIR/bad.exr" --set sea.wind=8
+
+# Signals.  SIGTERM (no terminal, no bar): the render stops within a row,
+# writes nothing for the frame in progress (earlier frames are complete),
+# says so and dies of the signal; no temporary file is left.
+mkdir -p "$RDIR/sig"
+SB_CMD="seabake render --frames 0:99999, then SIGTERM"
+# shellcheck disable=SC2086
+$SEABAKE_WRAPPER "$SEABAKE" render "$RSCENE" -o "$RDIR/sig/a.exr" --frames 0:99999 \
+    >"$SB_TMP/out" 2>"$SB_TMP/err" &
+sig_pid=$!
+n=0
+while [ ! -e "$RDIR/sig/a_0001.exr" ] && [ $n -lt 600 ]; do sleep 0.1; n=$((n + 1)); done
+kill -TERM "$sig_pid"
+wait "$sig_pid"
+SB_RC=$? SB_OUT=$(cat "$SB_TMP/out") SB_ERR=$(cat "$SB_TMP/err")
+check_error render.sigterm 143 "interrupted by signal 15: [0-9]+ frames written \(0 to [0-9]+\), the rest not$"
+sig_frames=$(printf '%s\n' "$SB_ERR" | sed -n 's/.*: \([0-9]*\) frames written.*/\1/p')
+check_eq render.sigterm_frames "$(find "$RDIR/sig" -name 'a_*.exr' | grep -c '')" "$sig_frames"
+check_eq render.sigterm_previews "$(find "$RDIR/sig" -name 'a_*.png' | grep -c '')" "$sig_frames"
+check_eq render.sigterm_no_temporary "$(find "$RDIR/sig" -name '*.tmp.*' | grep -c '')" 0
+# Ctrl-C on a terminal (script(1) gives the render a pseudo-terminal, so the
+# progress bar shows; ^C typed into it sends SIGINT): the bar's line is
+# ended before the message, and the render dies of SIGINT.
+if have script bsdutils && [ -z "$SEABAKE_WRAPPER" ]; then
+    rm -rf "$RDIR/sig" && mkdir -p "$RDIR/sig"
+    SB_CMD="script: seabake render --frames 0:99999, then ^C"
+    { n=0
+      while [ ! -e "$RDIR/sig/a_0001.exr" ] && [ $n -lt 600 ]; do sleep 0.1; n=$((n + 1)); done
+      printf '\003'; sleep 5; } |
+        script -qec "$SEABAKE render '$RSCENE' -o '$RDIR/sig/a.exr' --frames 0:99999" /dev/null \
+            >"$SB_TMP/tty" 2>&1
+    SB_RC=$?
+    check_rc render.sigint 130
+    tty_out=$(tr '\r' '\n' <"$SB_TMP/tty")
+    check_match render.sigint_bar "$tty_out" "^render: \[[#.]+\] +[0-9]+% frame [0-9]+/100000"
+    # the message starts a line: the bar's line was ended
+    check_match render.sigint_message "$tty_out" "^seabake: error: interrupted by signal 2: [0-9]+ frames written"
+    check_no_match render.sigint_no_summary "$tty_out" "^render: .*brightness temperature"
+    check_eq render.sigint_no_temporary "$(find "$RDIR/sig" -name '*.tmp.*' | grep -c '')" 0
+fi
 
 # ================================================================ bake
 
@@ -1292,7 +1422,8 @@ sb_run bake "$BDIR/no-such.ini" -o "$BDIR/out"
 check_error bake.no_scene 3 "no-such.ini"
 check_eq bake.failures_keep_dir "$(bake_state "$BDIR/out")" "$before"
 sb_run bake "$RSCENE" -o "$BDIR/no/such/parent/out"
-check_error bake.no_parent 3 "-o: cannot create '.*no/such/parent/out.tmp.XXXXXX'"
+check_error bake.no_parent 3 "-o: the directory '.*no/such/parent' does not exist$"
+check bake.no_parent_nothing_made test ! -e "$BDIR/no"
 # An unwritable parent.  Root may write anywhere: as root the bake runs as
 # nobody (setpriv), for whom the directory is read-only.
 as_user=""
@@ -1311,13 +1442,38 @@ if [ "$(id -u)" -ne 0 ] || [ -n "$as_user" ]; then
     $as_user $SEABAKE_WRAPPER "$SEABAKE" bake "$RSCENE" -o "$BDIR/ro/out" >"$SB_TMP/out" \
         2>"$SB_TMP/err"
     SB_RC=$? SB_OUT=$(cat "$SB_TMP/out") SB_ERR=$(cat "$SB_TMP/err")
-    check_error bake.unwritable_parent 3 "-o: cannot create"
+    check_error bake.unwritable_parent 3 "-o: cannot (create|write into directory)"
     check_eq bake.unwritable_keeps "$(bake_state "$BDIR/ro/out")" "$ro_before"
     check_eq bake.unwritable_leftovers "$(find "$BDIR/ro" -maxdepth 1 -name 'out.*' | grep -c '')" 0
     chmod 755 "$BDIR/ro"
 else
     echo "cli.sh: running as root without setpriv: the unwritable-parent bake is not tested" >&2
 fi
+# -o '.', '..' or '/' cannot be renamed: refused before any work.
+for d in . .. / ./ "$BDIR/.."; do
+    sb_run bake "$RSCENE" -o "$d"
+    check_error "bake.dot[$d]" 2 "-o: '.*' cannot be replaced by the bake \(name the directory itself, not '.', '..' or '/'\)"
+done
+check_eq bake.dot_leftovers "$(find "$BDIR/.." -maxdepth 1 -name '*.tmp.*' | grep -c '')" 0
+# A symbolic link to a directory is followed: the directory it points to is
+# replaced, the link kept; a link to nothing is refused.
+mkdir -p "$BDIR/real" && : >"$BDIR/real/stranger"
+ln -s real "$BDIR/link"
+sb_run bake "$RSCENE" -o "$BDIR/link" --quiet
+check_rc bake.symlink_rc 0
+check bake.symlink_kept test -L "$BDIR/link"
+check bake.symlink_target_replaced test ! -e "$BDIR/real/stranger"
+check bake.symlink_target_new test -s "$BDIR/real/manifest.json"
+ln -s nowhere "$BDIR/dangling"
+sb_run bake "$RSCENE" -o "$BDIR/dangling"
+check_error bake.symlink_dangling 2 "-o: '.*dangling' is a symbolic link to nothing"
+rm -rf "$BDIR/real" "$BDIR/link" "$BDIR/dangling" "$BDIR/.real.lock"
+# --set, as for render: the manifest shows the overridden wind.
+sb_run bake "$RSCENE" -o "$BDIR/set" --set sea.wind_speed=12.5 --quiet
+check_rc bake.set_rc 0
+check bake.set_manifest grep -q '"wind_speed_m_s":[[:space:]]*12.5' "$BDIR/set/manifest.json"
+sb_run bake "$RSCENE" -o "$BDIR/set" --set sea.wind_speed=0
+check_error bake.set_range 2 "--set sea.wind_speed=0: \[sea\] wind_speed: 0 is out of range"
 printf 'not a directory\n' >"$BDIR/plain"
 sb_run bake "$RSCENE" -o "$BDIR/plain"
 check_error bake.dir_is_file 2 "-o: '.*plain' exists and is not a directory"
@@ -1366,13 +1522,73 @@ check_match bake.sigterm_message "$SB_ERR" "interrupted by signal 15: the output
 check_eq bake.sigterm_keeps "$(bake_state "$BDIR/inj/out")" "$inj_before"
 check_eq bake.sigterm_leftovers "$(find "$BDIR/inj" -maxdepth 1 -name 'out.*' | grep -c '')" 0
 # SIGKILL cannot be caught: DIR is untouched and the temporary directory
-# stays behind, as the man page says.
+# stays behind, until the next bake into DIR: it removes it (its owner's
+# flock is gone) with a note, and leaves nothing beside DIR.
 SB_CMD="seabake bake --frames 0:999, then SIGKILL"
 bake_then_signal KILL
 check_rc bake.sigkill 137
 check_eq bake.sigkill_keeps "$(bake_state "$BDIR/inj/out")" "$inj_before"
 check_eq bake.sigkill_temp_left "$(find "$BDIR/inj" -maxdepth 1 -name 'out.tmp.*' | grep -c '')" 1
-rm -rf "$BDIR"/inj/out.tmp.*
+stale=$(find "$BDIR/inj" -maxdepth 1 -name 'out.tmp.*')
+sb_run bake "$RSCENE" -o "$BDIR/inj/out" --quiet
+check_rc bake.after_sigkill 0
+check_eq bake.after_sigkill_note "$SB_ERR" "bake: removed '$stale', left by a bake that was killed"
+check_eq bake.after_sigkill_leftovers "$(find "$BDIR/inj" -maxdepth 1 -name 'out.*' | grep -c '')" 0
+check bake.after_sigkill_new test -s "$BDIR/inj/out/manifest.json"
+# A live bake's temporary directory is never taken for a stale one: while
+# a long bake runs (holding the flock on its temporary), another bake into
+# the same DIR leaves it alone; both end without debris.
+# shellcheck disable=SC2086
+$SEABAKE_WRAPPER "$SEABAKE" bake "$RSCENE" -o "$BDIR/inj/out" --frames 0:9 --quiet \
+    >"$SB_TMP/out_a" 2>"$SB_TMP/err_a" &
+pid_a=$!
+n=0
+while ! find "$BDIR/inj" -maxdepth 1 -name 'out.tmp.*' | grep -q . && [ $n -lt 600 ]; do
+    sleep 0.1
+    n=$((n + 1))
+done
+live=$(find "$BDIR/inj" -maxdepth 1 -name 'out.tmp.*')
+sb_run bake "$RSCENE" -o "$BDIR/inj/out" --quiet
+check_rc bake.concurrent_b 0
+check_eq bake.concurrent_b_silent "$SB_ERR" ""
+if kill -0 "$pid_a" 2>/dev/null; then
+    check bake.concurrent_live_kept test -d "$live"
+fi
+wait "$pid_a"
+check_eq bake.concurrent_a "$?" 0
+check_eq bake.concurrent_a_silent "$(cat "$SB_TMP/err_a")" ""
+check_eq bake.concurrent_leftovers "$(find "$BDIR/inj" -maxdepth 1 -name 'out.*' | grep -c '')" 0
+check bake.concurrent_manifest test -s "$BDIR/inj/out/manifest.json"
+# The commit holds an flock on PARENT/.DIR.lock: a bake finding it taken
+# says so and waits (DIR untouched meanwhile), then completes.
+if have flock util-linux; then
+    mkdir -p "$BDIR/lk"
+    flock "$BDIR/lk/.out.lock" sleep 3 &
+    lock_pid=$!
+    sleep 0.5
+    # shellcheck disable=SC2086
+    $SEABAKE_WRAPPER "$SEABAKE" bake "$RSCENE" -o "$BDIR/lk/out" >"$SB_TMP/out" 2>"$SB_TMP/err" &
+    pid_b=$!
+    sleep 1
+    check bake.lock_waits kill -0 "$pid_b"
+    check bake.lock_dir_untouched test ! -e "$BDIR/lk/out"
+    wait "$lock_pid"
+    wait "$pid_b"
+    SB_RC=$? SB_ERR=$(cat "$SB_TMP/err")
+    check_rc bake.lock_then_done 0
+    check_match bake.lock_note "$SB_ERR" "^bake: waiting for another bake to finish writing '.*lk/out'$"
+    check bake.lock_done test -s "$BDIR/lk/out/manifest.json"
+    check_eq bake.lock_leftovers "$(ls -A "$BDIR/lk" | tr '\n' ' ')" ".out.lock out "
+fi
+# A bake killed between moving DIR aside and putting the new one in place
+# (DIR missing, DIR.old.XXXXXX holding it): the next bake puts it back
+# first, then replaces it as usual.
+mkdir -p "$BDIR/rs/out.old.AbC123" && : >"$BDIR/rs/out.old.AbC123/keep"
+sb_run bake "$RSCENE" -o "$BDIR/rs/out" --quiet
+check_rc bake.restore_rc 0
+check_match bake.restore_note "$SB_ERR" "^bake: '.*rs/out' restored from 'out.old.AbC123', left by a bake that was killed while replacing it$"
+check bake.restore_replaced test ! -e "$BDIR/rs/out/keep"
+check_eq bake.restore_leftovers "$(ls -A "$BDIR/rs" | tr '\n' ' ')" ".out.lock out "
 
 # Frames: every map of every HR level once per frame, numbered.
 sb_run bake "$RSCENE" -o "$BDIR/frames" --frames 0:1 --frame-rate 10 --quiet

@@ -6,7 +6,9 @@
 #
 # An example is a line starting with "seabake " inside an .EX/.EE block;
 # a line ending with a backslash continues on the next one.  The roff
-# escapes used in commands (\- \e \(dq \(aq \&) are undone first.
+# escapes used in commands (\- \e \(dq \(aq \&) are undone first.  A shell
+# loop "for VAR in V1 V2 ...; do" ... "done" around such lines runs them
+# once per value, $VAR replaced by it.
 # $(SHELL) may be a plain POSIX sh: these scripts need bash.
 [ -n "${BASH_VERSION:-}" ] || exec bash "$0" "$@"
 set -u
@@ -25,8 +27,20 @@ awk '
     /^\.EX/ { inex = 1; next }
     /^\.EE/ { inex = 0; next }
     !inex { next }
+    /^for [A-Za-z_][A-Za-z0-9_]* in .*; do$/ {
+        loopvar = $2
+        nvals = 0
+        for (f = 4; f <= NF && $f != "do"; f++) {
+            v = $f
+            sub(/;$/, "", v)
+            if (v != "") vals[++nvals] = v
+        }
+        next
+    }
+    /^done$/ { loopvar = ""; next }
     {
         line = $0
+        if (loopvar != "") sub(/^[ \t]+/, "", line)
         gsub(/\\-/, "-", line)
         gsub(/\\\(dq/, "\"", line)
         gsub(/\\\(aq/, "\047", line)
@@ -35,7 +49,15 @@ awk '
         if (cmd == "" && line !~ /^seabake /) next
         cmd = cmd (cmd == "" ? "" : " ") line
         if (cmd ~ /\\$/) { sub(/[ \t]*\\$/, "", cmd); next }
-        print substr(cmd, 9)
+        if (loopvar == "") {
+            print substr(cmd, 9)
+        } else {
+            for (k = 1; k <= nvals; k++) {
+                c = substr(cmd, 9)
+                gsub("\\$" loopvar, vals[k], c)
+                print c
+            }
+        }
         cmd = ""
     }
     END { if (cmd != "") print substr(cmd, 9) }

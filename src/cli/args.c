@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <unistd.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -607,18 +608,86 @@ sea_status sea_cli_opt_sea_state(const sea_cli_args *args, double *wind, double 
     return st;
 }
 
+/* The largest --threads: SEA_CLI_THREADS_PER_CPU x the online CPUs.  More
+ * threads than that only cost memory (a stack each); libgomp reports a
+ * failed thread creation by printing and exiting, so the count is bounded
+ * here, with the range in the message. */
+static long online_cpus(void)
+{
+    const long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    return cpus < 1 ? 1 : cpus;
+}
+
+long sea_cli_threads_max(void)
+{
+    const long cpus = online_cpus();
+    if (cpus > SEA_CLI_THREADS_LIMIT / SEA_CLI_THREADS_PER_CPU)
+        return SEA_CLI_THREADS_LIMIT;
+    return SEA_CLI_THREADS_PER_CPU * cpus;
+}
+
 /* --threads N: sets the OpenMP thread count. */
 sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err)
 {
+    const long max = sea_cli_threads_max();
     long n;
-    sea_status st = sea_cli_opt_integer(args, "threads", 1, 1024, 0, &n, err);
-    if (st != SEA_OK)
+    sea_status st = sea_cli_opt_integer(args, "threads", 1, max, 0, &n, err);
+    if (st != SEA_OK) {
+        if (err != NULL && strstr(err->msg, " is outside ") != NULL) {
+            char msg[SEA_ERROR_MSG_MAX];
+            snprintf(msg, sizeof msg, "%s", err->msg);
+            return sea_fail(err, st, "%s (at most %d threads a CPU, %ld online)", msg,
+                            SEA_CLI_THREADS_PER_CPU, online_cpus());
+        }
         return st;
+    }
 #ifdef _OPENMP
     if (n > 0)
         omp_set_num_threads((int)n);
 #endif
     return SEA_OK;
+}
+
+/* --format float|half and --compression none|zip|piz of render and bake. */
+sea_status sea_cli_opt_exr(const sea_cli_args *args, sea_exr_options *out, sea_error *err)
+{
+    out->pixel = SEA_EXR_FLOAT;
+    out->compression = SEA_EXR_ZIP;
+    const char *format = sea_cli_args_get(args, "format");
+    if (format != NULL) {
+        if (strcmp(format, "half") == 0)
+            out->pixel = SEA_EXR_HALF;
+        else if (strcmp(format, "float") != 0)
+            return sea_fail(err, SEA_ERR_PARSE, "--format: '%s' is not float or half", format);
+    }
+    const char *comp = sea_cli_args_get(args, "compression");
+    if (comp != NULL) {
+        if (strcmp(comp, "none") == 0)
+            out->compression = SEA_EXR_NONE;
+        else if (strcmp(comp, "piz") == 0)
+            out->compression = SEA_EXR_PIZ;
+        else if (strcmp(comp, "zip") != 0)
+            return sea_fail(err, SEA_ERR_PARSE, "--compression: '%s' is not none, zip or piz",
+                            comp);
+    }
+    return SEA_OK;
+}
+
+/* SCENE.ini with the --set overrides of render and bake. */
+sea_status sea_cli_load_scene(const sea_cli_args *args, const char *path, sea_scene *sc,
+                              sea_error *err)
+{
+    const size_t n = sea_cli_args_count(args, "set");
+    if (n == 0)
+        return sea_scene_load(path, sc, err);
+    const char **sets = malloc(n * sizeof *sets);
+    if (sets == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    for (size_t i = 0; i < n; ++i)
+        sets[i] = sea_cli_args_nth(args, "set", i);
+    sea_status st = sea_scene_load_with(path, sets, n, sc, err);
+    free(sets);
+    return st;
 }
 
 /* The smallest power of two >= x (x >= 1, finite). */

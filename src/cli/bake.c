@@ -126,11 +126,15 @@ static const char BAKE_HELP[] =
     "Row 0 is the north edge.  Low-resolution levels get no maps; manifest.json\n"
     "lists every level (facet size, origin, extent, texels, files, channels,\n"
     "units), the scene, the sensor, seed, times and the emission scale.  DIR is\n"
-    "replaced atomically: a failed bake leaves it as it was.\n"
+    "replaced atomically: a failed bake leaves it as it was.  Two bakes into one\n"
+    "DIR both succeed (the later wins; one waits for the other's commit); the\n"
+    "temporaries of a killed bake are removed by the next one.\n"
     "\n"
     "Options:\n"
-    "  -o DIR              the output directory (required)\n"
-    "  --format F          float (default) or half channels\n"
+    "  -o DIR              the output directory (required); its parent must exist;\n"
+    "                      not '.', '..' or '/'; a symbolic link to a directory\n"
+    "                      is followed (that directory replaced, the link kept)\n"
+    "  --format F          float (default) or half channels, as in seabake render\n"
     "  --compression C     none, zip (default) or piz\n"
     "  --frames A:B        frames A to B, integers, 0 <= A <= B <= 999999; frame f\n"
     "                      at time + f / HZ, names get _FFFF; default: one frame\n"
@@ -143,6 +147,9 @@ static const char BAKE_HELP[] =
     "                        -- DIR/manifest.json [--save FILE.blend] [--render OUT.exr]\n"
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance, as in seabake render\n"
+    "  --set SECTION.KEY=VALUE\n"
+    "                      overrides a key of the scene file (as in seabake\n"
+    "                      render); repeatable\n"
     "  --explain           what is modelled and why (as seabake render --explain)\n"
     "  --quiet             no progress bar and no summary line\n";
 
@@ -177,25 +184,8 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
         len--;
     if (len == 0)
         return sea_fail(err, SEA_ERR_PARSE, "-o: empty directory name");
-    const char *format = sea_cli_args_get(args, "format");
-    s->exr.pixel = SEA_EXR_FLOAT;
-    if (format != NULL) {
-        if (strcmp(format, "half") == 0)
-            s->exr.pixel = SEA_EXR_HALF;
-        else if (strcmp(format, "float") != 0)
-            return sea_fail(err, SEA_ERR_PARSE, "--format: '%s' is not float or half", format);
-    }
-    const char *comp = sea_cli_args_get(args, "compression");
-    s->exr.compression = SEA_EXR_ZIP;
-    if (comp != NULL) {
-        if (strcmp(comp, "none") == 0)
-            s->exr.compression = SEA_EXR_NONE;
-        else if (strcmp(comp, "piz") == 0)
-            s->exr.compression = SEA_EXR_PIZ;
-        else if (strcmp(comp, "zip") != 0)
-            return sea_fail(err, SEA_ERR_PARSE, "--compression: '%s' is not none, zip or piz",
-                            comp);
-    }
+    if ((st = sea_cli_opt_exr(args, &s->exr, err)) != SEA_OK)
+        return st;
     if ((st = sea_cli_opt_frames(args, &s->framed, &s->frame_a, &s->frame_b, &s->rate, err)) !=
         SEA_OK)
         return st;
@@ -214,7 +204,7 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     double tolerance;
     if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
         return st;
-    if ((st = sea_scene_load(s->scene_path, &s->sc, err)) != SEA_OK)
+    if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
     sea_cli_apply_tolerance(tolerance, &s->sc);
     if ((s->dir = strndup(out, len)) == NULL)
@@ -718,23 +708,14 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
     return st;
 }
 
-/* Bakes every frame into tmp and writes the manifest there. */
-/* SIGINT, SIGTERM or SIGHUP during a bake: the signal, 0 none.  The bake
- * stops at the next map it would write (or frame it would compute), removes
- * its temporary directory, and then dies of the signal, DIR untouched. */
-static volatile sig_atomic_t bake_signal = 0;
-static const int BAKE_SIGNALS[] = {SIGINT, SIGTERM, SIGHUP};
-enum { BAKE_N_SIGNALS = sizeof BAKE_SIGNALS / sizeof BAKE_SIGNALS[0] };
-
-static void bake_on_signal(int sig)
-{
-    bake_signal = sig;
-}
-
+/* SIGINT, SIGTERM or SIGHUP during a bake (sea_cli_signals_catch): the
+ * bake stops at the next map it would write (or within a row of the frame
+ * it computes), removes its temporary directory, and then dies of the
+ * signal, DIR untouched. */
 static sea_status bake_interrupted(sea_error *err)
 {
     return sea_fail(err, SEA_ERR_IO, "interrupted by signal %d: the output directory is left as "
-                                     "it was", (int)bake_signal);
+                                     "it was", sea_cli_interrupted());
 }
 
 /* What a bake did: facets baked, seconds computing and writing. */
@@ -758,7 +739,7 @@ static int bake_progress_compute(void *ctx, double fraction)
     bake_progress *p = ctx;
     if (p->on)
         sea_cli_progress_bar(&p->bar, COMPUTE_SHARE * fraction);
-    return bake_signal != 0;
+    return sea_cli_interrupted() != 0;
 }
 
 static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
@@ -795,7 +776,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         double t0 = sea_cli_seconds();
         st = sea_bake_frame(r, t, (int)s->view_k, &b, bake_progress_compute, &prog, err);
         stats->compute += sea_cli_seconds() - t0;
-        if (bake_signal != 0) {
+        if (sea_cli_interrupted() != 0) {
             if (st == SEA_OK)
                 sea_bake_free(&b);
             st = bake_interrupted(err);
@@ -825,7 +806,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             cJSON *files = cJSON_AddObjectToObject(entry, "files");
             cJSON_AddItemToArray(cJSON_GetObjectItem(cJSON_GetArrayItem(levels, (int)l), "frames"),
                                  entry);
-            st = bake_signal != 0 ? bake_interrupted(err)
+            st = sea_cli_interrupted() != 0 ? bake_interrupted(err)
                                   : write_level(s, tmp, &b.levels[l], f, t, scale, buf, files, err);
             stats->texels += b.levels[l].level.nx * b.levels[l].level.ny;
             if (prog.on)
@@ -842,8 +823,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     }
     if (st == SEA_OK && s->blender)
         st = write_text(tmp, SEA_BLENDER_SCRIPT, sea_blender_import_text, err);
-    if (prog.on)
-        fputc('\n', stderr);
+    sea_cli_progress_end(&prog.bar);
     const double t0 = sea_cli_seconds();
     if (st == SEA_OK)
         st = write_manifest(tmp, manifest, err);
@@ -860,30 +840,15 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     const double start = sea_cli_seconds();
     bake_setup s;
     sea_render *r = NULL;
-    char *tmp = NULL;
+    sea_cli_out_dir od;
     bake_stats stats = {0, 0.0, 0.0};
     double prepare = 0.0;
+    sea_cli_out_dir_init(&od);
     sea_status st = bake_parse(args, &s, err);
+    /* The temporary directory first: an unwritable or missing parent, or a
+     * DIR that cannot be replaced, must not cost a whole bake. */
     if (st == SEA_OK)
-        st = sea_cli_check_dir(s.dir, err);
-    if (st == SEA_OK && (tmp = sea_cli_sibling_template(s.dir, "tmp")) == NULL)
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    /* The temporary directory first: an unwritable parent must not cost a
-     * whole bake. */
-    if (st == SEA_OK && mkdtemp(tmp) == NULL) {
-        const int e = errno;
-        /* mkdtemp may have overwritten the template: name the pattern */
-        snprintf(tmp + strlen(tmp) - 6, 7, "XXXXXX");
-        st = sea_fail(err, SEA_ERR_IO, "-o: cannot create '%s': %s", tmp, strerror(e));
-        free(tmp);
-        tmp = NULL;
-    }
-    if (st == SEA_OK) {
-        /* mkdtemp makes it 0700; DIR gets the umask's permissions */
-        if (chmod(tmp, 0777 & ~sea_cli_umask()) != 0)
-            st = sea_fail(err, SEA_ERR_IO, "-o: cannot set the permissions of '%s': %s", tmp,
-                          strerror(errno));
-    }
+        st = sea_cli_out_dir_begin(&od, s.dir, s.quiet, err);
     if (st == SEA_OK) {
         const double t0 = sea_cli_seconds();
         st = sea_render_prepare(&s.sc, &r, err);
@@ -891,35 +856,22 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
         if (st == SEA_OK && s.explain)
             sea_cli_explain("bake", s.scene_path, r);
     }
-    struct sigaction on, saved[BAKE_N_SIGNALS];
-    memset(&on, 0, sizeof on);
-    on.sa_handler = bake_on_signal;
-    sigemptyset(&on.sa_mask);
-    bake_signal = 0;
-    for (size_t i = 0; i < BAKE_N_SIGNALS; i++) {
-        /* a signal ignored on entry (nohup) stays ignored */
-        sigaction(BAKE_SIGNALS[i], NULL, &saved[i]);
-        if (saved[i].sa_handler != SIG_IGN)
-            sigaction(BAKE_SIGNALS[i], &on, NULL);
-    }
+    sea_cli_signals_catch();
     if (st == SEA_OK)
-        st = bake_all(&s, r, tmp, &stats, err);
-    if (st == SEA_OK && bake_signal != 0)
+        st = bake_all(&s, r, od.tmp, &stats, err);
+    if (st == SEA_OK && sea_cli_interrupted() != 0)
         st = bake_interrupted(err);
     if (st == SEA_OK)
-        st = sea_cli_commit_dir(tmp, s.dir, err);
-    if (st != SEA_OK && tmp != NULL)
-        sea_cli_remove_tree(tmp);
-    for (size_t i = 0; i < BAKE_N_SIGNALS; i++)
-        sigaction(BAKE_SIGNALS[i], &saved[i], NULL);
-    if (bake_signal != 0 && st != SEA_OK) {
+        st = sea_cli_out_dir_commit(&od, s.quiet, err);
+    sea_cli_out_dir_end(&od);
+    if (sea_cli_interrupted() != 0 && st != SEA_OK) {
         /* the temporary directory is gone: die of the signal, as asked */
-        fprintf(stderr, "seabake: error: %s\n", err->msg);
         sea_render_free(r);
-        free(tmp);
         free(s.dir);
-        raise(bake_signal);
+        sea_cli_die_of_signal(err->msg);
+        return st;
     }
+    sea_cli_signals_restore();
     if (st == SEA_OK && !s.quiet) {
         const double secs = sea_cli_seconds() - start;
         fprintf(stderr,
@@ -929,7 +881,6 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
                 prepare, stats.compute, stats.write);
     }
     sea_render_free(r);
-    free(tmp);
     free(s.dir);
     return st;
 }
@@ -948,6 +899,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"blender", SEA_CLI_OPT_FLAG},
     {"explain", SEA_CLI_OPT_FLAG},
     {"tolerance", 0},
+    {"set", SEA_CLI_OPT_ACCUMULATE},
     {"quiet", SEA_CLI_OPT_FLAG}};
 
 const sea_cli_command sea_cli_cmd_bake = {

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -36,11 +37,15 @@ static const char SEA_CLI_HELP_BENCH[] =
     "error against a reference (sub-facets down to L0 on the same waves and the\n"
     "adaptive Eq 7) of variable-step, variable-step-2n n = 1, 2, 3 and one-meter.\n"
     "Prints tables and writes DIR/bench.csv, DIR/speed_accuracy.png (optics) and\n"
-    "DIR/image_speed_accuracy.png (images) with gnuplot.\n"
+    "DIR/image_speed_accuracy.png (images) with gnuplot, all or nothing: the\n"
+    "tables are printed at the end and a failure leaves no file (without gnuplot:\n"
+    "the CSV and the tables, no chart, exit status 1).\n"
     "\n"
     "  --quick             smaller sizes and condition set, fewer runs\n"
-    "  -o DIR              output directory, created if missing; default .\n"
-    "  --threads N         OpenMP threads, 1..1024; default: the OpenMP default\n"
+    "  -o DIR              output directory, created if missing (its parent must\n"
+    "                      exist); default .\n"
+    "  --threads N         OpenMP threads, 1 to 4 x the online CPUs (at most 1024);\n"
+    "                      default: the OpenMP default\n"
     "\n"
     "CSV columns: quantity,method,settings,seconds_per_call,max_error,rms_error,\n"
     "  conditions (waves: seconds per facet or cell; empty errors: no reference).\n";
@@ -208,12 +213,21 @@ static char *bench_image_chart_script(const void *ctx)
     return sea_cli_bench_image_chart_script(bc->rows, bc->n);
 }
 
-static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
+/* All or nothing, as convergence: the tables go to memory and are printed
+ * at the end; bench.csv and the charts are written under temporary names
+ * and renamed only when all are complete.  Without gnuplot the CSV and the
+ * tables are kept and the command fails (exit 1). */
+static sea_status run_bench(const sea_cli_args *args, FILE *stdout_f, sea_error *err)
 {
     const bool quick = sea_cli_given(args, "quick");
     const char *dir = sea_cli_args_get(args, "o");
-    char *csv = NULL;
-    sea_cli_atomic_file af = {NULL, NULL, NULL};
+    char *csv = NULL, *png1 = NULL, *png2 = NULL;
+    char *text = NULL;
+    size_t text_len = 0;
+    FILE *out = NULL;
+    bool created = false, absent = false;
+    sea_cli_atomic_file af = {NULL, NULL, NULL}, chart1 = {NULL, NULL, NULL},
+                        chart2 = {NULL, NULL, NULL};
     enum { NROWS = 6 };
     bench_row rows[NROWS];
     size_t nrows = 0;
@@ -227,10 +241,15 @@ static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
         return st;
     if (dir == NULL)
         dir = ".";
-    if ((st = sea_cli_make_dir("-o", dir, err)) != SEA_OK)
+    if ((st = sea_cli_make_dir("-o", dir, &created, err)) != SEA_OK)
         return st;
-    if ((csv = sea_cli_path_join(dir, "bench.csv")) == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    if ((csv = sea_cli_path_join(dir, "bench.csv")) == NULL ||
+        (png1 = sea_cli_path_join(dir, "speed_accuracy.png")) == NULL ||
+        (png2 = sea_cli_path_join(dir, "image_speed_accuracy.png")) == NULL ||
+        (out = open_memstream(&text, &text_len)) == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        goto done;
+    }
     const int threads = max_threads(), reps = quick ? 1 : 3;
     const size_t side = quick ? 256 : 1024, patch = quick ? 1024 : 4096, N = quick ? 128 : 256;
     if ((st = sea_spectrum_init(&spec, SEA_CLI_BENCH_WIND, INFINITY, 0.0, err)) != SEA_OK)
@@ -335,24 +354,52 @@ static sea_status run_bench(const sea_cli_args *args, FILE *out, sea_error *err)
         fprintf(af.f, "%s,%s,%s,%.6g,%.6g,%.6g,%s\n", r->quantity, r->method, r->settings,
                 r->seconds, r->max_err, r->rms_err, r->conditions);
     }
-    if ((st = sea_cli_atomic_commit(&af, "-o", err)) != SEA_OK)
+    if (fflush(af.f) != 0 || ferror(af.f)) {
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot write '%s'", csv);
         goto done;
+    }
     const bench_chart bc = {orows, nopt};
-    if ((st = sea_cli_write_chart(dir, "speed_accuracy", bench_chart_script, &bc, "bench.csv",
-                                  err)) != SEA_OK)
-        goto done;
+    st = sea_cli_draw_chart(png1, bench_chart_script, &bc, &chart1, &absent, err);
     /* Seconds per image and per-pixel errors do not share the optics'
      * scales: a second chart. */
     const bench_chart bi = {irows, nimg};
-    if ((st = sea_cli_write_chart(dir, "image_speed_accuracy", bench_image_chart_script, &bi,
-                                  "bench.csv", err)) != SEA_OK)
+    if (st == SEA_OK)
+        st = sea_cli_draw_chart(png2, bench_image_chart_script, &bi, &chart2, &absent, err);
+    if (st != SEA_OK && !absent)
         goto done;
-    st = sea_cli_check_written(out, err);
+    if ((st = sea_cli_atomic_commit(&af, "-o", err)) != SEA_OK)
+        goto done;
+    created = false; /* DIR holds the result now */
+    if (!absent && ((st = sea_cli_atomic_commit(&chart1, "-o", err)) != SEA_OK ||
+                    (st = sea_cli_atomic_commit(&chart2, "-o", err)) != SEA_OK))
+        goto done;
+    if (fclose(out) != 0) {
+        out = NULL;
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the tables");
+        goto done;
+    }
+    out = NULL;
+    fwrite(text, 1, text_len, stdout_f);
+    fflush(stdout_f);
+    if ((st = sea_cli_check_written(stdout_f, err)) != SEA_OK)
+        goto done;
+    if (absent)
+        st = sea_fail(err, SEA_ERR_NUMERIC, "gnuplot not found: bench.csv written, charts not "
+                                            "drawn");
 done:
     sea_cli_atomic_abort(&af);
+    sea_cli_atomic_abort(&chart1);
+    sea_cli_atomic_abort(&chart2);
+    if (out != NULL)
+        fclose(out);
+    free(text);
+    if (created)
+        rmdir(dir);
     free(orows);
     free(irows);
     free(csv);
+    free(png1);
+    free(png2);
     return st;
 }
 

@@ -1,7 +1,7 @@
 /* chart.c - gnuplot charts of convergence and bench: the script built in
  * memory, gnuplot run on it with its standard output (the PNG) going to a
- * temporary file that is renamed when complete.  No user string ever
- * becomes gnuplot syntax. */
+ * temporary file that the caller renames with its other outputs.  No user
+ * string ever becomes gnuplot syntax. */
 #include <errno.h>
 #include <signal.h>
 #include <spawn.h>
@@ -126,66 +126,26 @@ static sea_status run_gnuplot(const char *script, int out_fd, bool *absent, sea_
     return SEA_OK;
 }
 
-/* DIR/NAME.png drawn by gnuplot through a temporary name; csv names the
- * table already written, for the message when gnuplot is missing. */
-sea_status sea_cli_write_chart(const char *dir, const char *name,
-                               sea_cli_chart_script_fn script_fn, const void *ctx, const char *csv,
-                               sea_error *err)
+/* png drawn by gnuplot into a temporary file beside it, left for the
+ * caller to commit or abort with the other outputs. */
+sea_status sea_cli_draw_chart(const char *png, sea_cli_chart_script_fn script_fn, const void *ctx,
+                              sea_cli_atomic_file *af, bool *absent, sea_error *err)
 {
-    char file[64], tmpl[80];
-    snprintf(file, sizeof file, "%s.png", name);
-    snprintf(tmpl, sizeof tmpl, ".%s.png.tmp.XXXXXX", name);
-    char *png = sea_cli_path_join(dir, file);
-    char *tmp = sea_cli_path_join(dir, tmpl);
-    char *script = NULL;
-    sea_status st = SEA_OK;
-    int fd;
-    if (png == NULL || tmp == NULL) {
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-        goto done;
+    *absent = false;
+    sea_status st = sea_cli_atomic_open(af, "-o", png, err);
+    if (st != SEA_OK)
+        return st;
+    char *script = script_fn(ctx);
+    if (script == NULL) {
+        sea_cli_atomic_abort(af);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the gnuplot script");
     }
-    if ((fd = mkstemp(tmp)) < 0) {
-        st = sea_fail(err, SEA_ERR_IO, "-o: cannot create a file in '%s': %s", dir,
-                      strerror(errno));
-        free(tmp);
-        tmp = NULL;
-        goto done;
-    }
-    fchmod(fd, 0666 & ~sea_cli_umask());
-    if ((script = script_fn(ctx)) == NULL) {
-        close(fd);
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the gnuplot script");
-        goto done;
-    }
-    bool absent;
-    st = run_gnuplot(script, fd, &absent, err);
-    if (close(fd) != 0 && st == SEA_OK)
-        st = sea_fail(err, SEA_ERR_IO, "-o: cannot write the chart in '%s': %s", dir,
-                      strerror(errno));
-    if (st != SEA_OK) {
-        if (absent)
-            st = sea_fail(err, SEA_ERR_NUMERIC, "gnuplot not found: %s written, chart not drawn",
-                          csv);
-        goto done;
-    }
-    struct stat sb;
-    if (stat(tmp, &sb) != 0 || sb.st_size == 0) {
-        st = sea_fail(err, SEA_ERR_IO, "gnuplot wrote no chart");
-        goto done;
-    }
-    if (rename(tmp, png) != 0) {
-        st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename the chart to '%s': %s", png,
-                      strerror(errno));
-        goto done;
-    }
-    free(tmp);
-    tmp = NULL;
-done:
-    if (tmp != NULL) {
-        unlink(tmp);
-        free(tmp);
-    }
-    free(png);
+    st = run_gnuplot(script, fileno(af->f), absent, err);
     free(script);
+    struct stat sb;
+    if (st == SEA_OK && (fstat(fileno(af->f), &sb) != 0 || sb.st_size == 0))
+        st = sea_fail(err, SEA_ERR_IO, "gnuplot wrote no chart");
+    if (st != SEA_OK)
+        sea_cli_atomic_abort(af);
     return st;
 }

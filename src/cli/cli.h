@@ -21,6 +21,7 @@
 #include <stdio.h>
 #include <sys/types.h>
 
+#include "exr.h"
 #include "seabake.h"
 
 /* ------------------------------------------------------------ exit codes */
@@ -207,8 +208,20 @@ sea_status sea_cli_opt_facet_method(const sea_cli_args *args, sea_facet_method *
 /* Sea state from --wind (required, one value), --fetch, --wind-dir. */
 sea_status sea_cli_opt_sea_state(const sea_cli_args *args, double *wind, double *fetch,
                                  double *wind_dir_deg, sea_error *err);
-/* --threads N, 1..1024: sets the OpenMP thread count (bench, render). */
+/* --threads N, 1..sea_cli_threads_max(): sets the OpenMP thread count
+ * (bench, render).  The cap is SEA_CLI_THREADS_PER_CPU x the online CPUs,
+ * at most SEA_CLI_THREADS_LIMIT. */
+#define SEA_CLI_THREADS_PER_CPU 4
+#define SEA_CLI_THREADS_LIMIT 1024
+long sea_cli_threads_max(void);
 sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err);
+/* --format float|half (default float) and --compression none|zip|piz
+ * (default zip) of render and bake. */
+sea_status sea_cli_opt_exr(const sea_cli_args *args, sea_exr_options *out, sea_error *err);
+/* The scene file of render and bake with its --set SECTION.KEY=VALUE
+ * overrides, in order (sea_scene_load_with). */
+sea_status sea_cli_load_scene(const sea_cli_args *args, const char *path, sea_scene *sc,
+                              sea_error *err);
 /* The smallest power of two >= x (x >= 1, finite). */
 double sea_cli_pow2_ceil(double x);
 
@@ -218,8 +231,12 @@ double sea_cli_pow2_ceil(double x);
 bool sea_cli_has_suffix(const char *s, const char *suffix);
 /* "dir/name", malloc'ed (NULL when out of memory). */
 char *sea_cli_path_join(const char *dir, const char *name);
-/* SEA_ERR_IO, before any computation, when the directory of path cannot
- * take a new file (the writers create their temporary files there). */
+/* The directory part of path ("." for a bare name), malloc'ed. */
+char *sea_cli_parent_dir(const char *path);
+/* One rule for every output: the output (file or directory) is created,
+ * its parent directory must exist.  SEA_ERR_IO, before any computation,
+ * "OPT: the directory 'P' does not exist" when it does not, or when it is
+ * not a directory we can create files in. */
 sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_error *err);
 /* SEA_ERR_IO "cannot write to standard output" when a write to out failed. */
 sea_status sea_cli_check_written(FILE *out, sea_error *err);
@@ -244,21 +261,65 @@ sea_status sea_cli_atomic_open(sea_cli_atomic_file *af, const char *opt, const c
 void sea_cli_atomic_abort(sea_cli_atomic_file *af);
 /* Flushes, syncs and renames the file to its destination. */
 sea_status sea_cli_atomic_commit(sea_cli_atomic_file *af, const char *opt, sea_error *err);
-/* mkdir -p dir, then checks that it is a writable directory. */
-sea_status sea_cli_make_dir(const char *opt, const char *dir, sea_error *err);
+/* Creates dir unless it exists (its parent must: nothing is created on
+ * the way), then checks that it is a writable directory; *created tells
+ * whether this call made it (the caller removes it on failure). */
+sea_status sea_cli_make_dir(const char *opt, const char *dir, bool *created, sea_error *err);
 
-/* The atomic output directory of bake: files go into a fresh sibling
- * DIR.tmp.XXXXXX (mkdtemp on sea_cli_sibling_template(DIR, "tmp")), which
- * sea_cli_commit_dir puts in place of DIR. */
 /* "DIR.<what>.XXXXXX", malloc'ed. */
 char *sea_cli_sibling_template(const char *dir, const char *what);
-/* DIR must be absent or a directory. */
-sea_status sea_cli_check_dir(const char *dir, sea_error *err);
-/* Puts the finished temporary directory in place of dir (an existing dir is
- * renamed aside, then removed). */
-sea_status sea_cli_commit_dir(const char *tmp, const char *dir, sea_error *err);
 /* Removes a directory tree we created; best effort. */
 int sea_cli_remove_tree(const char *path);
+
+/* The atomic output directory of bake.  Files go into a fresh sibling
+ * DIR.tmp.XXXXXX, which the commit puts in place of DIR (an existing DIR
+ * is renamed aside to DIR.old.XXXXXX, then removed).
+ *
+ * Concurrency.  Creating the temporary directory and the commit happen
+ * under an flock on PARENT/.BASE.lock (created once, left in place: empty),
+ * so two bakes into one DIR both succeed, the later commit winning; a bake
+ * that finds the lock taken says so on standard error (unless quiet) and
+ * waits.  Each bake holds an flock on its own temporary directory while it
+ * lives: under the lock, a DIR.tmp.XXXXXX whose flock can be taken belongs
+ * to a bake that was killed and is removed, as is any DIR.old.XXXXXX (one
+ * exists only inside a commit), each with a note on standard error; if DIR
+ * is missing, its old copy is put back instead.
+ *
+ * -o naming '.', '..' or '/' (or a mount point) is refused: it cannot be
+ * renamed.  A symbolic link to a directory is followed: the directory it
+ * points to is replaced and the link kept. */
+typedef struct {
+    char *user;   /* -o as given, without trailing slashes */
+    char *target; /* the directory replaced (the link's target, resolved) */
+    char *parent; /* its parent directory */
+    char *lock;   /* PARENT/.BASE.lock */
+    char *tmp;    /* the temporary directory, NULL once committed */
+    int lock_fd, tmp_fd;
+    bool made;    /* tmp was created by this bake */
+} sea_cli_out_dir;
+void sea_cli_out_dir_init(sea_cli_out_dir *od);
+/* Checks -o and creates the temporary directory, before any computation. */
+sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quiet,
+                                 sea_error *err);
+sea_status sea_cli_out_dir_commit(sea_cli_out_dir *od, bool quiet, sea_error *err);
+/* Removes the temporary directory unless committed; frees od. */
+void sea_cli_out_dir_end(sea_cli_out_dir *od);
+
+/* ------------------------------------------------ signals (progress.c) */
+
+/* SIGINT, SIGTERM and SIGHUP during render and bake: sea_cli_signals_catch
+ * installs a handler that records the signal (a signal ignored on entry,
+ * as under nohup, stays ignored); the work stops at the next progress
+ * callback (the library then fails with SEA_ERR_CANCELLED within a row) or
+ * file; the caller cleans up, restores the handlers and dies of the signal
+ * with sea_cli_die_of_signal. */
+void sea_cli_signals_catch(void);
+void sea_cli_signals_restore(void);
+/* The signal received since sea_cli_signals_catch, 0 none. */
+int sea_cli_interrupted(void);
+/* Prints "seabake: error: MSG" and re-raises the recorded signal (the
+ * handlers restored first); returns only if that did not end the process. */
+void sea_cli_die_of_signal(const char *msg);
 
 /* --------------------------------------------------- progress (progress.c) */
 
@@ -274,8 +335,11 @@ typedef struct {
     int shown; /* last percentage printed, -1 none */
 } sea_cli_progress;
 /* A sea_progress_fn: fraction of the current frame done; ctx a
- * sea_cli_progress; never stops the work. */
+ * sea_cli_progress; stops the work once a signal was caught
+ * (sea_cli_signals_catch). */
 int sea_cli_progress_bar(void *ctx, double fraction);
+/* Ends the bar's line (a newline) if anything was drawn. */
+void sea_cli_progress_end(sea_cli_progress *p);
 
 /* ---------------------------------------------------- --explain (explain.c) */
 
@@ -305,11 +369,13 @@ char *sea_cli_gnuplot_end(sea_cli_script *s);
 
 /* A chart's gnuplot script, drawing to its standard output. */
 typedef char *(*sea_cli_chart_script_fn)(const void *ctx);
-/* DIR/NAME.png drawn by gnuplot through a temporary name; csv names the
- * table already written, for the message when gnuplot is missing. */
-sea_status sea_cli_write_chart(const char *dir, const char *name,
-                               sea_cli_chart_script_fn script_fn, const void *ctx,
-                               const char *csv, sea_error *err);
+/* The chart png drawn by gnuplot into a temporary file beside it, which
+ * the caller puts in place with sea_cli_atomic_commit (or removes with
+ * sea_cli_atomic_abort) together with its other outputs: nothing is left
+ * on a failure.  *absent is set (SEA_ERR_NUMERIC "gnuplot not found") when
+ * there is no gnuplot to run. */
+sea_status sea_cli_draw_chart(const char *png, sea_cli_chart_script_fn script_fn, const void *ctx,
+                              sea_cli_atomic_file *af, bool *absent, sea_error *err);
 
 /* ------------------------------ inputs of the physics subcommands (inputs.c) */
 
@@ -341,8 +407,9 @@ typedef struct {
     "  --water TABLE       hale-querry (default), segelstein, or a CSV file with\n" \
     "                      columns wavelength_um,n,k\n" \
     "  --salinity S        salinity, g/kg, [0, 45]; default 35\n" \
-    "  --index N,K         refractive index n + i k instead of a table (n > 0,\n" \
-    "                      k >= 0); not with --water or --salinity\n"
+    "  --index N,K         refractive index n + i k instead of a table, n in\n" \
+    "                      [1, 3], k in [0, 10] (as a water table's); not with\n" \
+    "                      --water or --salinity\n"
 
 #define SEA_CLI_HELP_SLOPE_STATS \
     "\nSlope statistics:\n" \
@@ -359,8 +426,10 @@ typedef struct {
 /* Refuses name2 when name1 was given. */
 sea_status sea_cli_exclusive(const sea_cli_args *args, const char *name1, const char *name2,
                              sea_error *err);
-/* --method of the optics: auto (default), fast or full. */
-sea_status sea_cli_opt_method(const sea_cli_args *args, sea_emis_method *out, sea_error *err);
+/* --emissivity of the optics (the scene file's [model] emissivity): auto
+ * (default), fast or full. */
+sea_status sea_cli_opt_emissivity(const sea_cli_args *args, sea_emis_method *out,
+                                  sea_error *err);
 /* Sea state from --wind, --fetch, --wind-dir (--wind must be given). */
 sea_status sea_cli_sea_state(const sea_cli_args *args, sea_spectrum *spec, double *wind,
                              double *fetch, sea_error *err);

@@ -35,7 +35,8 @@ static const char SEA_CLI_HELP_CONVERGENCE[] =
     "wind and each size L = 2^(x-1) m, x = 1..11, K x K facets centred on the\n"
     "origin of one seeded sea (the same seed for every wind).  Writes\n"
     "DIR/convergence.csv and DIR/convergence.png (gnuplot) and prints a table and\n"
-    "the converged size per wind.\n"
+    "the converged size per wind, all or nothing: a failure leaves no file (without\n"
+    "gnuplot: the CSV and the table, no chart, exit status 1).\n"
     "\n"
     "Geometry:\n"
     "  --theta DEG         observation zenith, degrees, [0, 90) (required)\n"
@@ -54,8 +55,9 @@ static const char SEA_CLI_HELP_CONVERGENCE[] =
     "                      stay >= 1 m (n = min(N, x - 1))\n"
     "  --facets K          facets per side, 1..256; default 16\n"
     "  --sizes X1:X2       sweep x = X1..X2 only, 1 <= X1 <= X2 <= 11; default 1:11\n"
-    "  --tolerance T       relative, (0, 1); default 0.001: converged when every\n"
-    "                      larger size has max |HR - LR| <= T |LR|\n"
+    "  --converged REL     relative deviation, (0, 1); default 0.001: a size counts\n"
+    "                      as converged when it and every larger size have\n"
+    "                      max |HR - LR| <= REL |LR|\n"
     "\n"
     "Water:\n"
     "  --wavelength UM     wavelength, um, > 0 (required), inside the water table\n"
@@ -64,7 +66,8 @@ static const char SEA_CLI_HELP_CONVERGENCE[] =
     "  --salinity S        salinity, g/kg, [0, 45]; default 35\n"
     "\n"
     "Output:\n"
-    "  -o DIR              output directory, created if missing; default .\n"
+    "  -o DIR              output directory, created if missing (its parent must\n"
+    "                      exist); default .\n"
     "  --quiet             no progress line on standard error\n"
     "\n"
     "LIST is A:B:STEP, A,B,C or one value.\n"
@@ -79,7 +82,7 @@ static const sea_cli_option SEA_CLI_CONVERGENCE_OPTIONS[] = {
     {"wavelength", 0}, {"water", 0},     {"salinity", 0},  {"wind", 0},
     {"fetch", 0},      {"wind-dir", 0},  {"theta", 0},     {"phi", 0},
     {"inc", 0},        {"seed", 0},      {"method", 0},    {"n", 0},
-    {"facets", 0},     {"sizes", 0},     {"tolerance", 0}, {"o", SEA_CLI_OPT_SHORT},
+    {"facets", 0},     {"sizes", 0},     {"converged", 0}, {"o", SEA_CLI_OPT_SHORT},
     {"quiet", SEA_CLI_OPT_FLAG}};
 
 typedef struct {
@@ -180,7 +183,7 @@ static sea_status conv_parse(const sea_cli_args *args, conv_setup *c, sea_error 
         (st = sea_cli_opt_integer(args, "facets", 1, SEA_CLI_CONV_FACETS_MAX,
                                   SEA_CLI_CONV_FACETS_DEFAULT, &K, err)) != SEA_OK ||
         (st = conv_sizes(args, &c->x1, &c->x2, err)) != SEA_OK ||
-        (st = sea_cli_opt_number(args, "tolerance", &SEA_CLI_RANGE_TOL, SEA_CLI_CONV_TOL_DEFAULT,
+        (st = sea_cli_opt_number(args, "converged", &SEA_CLI_RANGE_TOL, SEA_CLI_CONV_TOL_DEFAULT,
                                  &c->tol, err)) != SEA_OK)
         return st;
     c->K = K;
@@ -373,7 +376,7 @@ done:
 }
 
 /* Index of the smallest size from which every larger size is within the
- * tolerance; n when even the largest is not. */
+ * --converged deviation; n when even the largest is not. */
 static size_t conv_converged(const conv_row *rows, size_t n, bool refl, double tol)
 {
     size_t first = n;
@@ -387,14 +390,11 @@ static size_t conv_converged(const conv_row *rows, size_t n, bool refl, double t
     return first;
 }
 
+/* The table into af, a temporary file the caller commits with the chart. */
 static sea_status conv_csv(const conv_setup *c, const conv_row *rows, size_t nrows,
-                           const char *path, sea_error *err)
+                           sea_cli_atomic_file *af, sea_error *err)
 {
-    sea_cli_atomic_file af;
-    sea_status st = sea_cli_atomic_open(&af, "-o", path, err);
-    if (st != SEA_OK)
-        return st;
-    FILE *f = af.f;
+    FILE *f = af->f;
     fprintf(f,
             "# seabake convergence: high- to low-resolution effective emissivity and "
             "reflectivity (Caillault et al. 2007, Fig. 5-6)\n");
@@ -405,7 +405,7 @@ static sea_status conv_csv(const conv_setup *c, const conv_row *rows, size_t nro
     fprintf(f, "# seed=%lu method=%s", c->seed, sea_facet_method_name(c->method));
     if (c->method == SEA_METHOD_VARIABLE_STEP_2N)
         fprintf(f, " n=%d", c->n);
-    fprintf(f, " generator=%s finest_m=%g facets_per_side=%ld tolerance=%.10g\n",
+    fprintf(f, " generator=%s finest_m=%g facets_per_side=%ld converged=%.10g\n",
             c->method == SEA_METHOD_ONE_METER ? "fft" : "sinusoids", SEA_CLI_CONV_FINEST, c->K,
             c->tol);
     char fetch[32];
@@ -426,11 +426,9 @@ static sea_status conv_csv(const conv_setup *c, const conv_row *rows, size_t nro
                 r->emis_rms, r->emis_max, r->refl_lr, r->refl_origin, r->refl_mean, r->refl_rms,
                 r->refl_max, r->var_mx, r->var_my);
     }
-    if (ferror(f)) {
-        sea_cli_atomic_abort(&af);
-        return sea_fail(err, SEA_ERR_IO, "-o: cannot write '%s'", path);
-    }
-    return sea_cli_atomic_commit(&af, "-o", err);
+    if (fflush(f) != 0 || ferror(f))
+        return sea_fail(err, SEA_ERR_IO, "-o: cannot write '%s'", af->path);
+    return SEA_OK;
 }
 
 static void conv_table(FILE *out, const conv_setup *c, const conv_row *rows, size_t nrows,
@@ -538,19 +536,27 @@ static char *conv_script(const void *ctx)
     return sea_cli_gnuplot_end(&script);
 }
 
+/* All or nothing: DIR/convergence.csv and DIR/convergence.png are written
+ * under temporary names and renamed only when both are complete, and the
+ * table is printed only then; a failure leaves neither (nor a DIR this run
+ * created).  Without gnuplot the chart is skipped: the CSV, which is the
+ * result, is kept and the table printed, and the command fails (exit 1). */
 static sea_status run_convergence(const sea_cli_args *args, FILE *out, sea_error *err)
 {
     conv_setup c;
     memset(&c, 0, sizeof c);
     sea_optics *optics = NULL;
     conv_row *rows = NULL;
-    char *csv = NULL;
+    char *csv = NULL, *png = NULL;
+    sea_cli_atomic_file csv_f = {NULL, NULL, NULL}, png_f = {NULL, NULL, NULL};
+    bool created = false, absent = false;
     sea_status st = conv_parse(args, &c, err);
     if (st != SEA_OK)
         goto done;
-    if ((st = sea_cli_make_dir("-o", c.dir, err)) != SEA_OK)
+    if ((st = sea_cli_make_dir("-o", c.dir, &created, err)) != SEA_OK)
         goto done;
-    if ((csv = sea_cli_path_join(c.dir, "convergence.csv")) == NULL) {
+    if ((csv = sea_cli_path_join(c.dir, "convergence.csv")) == NULL ||
+        (png = sea_cli_path_join(c.dir, "convergence.png")) == NULL) {
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         goto done;
     }
@@ -569,19 +575,35 @@ static sea_status run_convergence(const sea_cli_args *args, FILE *out, sea_error
         fputs("\r\033[K", stderr);
     if (st != SEA_OK)
         goto done;
-    if ((st = conv_csv(&c, rows, nrows, csv, err)) != SEA_OK)
+    if ((st = sea_cli_atomic_open(&csv_f, "-o", csv, err)) != SEA_OK ||
+        (st = conv_csv(&c, rows, nrows, &csv_f, err)) != SEA_OK)
+        goto done;
+    const conv_chart cc = {&c, rows, nrows, per_wind};
+    st = sea_cli_draw_chart(png, conv_script, &cc, &png_f, &absent, err);
+    if (st != SEA_OK && !absent)
+        goto done;
+    if ((st = sea_cli_atomic_commit(&csv_f, "-o", err)) != SEA_OK)
+        goto done;
+    created = false; /* DIR holds the result now */
+    if (!absent && (st = sea_cli_atomic_commit(&png_f, "-o", err)) != SEA_OK)
         goto done;
     conv_table(out, &c, rows, nrows, per_wind);
     fflush(out);
     if ((st = sea_cli_check_written(out, err)) != SEA_OK)
         goto done;
-    const conv_chart cc = {&c, rows, nrows, per_wind};
-    st = sea_cli_write_chart(c.dir, "convergence", conv_script, &cc, "convergence.csv", err);
+    if (absent)
+        st = sea_fail(err, SEA_ERR_NUMERIC, "gnuplot not found: convergence.csv written, chart "
+                                            "not drawn");
 done:
+    sea_cli_atomic_abort(&csv_f);
+    sea_cli_atomic_abort(&png_f);
+    if (created)
+        rmdir(c.dir);
     sea_optics_free(optics);
     sea_cli_list_free(&c.winds);
     free(rows);
     free(csv);
+    free(png);
     return st;
 }
 

@@ -9,8 +9,8 @@
 
 /* ------------------------------------------------------------ help texts */
 
-#define SEA_CLI_HELP_METHOD \
-    "  --method M          auto (default: Eq 7, Gauss rule sized from the slope\n" \
+#define SEA_CLI_HELP_EMISSIVITY_RULE \
+    "  --emissivity M      auto (default: Eq 7, Gauss rule sized from the slope\n" \
     "                      spreads, within 1e-4 of full to 85 deg), fast (Eq 12)\n" \
     "                      or full (Eq 7, adaptive reference quadrature)\n"
 
@@ -29,7 +29,7 @@ static const char SEA_CLI_HELP_EMISSIVITY[] =
     "\n"
     "Directions:\n"
     SEA_CLI_HELP_GRID
-    SEA_CLI_HELP_METHOD
+    SEA_CLI_HELP_EMISSIVITY_RULE
     SEA_CLI_HELP_WATER
     SEA_CLI_HELP_SLOPE_STATS
     "\n" SEA_CLI_HELP_LIST "\n"
@@ -46,7 +46,7 @@ static const char SEA_CLI_HELP_ENERGY[] =
     "\n"
     "Directions:\n"
     SEA_CLI_HELP_GRID
-    SEA_CLI_HELP_METHOD
+    SEA_CLI_HELP_EMISSIVITY_RULE
     SEA_CLI_HELP_WATER
     SEA_CLI_HELP_SLOPE_STATS
     "\n" SEA_CLI_HELP_LIST "\n"
@@ -56,9 +56,9 @@ static const char SEA_CLI_HELP_ENERGY[] =
 /* ---------------------------------------------------- emissivity, energy */
 
 static const sea_cli_option SEA_CLI_EMISSIVITY_OPTIONS[] = {
-    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"method", 0}};
+    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}};
 static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
-    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"method", 0}};
+    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}};
 
 /* The two subcommands that evaluate one observation direction at a time
  * with the quadrature plan differ only in the call and the last columns. */
@@ -106,7 +106,7 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
     sea_cli_sea sea;
     sea_status st = sea_cli_direction_grid(args, &theta, &phi, err);
     if (st == SEA_OK)
-        st = sea_cli_opt_method(args, &method, err);
+        st = sea_cli_opt_emissivity(args, &method, err);
     if (st == SEA_OK)
         st = sea_cli_sea_inputs(args, &sea, err);
     if (st == SEA_OK)

@@ -1,15 +1,20 @@
 /* files.c - the files and directories of the subcommands: names, writable
  * parents, files written atomically (a temporary name next to the
- * destination, renamed when complete), output directories created with
- * their parents, and bake's atomic directories (a sibling DIR.tmp.XXXXXX
- * renamed over DIR when every file is in it). */
+ * destination, renamed when complete), output directories (created, their
+ * parent must exist), and bake's atomic directories (a sibling
+ * DIR.tmp.XXXXXX renamed over DIR when every file is in it, under a lock
+ * beside DIR). */
+#define _DEFAULT_SOURCE
 #define _XOPEN_SOURCE 700
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -55,13 +60,43 @@ char *sea_cli_path_join(const char *dir, const char *name)
     return p;
 }
 
+char *sea_cli_parent_dir(const char *path)
+{
+    size_t len = strlen(path);
+    while (len > 1 && path[len - 1] == '/')
+        --len;
+    while (len > 0 && path[len - 1] != '/')
+        --len;
+    if (len == 0)
+        return strdup(".");
+    while (len > 1 && path[len - 1] == '/')
+        --len;
+    return strndup(path, len);
+}
+
+/* The one rule for outputs: the output itself is created, its parent
+ * directory must exist (nothing is created on the way, so a failure never
+ * leaves empty directories behind). */
+static sea_status check_dir_exists(const char *opt, const char *dir, sea_error *err)
+{
+    struct stat sb;
+    if (stat(dir, &sb) != 0) {
+        if (errno == ENOENT)
+            return sea_fail(err, SEA_ERR_IO, "%s: the directory '%s' does not exist", opt, dir);
+        return sea_fail(err, SEA_ERR_IO, "%s: cannot examine '%s': %s", opt, dir,
+                        strerror(errno));
+    }
+    if (!S_ISDIR(sb.st_mode))
+        return sea_fail(err, SEA_ERR_IO, "%s: '%s' is not a directory", opt, dir);
+    return writable_dir(opt, dir, err);
+}
+
 sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_error *err)
 {
-    const char *slash = strrchr(path, '/');
-    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+    char *dir = sea_cli_parent_dir(path);
     if (dir == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    sea_status st = writable_dir(opt, dir, err);
+    sea_status st = check_dir_exists(opt, dir, err);
     free(dir);
     return st;
 }
@@ -133,33 +168,31 @@ sea_status sea_cli_atomic_commit(sea_cli_atomic_file *af, const char *opt, sea_e
     return SEA_OK;
 }
 
-/* mkdir -p dir, then checks that it is a writable directory. */
-sea_status sea_cli_make_dir(const char *opt, const char *dir, sea_error *err)
+/* Creates dir (its parent must exist) unless it is there, then checks that
+ * it is a writable directory. */
+sea_status sea_cli_make_dir(const char *opt, const char *dir, bool *created, sea_error *err)
 {
+    *created = false;
     if (dir[0] == '\0')
         return sea_fail(err, SEA_ERR_PARSE, "%s: empty directory name", opt);
-    char *p = strdup(dir);
-    if (p == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    for (char *s = p + 1; *s; ++s) {
-        if (*s != '/')
-            continue;
-        *s = '\0';
-        if (mkdir(p, 0777) != 0 && errno != EEXIST) {
-            int e = errno;
-            sea_status st = sea_fail(err, SEA_ERR_IO, "%s: cannot create directory '%s': %s", opt,
-                                     p, strerror(e));
-            free(p);
-            return st;
-        }
-        *s = '/';
-    }
-    free(p);
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-        return sea_fail(err, SEA_ERR_IO, "%s: cannot create directory '%s': %s", opt, dir,
-                        strerror(errno));
     struct stat sb;
-    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
+    if (stat(dir, &sb) != 0) {
+        if (errno != ENOENT)
+            return sea_fail(err, SEA_ERR_IO, "%s: cannot examine '%s': %s", opt, dir,
+                            strerror(errno));
+        sea_status st = sea_cli_check_parent_writable(opt, dir, err);
+        if (st != SEA_OK)
+            return st;
+        if (mkdir(dir, 0777) == 0)
+            *created = true;
+        else if (errno != EEXIST)
+            return sea_fail(err, SEA_ERR_IO, "%s: cannot create directory '%s': %s", opt, dir,
+                            strerror(errno));
+        if (stat(dir, &sb) != 0)
+            return sea_fail(err, SEA_ERR_IO, "%s: cannot examine '%s': %s", opt, dir,
+                            strerror(errno));
+    }
+    if (!S_ISDIR(sb.st_mode))
         return sea_fail(err, SEA_ERR_IO, "%s: '%s' is not a directory", opt, dir);
     return writable_dir(opt, dir, err);
 }
@@ -191,58 +224,272 @@ char *sea_cli_sibling_template(const char *dir, const char *what)
     return p;
 }
 
-/* DIR must be absent or a directory. */
-sea_status sea_cli_check_dir(const char *dir, sea_error *err)
+/* ------------------------------------------------- bake's output directory */
+
+void sea_cli_out_dir_init(sea_cli_out_dir *od)
 {
-    struct stat sb;
-    if (lstat(dir, &sb) != 0) {
-        if (errno == ENOENT)
-            return SEA_OK;
-        return sea_fail(err, SEA_ERR_IO, "-o: cannot examine '%s': %s", dir, strerror(errno));
+    memset(od, 0, sizeof *od);
+    od->lock_fd = od->tmp_fd = -1;
+}
+
+/* The last component of path (no trailing slash), pointing into path. */
+static const char *base_name(const char *path, size_t *len)
+{
+    size_t end = strlen(path);
+    while (end > 1 && path[end - 1] == '/')
+        --end;
+    size_t start = end;
+    while (start > 0 && path[start - 1] != '/')
+        --start;
+    *len = end - start;
+    return path + start;
+}
+
+/* Takes the lock beside the directory, waiting for another bake's commit;
+ * notes the wait unless quiet. */
+static sea_status take_lock(sea_cli_out_dir *od, bool quiet, sea_error *err)
+{
+    if (od->lock_fd < 0) {
+        od->lock_fd = open(od->lock, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+        /* another user's lock file: flock needs no write access */
+        if (od->lock_fd < 0 && errno == EACCES)
+            od->lock_fd = open(od->lock, O_RDONLY | O_CLOEXEC);
+        if (od->lock_fd < 0)
+            return sea_fail(err, SEA_ERR_IO, "-o: cannot create the lock file '%s': %s",
+                            od->lock, strerror(errno));
     }
-    if (!S_ISDIR(sb.st_mode))
-        return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory", dir);
+    if (flock(od->lock_fd, LOCK_EX | LOCK_NB) == 0)
+        return SEA_OK;
+    if (errno != EWOULDBLOCK)
+        return SEA_OK; /* no flock on this file system: unlocked, as before */
+    if (!quiet)
+        fprintf(stderr, "bake: waiting for another bake to finish writing '%s'\n", od->user);
+    while (flock(od->lock_fd, LOCK_EX) != 0) {
+        if (errno != EINTR || sea_cli_interrupted() != 0)
+            return sea_fail(err, SEA_ERR_IO, "-o: cannot lock '%s': %s", od->lock,
+                            strerror(errno));
+    }
     return SEA_OK;
 }
 
-/* Puts the finished temporary directory in place of dir. */
-sea_status sea_cli_commit_dir(const char *tmp, const char *dir, sea_error *err)
+static void drop_lock(sea_cli_out_dir *od)
 {
-    struct stat sb;
-    if (lstat(dir, &sb) != 0) {
-        if (rename(tmp, dir) != 0)
-            return sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", tmp, dir,
-                            strerror(errno));
-        return SEA_OK;
+    if (od->lock_fd >= 0) {
+        flock(od->lock_fd, LOCK_UN);
+        close(od->lock_fd);
+        od->lock_fd = -1;
     }
-    if (!S_ISDIR(sb.st_mode))
-        return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory", dir);
-    char *old = sea_cli_sibling_template(dir, "old");
-    if (old == NULL)
+}
+
+/* "BASE.tmp.XXXXXX" or "BASE.old.XXXXXX" (mkdtemp's letters): one of ours. */
+static int our_temporary(const char *name, const char *base, size_t blen)
+{
+    if (strncmp(name, base, blen) != 0)
+        return 0;
+    const char *rest = name + blen;
+    int kind = strncmp(rest, ".tmp.", 5) == 0 ? 1 : strncmp(rest, ".old.", 5) == 0 ? 2 : 0;
+    if (kind == 0 || strlen(rest + 5) != 6)
+        return 0;
+    for (const char *c = rest + 5; *c; ++c)
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9')))
+            return 0;
+    return kind;
+}
+
+/* Under the lock: the temporary directories of bakes that are gone.  A live
+ * bake holds an flock on its DIR.tmp.XXXXXX from its creation (under this
+ * lock) to its end, so one whose flock can be taken is stale; a DIR.old.XXXXXX
+ * exists only inside a commit, which holds this lock, so any is stale.  A
+ * bake killed between moving DIR aside and putting the new one in place
+ * left DIR missing: its old copy is put back. */
+static void clean_stale(sea_cli_out_dir *od)
+{
+    DIR *d = opendir(od->parent);
+    if (d == NULL)
+        return;
+    size_t blen;
+    const char *base = base_name(od->target, &blen);
+    char *b = strndup(base, blen);
+    const uid_t me = geteuid();
+    struct dirent *e;
+    while (b != NULL && (e = readdir(d)) != NULL) {
+        const int kind = our_temporary(e->d_name, b, blen);
+        if (kind == 0)
+            continue;
+        char *path = sea_cli_path_join(od->parent, e->d_name);
+        struct stat sb;
+        if (path == NULL || lstat(path, &sb) != 0 || !S_ISDIR(sb.st_mode) || sb.st_uid != me) {
+            free(path);
+            continue;
+        }
+        bool stale = kind == 2;
+        if (kind == 1) {
+            const int fd = open(path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+            stale = fd >= 0 && flock(fd, LOCK_EX | LOCK_NB) == 0;
+            if (fd >= 0)
+                close(fd);
+        }
+        if (!stale) {
+            free(path);
+            continue;
+        }
+        struct stat tb;
+        if (kind == 2 && lstat(od->target, &tb) != 0 && errno == ENOENT &&
+            rename(path, od->target) == 0) {
+            fprintf(stderr,
+                    "bake: '%s' restored from '%s', left by a bake that was killed while "
+                    "replacing it\n",
+                    od->user, e->d_name);
+        } else if (sea_cli_remove_tree(path) == 0) {
+            fprintf(stderr, "bake: removed '%s', left by a bake that was killed\n", path);
+        }
+        free(path);
+    }
+    free(b);
+    closedir(d);
+}
+
+sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quiet, sea_error *err)
+{
+    sea_cli_out_dir_init(od);
+    size_t blen;
+    const char *base = base_name(dir, &blen);
+    if (dir[0] == '\0')
+        return sea_fail(err, SEA_ERR_PARSE, "-o: empty directory name");
+    if (blen == 0 || (blen == 1 && base[0] == '.') || (blen == 2 && strncmp(base, "..", 2) == 0))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "-o: '%s' cannot be replaced by the bake (name the directory itself, "
+                        "not '.', '..' or '/')",
+                        dir);
+    if ((od->user = strndup(dir, (size_t)(base - dir) + blen)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    /* mkdtemp reserves a unique name; renaming a directory onto an empty
-     * directory replaces it (POSIX rename). */
-    if (mkdtemp(old) == NULL) {
-        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot create '%s': %s", old,
-                                 strerror(errno));
-        free(old);
-        return st;
+    /* A symbolic link to a directory: the bake replaces the directory it
+     * points to (built beside it, on its file system), the link stays. */
+    struct stat sb;
+    if (lstat(od->user, &sb) == 0 && S_ISLNK(sb.st_mode)) {
+        struct stat tb;
+        if (stat(od->user, &tb) != 0)
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "-o: '%s' is a symbolic link to nothing (%s)", od->user,
+                            strerror(errno));
+        if (!S_ISDIR(tb.st_mode))
+            return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory",
+                            od->user);
+        od->target = realpath(od->user, NULL);
+        if (od->target == NULL)
+            return sea_fail(err, SEA_ERR_IO, "-o: cannot resolve '%s': %s", od->user,
+                            strerror(errno));
+        if (strcmp(od->target, "/") == 0)
+            return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' points to '/', which cannot be "
+                                                 "replaced", od->user);
+    } else if ((od->target = strdup(od->user)) == NULL) {
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     }
-    if (rename(dir, old) != 0) {
-        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot move '%s' aside to '%s': %s", dir,
-                                 old, strerror(errno));
+    if ((od->parent = sea_cli_parent_dir(od->target)) == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    sea_status st = check_dir_exists("-o", od->parent, err);
+    if (st != SEA_OK)
+        return st;
+    base = base_name(od->target, &blen);
+    const size_t llen = strlen(od->parent) + blen + 8;
+    if ((od->lock = malloc(llen)) == NULL ||
+        (od->tmp = sea_cli_sibling_template(od->target, "tmp")) == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    snprintf(od->lock, llen, "%s/.%.*s.lock", od->parent, (int)blen, base);
+
+    if ((st = take_lock(od, quiet, err)) != SEA_OK)
+        return st;
+    clean_stale(od);
+    if (lstat(od->target, &sb) == 0) {
+        struct stat pb;
+        if (!S_ISDIR(sb.st_mode))
+            st = sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory",
+                          od->user);
+        else if (stat(od->parent, &pb) == 0 && pb.st_dev != sb.st_dev)
+            st = sea_fail(err, SEA_ERR_DOMAIN,
+                          "-o: '%s' is a mount point, which cannot be replaced (bake into a "
+                          "directory inside it)",
+                          od->user);
+    } else if (errno != ENOENT) {
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot examine '%s': %s", od->user, strerror(errno));
+    }
+    if (st == SEA_OK && mkdtemp(od->tmp) == NULL) {
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot create a directory in '%s': %s", od->parent,
+                      strerror(errno));
+        free(od->tmp);
+        od->tmp = NULL;
+    }
+    od->made = st == SEA_OK;
+    if (st == SEA_OK) {
+        /* The flock that tells other bakes this temporary is alive.  Where
+         * the file system has no flock, theirs fails too and they keep it. */
+        od->tmp_fd = open(od->tmp, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        if (od->tmp_fd >= 0)
+            flock(od->tmp_fd, LOCK_EX | LOCK_NB);
+        /* mkdtemp makes it 0700; DIR gets the umask's permissions */
+        if (chmod(od->tmp, 0777 & ~sea_cli_umask()) != 0)
+            st = sea_fail(err, SEA_ERR_IO, "-o: cannot set the permissions of '%s': %s", od->tmp,
+                          strerror(errno));
+    }
+    drop_lock(od);
+    return st;
+}
+
+/* Puts the finished temporary directory in place of the target, under the
+ * lock: an existing directory is renamed aside, the new one renamed in,
+ * the old one removed, all before another bake may commit. */
+sea_status sea_cli_out_dir_commit(sea_cli_out_dir *od, bool quiet, sea_error *err)
+{
+    sea_status st = take_lock(od, quiet, err);
+    if (st != SEA_OK)
+        return st;
+    struct stat sb;
+    char *old = NULL;
+    if (lstat(od->target, &sb) != 0) {
+        if (rename(od->tmp, od->target) != 0)
+            st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", od->tmp,
+                          od->target, strerror(errno));
+    } else if (!S_ISDIR(sb.st_mode)) {
+        st = sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory", od->user);
+    } else if ((old = sea_cli_sibling_template(od->target, "old")) == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    } else if (mkdtemp(old) == NULL) {
+        /* mkdtemp reserves a unique name; renaming a directory onto an
+         * empty directory replaces it (POSIX rename). */
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot create a directory in '%s': %s", od->parent,
+                      strerror(errno));
+    } else if (rename(od->target, old) != 0) {
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot move '%s' aside to '%s': %s", od->target, old,
+                      strerror(errno));
         rmdir(old);
-        free(old);
-        return st;
+    } else if (rename(od->tmp, od->target) != 0) {
+        st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", od->tmp, od->target,
+                      strerror(errno));
+        rename(old, od->target); /* put the old one back */
+    } else {
+        sea_cli_remove_tree(old);
     }
-    if (rename(tmp, dir) != 0) {
-        sea_status st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", tmp, dir,
-                                 strerror(errno));
-        rename(old, dir); /* put the old one back */
-        free(old);
-        return st;
-    }
-    sea_cli_remove_tree(old);
     free(old);
-    return SEA_OK;
+    if (st == SEA_OK) {
+        free(od->tmp);
+        od->tmp = NULL;
+    }
+    drop_lock(od);
+    return st;
+}
+
+/* Removes the temporary directory (if any) and releases everything. */
+void sea_cli_out_dir_end(sea_cli_out_dir *od)
+{
+    if (od->tmp != NULL && od->made)
+        sea_cli_remove_tree(od->tmp);
+    if (od->tmp_fd >= 0)
+        close(od->tmp_fd);
+    drop_lock(od);
+    free(od->user);
+    free(od->target);
+    free(od->parent);
+    free(od->lock);
+    free(od->tmp);
+    sea_cli_out_dir_init(od);
 }

@@ -1,5 +1,5 @@
 /* inputs.c - what the physics subcommands (spectrum, emissivity, energy,
- * reflectivity) share: options that exclude each other, --method, the
+ * reflectivity) share: options that exclude each other, --emissivity, the
  * water's complex index, the sea state and the facet's slope statistics,
  * the direction grid, and the CSV columns of the sea.  A value that is not
  * finite is never printed: the command stops with SEA_ERR_NUMERIC. */
@@ -34,10 +34,11 @@ static const sea_cli_range SEA_CLI_RANGE_COV[3] = {
     {0.0, SEA_CLI_VAR_MAX, false, false, ""},
     {0.0, SEA_CLI_VAR_MAX, false, false, ""},
     {-SEA_CLI_VAR_MAX, SEA_CLI_VAR_MAX, false, false, ""}};
-/* n > 0, k >= 0. */
+/* The library's bounds on a water index (those of a user water table):
+ * n in [1, 3], k in [0, 10]. */
 static const sea_cli_range SEA_CLI_RANGE_INDEX[2] = {
-    {0.0, INFINITY, true, true, ""},
-    {0.0, INFINITY, false, true, ""}};
+    {SEA_WATER_N_MIN, SEA_WATER_N_MAX, false, false, ""},
+    {0.0, SEA_WATER_K_MAX, false, false, ""}};
 
 /* ------------------------------------------------------- option helpers */
 
@@ -50,12 +51,13 @@ sea_status sea_cli_exclusive(const sea_cli_args *args, const char *name1, const 
     return SEA_OK;
 }
 
-sea_status sea_cli_opt_method(const sea_cli_args *args, sea_emis_method *out, sea_error *err)
+sea_status sea_cli_opt_emissivity(const sea_cli_args *args, sea_emis_method *out, sea_error *err)
 {
-    const char *text = sea_cli_args_get(args, "method");
+    const char *text = sea_cli_args_get(args, "emissivity");
     int m = sea_emis_method_from_name(text ? text : "auto");
     if (m < 0)
-        return sea_fail(err, SEA_ERR_PARSE, "--method: '%s' is not one of auto, fast, full", text);
+        return sea_fail(err, SEA_ERR_PARSE, "--emissivity: '%s' is not one of auto, fast, full",
+                        text);
     *out = (sea_emis_method)m;
     return SEA_OK;
 }
@@ -143,6 +145,10 @@ sea_status sea_cli_facet_cov(const sea_spectrum *spec, double facet, double *kc,
                              sea_error *err)
 {
     *kc = facet > 0.0 ? M_PI / facet : 0.0;
+    if (!isfinite(*kc))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--facet: %g m is too small (its cutoff wavenumber pi/L is not finite)",
+                        facet);
     sea_error lib = {{0}};
     sea_status st = sea_spectrum_slope_cov(spec, *kc, cov, &lib);
     if (st != SEA_OK)

@@ -1,6 +1,10 @@
-/* progress.c - time and the progress bar of render and bake. */
+/* progress.c - time, the progress bar of render and bake, and their
+ * handling of SIGINT, SIGTERM and SIGHUP. */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
+#include <string.h>
 #include <time.h>
 
 #include "cli.h"
@@ -21,7 +25,7 @@ int sea_cli_progress_bar(void *ctx, double fraction)
     const double done = ((double)p->index + fmin(fmax(fraction, 0.0), 1.0)) / (double)p->count;
     const int pct = (int)floor(100.0 * done);
     if (pct == p->shown)
-        return 0;
+        return sea_cli_interrupted() != 0;
     p->shown = pct;
     char bar[PROGRESS_BAR + 1];
     const int full = (int)floor(PROGRESS_BAR * done);
@@ -34,5 +38,65 @@ int sea_cli_progress_bar(void *ctx, double fraction)
     else
         fprintf(stderr, "\r%s: [%s] %3d%%", p->what, bar, pct);
     fflush(stderr);
-    return 0;
+    return sea_cli_interrupted() != 0;
+}
+
+void sea_cli_progress_end(sea_cli_progress *p)
+{
+    if (p->shown >= 0)
+        fputc('\n', stderr);
+    p->shown = -1;
+}
+
+/* ---------------------------------------------------------------- signals */
+
+static volatile sig_atomic_t caught = 0;
+static const int SIGNALS[] = {SIGINT, SIGTERM, SIGHUP};
+enum { N_SIGNALS = sizeof SIGNALS / sizeof SIGNALS[0] };
+static struct sigaction saved[N_SIGNALS];
+static int installed = 0;
+
+static void on_signal(int sig)
+{
+    caught = sig;
+}
+
+void sea_cli_signals_catch(void)
+{
+    struct sigaction on;
+    memset(&on, 0, sizeof on);
+    on.sa_handler = on_signal;
+    sigemptyset(&on.sa_mask);
+    caught = 0;
+    for (size_t i = 0; i < N_SIGNALS; i++) {
+        /* a signal ignored on entry (nohup) stays ignored */
+        sigaction(SIGNALS[i], NULL, &saved[i]);
+        if (saved[i].sa_handler != SIG_IGN)
+            sigaction(SIGNALS[i], &on, NULL);
+    }
+    installed = 1;
+}
+
+void sea_cli_signals_restore(void)
+{
+    if (!installed)
+        return;
+    for (size_t i = 0; i < N_SIGNALS; i++)
+        sigaction(SIGNALS[i], &saved[i], NULL);
+    installed = 0;
+}
+
+int sea_cli_interrupted(void)
+{
+    return caught;
+}
+
+void sea_cli_die_of_signal(const char *msg)
+{
+    const int sig = caught;
+    sea_cli_signals_restore();
+    fprintf(stderr, "seabake: error: %s\n", msg);
+    fflush(stderr);
+    if (sig != 0)
+        raise(sig);
 }

@@ -50,13 +50,16 @@ static const char RENDER_HELP[] =
     "Renders the view described by a scene file (seabake-scene(5)): the radiance\n"
     "of every pixel (Eq 23 of the paper) over the clipmap levels the view needs.\n"
     "Writes OUT.exr (channel Y: spectral radiance, W m^-2 sr^-1 um^-1, for one\n"
-    "wavelength; in-band radiance, W m^-2 sr^-1, for a band; FLOAT, ZIP) and a\n"
-    "PNG preview of the brightness temperature.  Files are written atomically.\n"
-    "A summary line goes to standard error, and a progress bar on a terminal.\n"
+    "wavelength; in-band radiance, W m^-2 sr^-1, for a band) and a PNG preview\n"
+    "of the brightness temperature.  Files are written atomically.  A summary\n"
+    "line goes to standard error, and a progress bar on a terminal.  On SIGINT\n"
+    "(Ctrl-C), SIGTERM or SIGHUP the frame in progress is not written (earlier\n"
+    "frames stay) and seabake dies of the signal.\n"
     "\n"
     "Output:\n"
     "  -o OUT.exr          the radiance image; default: the scene file's base name\n"
-    "                      with .exr, in the current directory\n"
+    "                      with .exr, in the current directory; its directory\n"
+    "                      must exist\n"
     "  --aov LIST          comma list of level (facet size, m; 0 for the sky),\n"
     "                      emissivity, reflectivity (sr^-1), temperature\n"
     "                      (brightness, K): each to OUT.<aov>.exr, channel Y\n"
@@ -64,7 +67,9 @@ static const char RENDER_HELP[] =
     "                      0.5 % and 99.5 % quantiles); default OUT.png; none: no\n"
     "                      preview\n"
     "  --png-depth D       bits per pixel of the preview, 8 (default) or 16\n"
-    "  --half              16-bit float channels (the level AOV stays 32-bit)\n"
+    "  --format F          float (default) or half channels (the level AOV stays\n"
+    "                      float)\n"
+    "  --compression C     none, zip (default) or piz\n"
     "\n"
     "Frames:\n"
     "  --frames A:B        frames A to B, integers, 0 <= A <= B <= 999999, at most\n"
@@ -73,11 +78,17 @@ static const char RENDER_HELP[] =
     "                      OUT_0001.png.  Default: one frame at the scene's time\n"
     "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
     "\n"
+    "Scene:\n"
+    "  --set SECTION.KEY=VALUE\n"
+    "                      overrides a key of the scene file, checked as in the\n"
+    "                      file (e.g. --set sea.wind_speed=12); repeatable\n"
+    "\n"
     "Running:\n"
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance (low-resolution levels, spectral samples,\n"
     "                      emissivity orders, wave directions, sub-facets skipped)\n"
-    "  --threads N         OpenMP threads, 1..1024; default: the OpenMP default\n"
+    "  --threads N         OpenMP threads, 1 to 4 x the online CPUs (at most 1024);\n"
+    "                      default: the OpenMP default\n"
     "  --quiet             no progress bar and no summary line\n"
     "  --explain           print on standard error what was chosen: the clipmap\n"
     "                      levels (facet size, window, resolution, pixels, sub-\n"
@@ -100,7 +111,8 @@ typedef struct {
     bool framed;
     long frame_a, frame_b;
     double rate;
-    bool half, quiet, explain, progress;
+    sea_exr_options exr;
+    bool quiet, explain, progress;
 } render_setup;
 
 static void render_setup_free(render_setup *s)
@@ -181,7 +193,8 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
         return st;
     if ((st = sea_cli_opt_threads(args, err)) != SEA_OK)
         return st;
-    s->half = sea_cli_given(args, "half");
+    if ((st = sea_cli_opt_exr(args, &s->exr, err)) != SEA_OK)
+        return st;
     s->quiet = sea_cli_given(args, "quiet");
     s->explain = sea_cli_given(args, "explain");
     s->progress = !s->quiet && isatty(STDERR_FILENO);
@@ -191,7 +204,7 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
 
     /* The scene is read last: a typing mistake on the command line is
      * reported first. */
-    if ((st = sea_scene_load(s->scene_path, &s->sc, err)) != SEA_OK)
+    if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
     sea_cli_apply_tolerance(tolerance, &s->sc);
 
@@ -271,8 +284,8 @@ static sea_status write_frame(const render_setup *s, const sea_image *img, long 
                             {"seabake:levels", levels},
                             {"seabake:frame", frame_s}};
     const size_t n_attrs = sizeof attrs / sizeof attrs[0] - (s->framed ? 0 : 1);
-    const sea_exr_options opt = {s->half ? SEA_EXR_HALF : SEA_EXR_FLOAT, SEA_EXR_ZIP};
-    const sea_exr_options opt_float = {SEA_EXR_FLOAT, SEA_EXR_ZIP};
+    const sea_exr_options opt = s->exr;
+    const sea_exr_options opt_float = {SEA_EXR_FLOAT, s->exr.compression};
 
     char *path = frame_path(s->out_stem, s->framed, frame, "", s->out_ext);
     if (path == NULL)
@@ -354,7 +367,24 @@ static sea_status check_outputs(const render_setup *s, sea_error *err)
     return st;
 }
 
-/* Every frame, written as it is done; then the summary line. */
+/* The library's progress callback: the bar on a terminal, and a stop as
+ * soon as a signal came (sea_cli_signals_catch). */
+typedef struct {
+    sea_cli_progress bar;
+    bool on;
+} render_progress;
+
+static int render_progress_fn(void *ctx, double fraction)
+{
+    render_progress *p = ctx;
+    if (p->on)
+        return sea_cli_progress_bar(&p->bar, fraction);
+    return sea_cli_interrupted() != 0;
+}
+
+/* Every frame, written as it is done; then the summary line.  A signal
+ * stops the frame being rendered within a row: its files are not written
+ * (the frames before it are complete and stay). */
 static sea_status render_frames(const render_setup *s, const sea_render *r, double start,
                                 sea_error *err)
 {
@@ -365,26 +395,44 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
     char levels[SEA_CLIP_MAX_LEVELS * 24];
     levels_text(r, levels, sizeof levels);
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
-    sea_cli_progress prog = {"render", 0, (size_t)(last - first + 1), -1};
+    render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1}, s->progress};
     const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
     double t_min = INFINITY, t_max = -INFINITY;
+    long done = 0;
     for (long f = first; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
-        prog.index = (size_t)(f - first);
-        st = sea_render_frame(r, t, &img, s->progress ? sea_cli_progress_bar : NULL, &prog, err);
-        if (st == SEA_OK)
+        prog.bar.index = (size_t)(f - first);
+        st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
+        bool wrote = false;
+        if (st == SEA_OK && sea_cli_interrupted() == 0) {
             st = write_frame(s, &img, f, t, levels, err);
+            wrote = st == SEA_OK;
+        }
+        /* a frame written before the signal was seen is complete: counted */
+        if (wrote)
+            ++done;
+        if (sea_cli_interrupted() != 0) {
+            st = done == 0 ? sea_fail(err, SEA_ERR_CANCELLED,
+                                      "interrupted by signal %d: no file written",
+                                      sea_cli_interrupted())
+                           : sea_fail(err, SEA_ERR_CANCELLED,
+                                      "interrupted by signal %d: %ld frame%s written (%ld to %ld), "
+                                      "the rest not",
+                                      sea_cli_interrupted(), done, done > 1 ? "s" : "", first,
+                                      first + done - 1);
+        }
         if (st != SEA_OK)
             break;
         for (size_t q = 0; q < npix; ++q) {
             t_min = fmin(t_min, img.temperature[q]);
             t_max = fmax(t_max, img.temperature[q]);
         }
-        if (s->progress)
-            sea_cli_progress_bar(&prog, 1.0);
+        if (prog.on)
+            sea_cli_progress_bar(&prog.bar, 1.0);
     }
-    if (s->progress)
-        fputc('\n', stderr);
+    /* The bar's line is ended whatever happened: an error or an interrupt
+     * message starts on a line of its own. */
+    sea_cli_progress_end(&prog.bar);
     sea_image_free(&img);
     if (st != SEA_OK || s->quiet)
         return st;
@@ -415,8 +463,17 @@ static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err
         st = sea_render_prepare(&s.sc, &r, err);
     if (st == SEA_OK && s.explain)
         sea_cli_explain("render", s.scene_path, r);
-    if (st == SEA_OK)
+    if (st == SEA_OK) {
+        sea_cli_signals_catch();
         st = render_frames(&s, r, start, err);
+        if (st != SEA_OK && sea_cli_interrupted() != 0) {
+            sea_render_free(r);
+            render_setup_free(&s);
+            sea_cli_die_of_signal(err->msg);
+            return st;
+        }
+        sea_cli_signals_restore();
+    }
     sea_render_free(r);
     render_setup_free(&s);
     return st;
@@ -432,7 +489,9 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"aov", 0},
     {"png", 0},
     {"png-depth", 0},
-    {"half", SEA_CLI_OPT_FLAG},
+    {"format", 0},
+    {"compression", 0},
+    {"set", SEA_CLI_OPT_ACCUMULATE},
     {"threads", 0},
     {"tolerance", 0},
     {"quiet", SEA_CLI_OPT_FLAG},

@@ -3,6 +3,7 @@
  * spectrum, as CSV (one row per facet size). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "cli.h"
 
@@ -34,6 +35,8 @@ static sea_status run_spectrum(const sea_cli_args *args, FILE *out, sea_error *e
     sea_spectrum spec;
     double wind, fetch;
     sea_cli_list facets = {NULL, 0};
+    sea_cov2 *cov = NULL;
+    double *kc = NULL;
     sea_status st = sea_cli_require(args, "wind", NULL, err);
     if (st == SEA_OK)
         st = sea_cli_sea_state(args, &spec, &wind, &fetch, err);
@@ -41,20 +44,30 @@ static sea_status run_spectrum(const sea_cli_args *args, FILE *out, sea_error *e
         st = sea_cli_opt_list(args, "facet", &SEA_CLI_RANGE_FACET, "0", &facets, err);
     if (st != SEA_OK)
         goto done;
+    /* Every row is computed before the header is printed: a facet size
+     * the spectrum refuses leaves standard output empty. */
+    cov = malloc(facets.n * sizeof *cov);
+    kc = malloc(facets.n * sizeof *kc);
+    if (cov == NULL || kc == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu facet sizes", facets.n);
+        goto done;
+    }
+    for (size_t i = 0; i < facets.n; ++i)
+        if ((st = sea_cli_facet_cov(&spec, facets.values[i], &kc[i], &cov[i], err)) != SEA_OK)
+            goto done;
 
     fputs("wind_ms,fetch_m,facet_m,kc_radm,sigma_x2,sigma_y2,sigma_xy\n", out);
     for (size_t i = 0; i < facets.n; ++i) {
-        sea_cov2 cov;
-        double kc;
-        if ((st = sea_cli_facet_cov(&spec, facets.values[i], &kc, &cov, err)) != SEA_OK)
-            goto done;
         /* No inf is ever printed: an infinite (fully developed) fetch is 0. */
         fprintf(out, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", wind,
-                isinf(fetch) ? 0.0 : fetch, facets.values[i], kc, cov.xx, cov.yy, cov.xy);
+                isinf(fetch) ? 0.0 : fetch, facets.values[i], kc[i], cov[i].xx, cov[i].yy,
+                cov[i].xy);
         if ((st = sea_cli_check_written(out, err)) != SEA_OK)
             goto done;
     }
 done:
+    free(cov);
+    free(kc);
     sea_cli_list_free(&facets);
     return st;
 }
