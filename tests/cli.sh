@@ -1224,6 +1224,38 @@ for l in $hr; do
     done
 done
 l0=${hr%% *}
+# Previews: normal and roughness in colour (roughness on an absolute scale:
+# hue rotation, saturation anisotropy, value roughness; one value per level
+# with variable-step, the default, but not a flat mid grey), the others grey
+# with one range per quantity for every level.
+for l in $hr; do
+    check_eq "bake.normal_png_rgb.$l" "$(png_color_type "$BDIR/out/normal_$l.png")" 2
+    check_eq "bake.roughness_png_rgb.$l" "$(png_color_type "$BDIR/out/roughness_$l.png")" 2
+    for g in moments moments2 optics emission; do
+        check_eq "bake.png_grey.${g}_$l" "$(png_color_type "$BDIR/out/${g}_$l.png")" 0
+        check_eq "bake.png_range_shared.${g}_$l" "$(png_text "$BDIR/out/${g}_$l.png" seabake:range)" \
+            "$(png_text "$BDIR/out/${g}_$l0.png" seabake:range)"
+    done
+done
+check_match bake.png_range_moments "$(png_text "$BDIR/out/moments_$l0.png" seabake:range)" \
+    '^-([0-9.e+-]+):\1$'
+check_match bake.png_tone_roughness "$(png_text "$BDIR/out/roughness_$l0.png" seabake:tone)" \
+    "value = roughness, absolute"
+if have python3 python3; then
+    # the first pixel of the roughness preview (filter byte, then R G B)
+    px=$(python3 -c '
+import struct, sys, zlib
+d = open(sys.argv[1], "rb").read()
+i, idat = 8, b""
+while i < len(d):
+    n, t = struct.unpack(">I4s", d[i:i + 8])
+    if t == b"IDAT":
+        idat += d[i + 8:i + 8 + n]
+    i += 12 + n
+print(" ".join(str(b) for b in zlib.decompress(idat)[1:4]))' "$BDIR/out/roughness_$l0.png")
+    check_match bake.roughness_not_mid_grey "$px" '^[0-9]+ [0-9]+ [0-9]+$'
+    check bake.roughness_not_mid_grey [ "$px" != "128 128 128" ]
+fi
 # Channels: R,G,B,A FLOAT for a 4-quantity group; RGB only for emission
 # (name, NUL, pixel type 2 = FLOAT, pLinear 0).
 check_match bake.float_channels "$(exr_header "$BDIR/out/optics_$l0.exr")" "410002000000.*520002000000"
