@@ -1,4 +1,4 @@
-/* preview.h - grayscale PNG previews (libpng), written atomically: to a
+/* preview.h - grey and RGB PNG previews (libpng) and their tone curves, written atomically: to a
  * temporary name in the destination's directory, renamed when complete.
  * Installed as <seabake/preview.h>; the thread-safety words follow
  * seabake.h. */
@@ -19,7 +19,76 @@ sea_status sea_png_write_gray(const char *path, int width, int height, const flo
 /* Robust display range of the finite values of data (n of them): the
  * fraction `clip` and 1 - clip quantiles (clip in [0, 0.5)); a constant
  * image gets [v - 0.5, v + 0.5] (or [v - |v|/2, v + |v|/2]) so that lo < hi.
- * Thread-safe (sorts a copy of data; [0, 1] when none can be allocated). */
+ * The quantiles are the values at indices floor(clip (m - 1)) and
+ * ceil((1 - clip) (m - 1)) of the m finite values sorted, found by
+ * selection in a copy of data (O(m); the values a sort gives); [0, 1] when
+ * no copy can be allocated.
+ * Thread-safe. */
 void sea_png_range(const float *data, size_t n, double clip, double *lo, double *hi);
+
+/* ------------------------------------------------------------ tone curves */
+
+/* The grey level of the knee of a tone curve, as a fraction of white. */
+#define SEA_PNG_KNEE_GREY 0.8
+
+/* A tone curve from values to grey in [0, 1], two linear ramps: from lo
+ * (black) to knee (grey G = SEA_PNG_KNEE_GREY), and from knee to hi
+ * (white), gentler, for a hot tail (a sun glint):
+ *   g = G (v - lo) / (knee - lo)                     lo <= v <= knee
+ *   g = G + (1 - G) (v - knee) / (hi - knee)         knee <= v <= hi
+ * Values outside [lo, hi] clamp.  knee == hi is one ramp from lo to hi
+ * (sea_png_tone_make makes it so whenever the upper ramp would be the
+ * steeper, hi <= lo + (knee - lo) / G).  Linear in the value on each ramp,
+ * so grey differences read as value differences, at two scales. */
+typedef struct {
+    double lo, knee, hi;
+} sea_png_tone;
+
+/* The curve through lo, knee, hi (lo < hi, finite; lo < knee; knee >= hi
+ * or NaN: one ramp).  SEA_ERR_DOMAIN otherwise.  Thread-safe. */
+sea_status sea_png_tone_make(double lo, double knee, double hi, sea_png_tone *tone,
+                             sea_error *err);
+/* A linear curve, lo to hi (as sea_png_tone_make(lo, NAN, hi)). */
+sea_status sea_png_tone_linear(double lo, double hi, sea_png_tone *tone, sea_error *err);
+/* The automatic curve of the finite values of data (n of them): lo the
+ * 0.5 % quantile, hi the maximum, knee = 2 median - lo (the median
+ * mirrored about the black point: the top of the bulk of a scene whose
+ * hot tail, a sun glint, covers less than half of it), one ramp to hi when
+ * the tail is short (see sea_png_tone); a median equal to lo (more than half
+ * the image at its coldest value) puts the knee at the 99.5 % quantile.  A
+ * constant image gets lo, hi = v -/+ 0.5 (or |v|/2).  Quantiles are order
+ * statistics (index floor(p (m - 1)) of the m sorted finite values) found
+ * by selection, O(m).  Thread-safe (selects in a copy; with no memory,
+ * the linear [0, 1]). */
+void sea_png_tone_auto(const float *data, size_t n, sea_png_tone *tone);
+/* The grey of value v, in [0, 1] (NaN: 0). */
+double sea_png_tone_map(const sea_png_tone *tone, double v);
+
+/* Order statistics of the finite values of data (n of them): q[i] = the
+ * value at index floor(p[i] (m - 1)) of the m finite values sorted
+ * ascending, p[i] in [0, 1] (clamped); NaN when there are none.  Found by
+ * selection (quickselect in a copy), O(m) on average: the same values a
+ * sort gives.  Returns m, or (size_t)-1 without memory (q all NaN).
+ * Thread-safe. */
+size_t sea_png_quantiles(const float *data, size_t n, const double *p, size_t np, double *q);
+
+/* ------------------------------------------------------------------ text */
+
+/* A tEXt chunk: key 1 to 79 printable Latin-1 characters, value text. */
+typedef struct {
+    const char *key, *value;
+} sea_png_text;
+
+/* As sea_png_write_gray, through a tone curve, with n_text tEXt chunks. */
+sea_status sea_png_write_toned(const char *path, int width, int height, const float *data,
+                               const sea_png_tone *tone, int bits, const sea_png_text *text,
+                               size_t n_text, sea_error *err);
+
+/* Writes an 8- or 16-bit RGB PNG: rgb holds width x height pixels of three
+ * values each (R, G, B, row 0 at the top), in [0, 1] (clamped; NaN
+ * refused), stored linearly with gAMA 1.0 as the grey previews; n_text tEXt
+ * chunks.  Atomic and thread-safe as sea_png_write_gray. */
+sea_status sea_png_write_rgb(const char *path, int width, int height, const float *rgb, int bits,
+                             const sea_png_text *text, size_t n_text, sea_error *err);
 
 #endif /* SEABAKE_PREVIEW_H */

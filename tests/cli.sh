@@ -1003,6 +1003,19 @@ if have exrheader openexr; then
     done
 fi
 check_eq render.no_temporary "$(render_files '*.tmp.*')" 0
+# Previews: the main one and each AOV's beside its EXR, grey but the level
+# (RGB, a palette per facet size, recorded); the tone curve recorded.
+check_eq render.png_grey "$(png_color_type "$RDIR/out.png")" 0
+check_eq render.aov_png_level_rgb "$(png_color_type "$RDIR/out.level.png")" 2
+for a in emissivity reflectivity temperature; do
+    check_eq "render.aov_png_grey.$a" "$(png_color_type "$RDIR/out.$a.png")" 0
+done
+check_match render.aov_png_palette "$(png_text "$RDIR/out.level.png" seabake:palette)" \
+    '^[0-9.]+ m #[0-9a-f]{6}(, [0-9.]+ m( \(LR\))? #[0-9a-f]{6})*$'
+check_match render.png_tone "$(png_text "$RDIR/out.png" seabake:tone)" \
+    '^brightness temperature: linear [0-9.]+ K black'
+check_eq render.aov_png_temperature_same "$(png_text "$RDIR/out.temperature.png" seabake:tone)" \
+    "$(png_text "$RDIR/out.png" seabake:tone)"
 
 # The same scene gives the same bytes, whatever the thread count.
 sb_run render "$RSCENE" -o "$RDIR/again.exr" --threads 1 --quiet
@@ -1027,6 +1040,14 @@ check_eq render.png_depth_16 "$(od -An -tu1 -j24 -N1 "$RDIR/preview16.png" | tr 
 check render.png_named_not_default test ! -e "$RDIR/deep.png"
 sb_run render "$RSCENE" -o "$RDIR/half.exr" --format half --aov level --png none --quiet
 check_rc render.half_rc 0
+check render.aov_png_none test ! -e "$RDIR/half.level.png"
+# --png-range: one linear ramp, LO black, HI white, for the temperatures.
+sb_run render "$RSCENE" -o "$RDIR/fixed.exr" --png-range 250:320.5 --aov temperature --quiet
+check_rc render.png_range_rc 0
+check_eq render.png_range_text "$(png_text "$RDIR/fixed.png" seabake:range_K)" "250:320.5"
+check_eq render.png_range_tone "$(png_text "$RDIR/fixed.png" seabake:tone)" \
+    "brightness temperature: linear 250 K black to 320.5 K white"
+check_eq render.png_range_aov "$(png_text "$RDIR/fixed.temperature.png" seabake:range_K)" "250:320.5"
 if have exrheader openexr; then
     check_match render.half_channel "$(exrheader "$RDIR/half.exr" 2>&1)" "Y, 16-bit floating-point"
     check_match render.half_level_stays_float "$(exrheader "$RDIR/half.level.exr" 2>&1)" \
@@ -1041,10 +1062,21 @@ for f in 0000 0001; do
     check_eq "render.frame_aov.$f" "$(magic "$RDIR/anim_$f.level.exr" 4)" "762f3101"
     check_eq "render.frame_png.$f" "$(magic "$RDIR/anim_$f.png" 8)" "89504e470d0a1a0a"
 done
-check_eq render.frames_count "$(render_files 'anim*')" 6
+check_eq render.frames_count "$(render_files 'anim*')" 8
 check render.frame_time grep -qaF "0.04" "$RDIR/anim_0001.exr"
 check render.frame_attr grep -qa "seabake:frame" "$RDIR/anim_0001.exr"
 check render.frames_differ absent cmp -s "$RDIR/anim_0000.exr" "$RDIR/anim_0001.exr"
+# One tone curve per run, from the first frame: frame 1's preview carries
+# frame 0's range, which frame 1 alone would not give.
+r0=$(png_text "$RDIR/anim_0000.png" seabake:range_K)
+check_match render.frame_range_text "$r0" '^[0-9.e+-]+:[0-9.e+-]+$'
+check_eq render.frames_share_range "$(png_text "$RDIR/anim_0001.png" seabake:range_K)" "$r0"
+check_eq render.frames_share_tone "$(png_text "$RDIR/anim_0001.png" seabake:tone)" \
+    "$(png_text "$RDIR/anim_0000.png" seabake:tone)"
+check_eq render.frames_share_palette "$(png_text "$RDIR/anim_0001.level.png" seabake:palette)" \
+    "$(png_text "$RDIR/anim_0000.level.png" seabake:palette)"
+sb_run render "$RSCENE" -o "$RDIR/alone.exr" --frames 1:1 --quiet
+check render.frame_alone_differs [ "$(png_text "$RDIR/alone_0001.png" seabake:range_K)" != "$r0" ]
 sb_run render "$RSCENE" -o "$RDIR/slow.exr" --frames 3:3 --frame-rate 10 --png none --quiet
 check render.frame_rate grep -qaF "0.3" "$RDIR/slow_0003.exr"
 if have exrheader openexr; then
@@ -1141,6 +1173,22 @@ render_usage render.png_extension "--png: '.*bad.jpg' must end in .png" \
 render_usage render.png_depth "--png-depth: 12 is not 8 or 16" "$RSCENE" -o "$RDIR/bad.exr" --png-depth 12
 render_usage render.png_depth_none "--png-depth applies only to a preview" \
     "$RSCENE" -o "$RDIR/bad.exr" --png none --png-depth 16
+render_usage render.png_range_zero "--png-range: 0 is outside \(0, 10000\] K" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png-range 0:300
+render_usage render.png_range_high "--png-range: 20000 is outside \(0, 10000\] K" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png-range 200:20000
+render_usage render.png_range_order "--png-range: '300:200': LO must be below HI" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png-range 300:200
+render_usage render.png_range_equal "--png-range: '300:300': LO must be below HI" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png-range 300:300
+render_usage render.png_range_form "--png-range: '300' is not LO:HI \(kelvin, 0 < LO < HI <= 10000\)" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png-range 300
+render_usage render.png_range_inf "--png-range: inf is not a finite number" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png-range 250:inf
+render_usage render.png_range_nan "--png-range: 'nan' is not a number" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png-range nan:300
+render_usage render.png_range_none "--png-range applies only to a preview" \
+    "$RSCENE" -o "$RDIR/bad.exr" --png none --png-range 250:300
 render_usage render.frames_form "--frames: expected A:B" "$RSCENE" -o "$RDIR/bad.exr" --frames 3
 render_usage render.frames_backwards "--frames: '3:1' runs backwards" "$RSCENE" -o "$RDIR/bad.exr" --frames 3:1
 render_usage render.frames_integer "--frames: '0.5:2' must hold integers" \
@@ -1341,6 +1389,38 @@ for l in $hr; do
     done
 done
 l0=${hr%% *}
+# Previews: normal and roughness in colour (roughness on an absolute scale:
+# hue rotation, saturation anisotropy, value roughness; one value per level
+# with variable-step, the default, but not a flat mid grey), the others grey
+# with one range per quantity for every level.
+for l in $hr; do
+    check_eq "bake.normal_png_rgb.$l" "$(png_color_type "$BDIR/out/normal_$l.png")" 2
+    check_eq "bake.roughness_png_rgb.$l" "$(png_color_type "$BDIR/out/roughness_$l.png")" 2
+    for g in moments moments2 optics emission; do
+        check_eq "bake.png_grey.${g}_$l" "$(png_color_type "$BDIR/out/${g}_$l.png")" 0
+        check_eq "bake.png_range_shared.${g}_$l" "$(png_text "$BDIR/out/${g}_$l.png" seabake:range)" \
+            "$(png_text "$BDIR/out/${g}_$l0.png" seabake:range)"
+    done
+done
+check_match bake.png_range_moments "$(png_text "$BDIR/out/moments_$l0.png" seabake:range)" \
+    '^-([0-9.e+-]+):\1$'
+check_match bake.png_tone_roughness "$(png_text "$BDIR/out/roughness_$l0.png" seabake:tone)" \
+    "value = roughness, absolute"
+if have python3 python3; then
+    # the first pixel of the roughness preview (filter byte, then R G B)
+    px=$(python3 -c '
+import struct, sys, zlib
+d = open(sys.argv[1], "rb").read()
+i, idat = 8, b""
+while i < len(d):
+    n, t = struct.unpack(">I4s", d[i:i + 8])
+    if t == b"IDAT":
+        idat += d[i + 8:i + 8 + n]
+    i += 12 + n
+print(" ".join(str(b) for b in zlib.decompress(idat)[1:4]))' "$BDIR/out/roughness_$l0.png")
+    check_match bake.roughness_not_mid_grey "$px" '^[0-9]+ [0-9]+ [0-9]+$'
+    check bake.roughness_not_mid_grey [ "$px" != "128 128 128" ]
+fi
 # Channels: R,G,B,A FLOAT for a 4-quantity group; RGB only for emission
 # (name, NUL, pixel type 2 = FLOAT, pLinear 0).
 check_match bake.float_channels "$(exr_header "$BDIR/out/optics_$l0.exr")" "410002000000.*520002000000"

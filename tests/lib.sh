@@ -208,6 +208,36 @@ have() {
     return 1
 }
 
+# png_color_type FILE: the colour type of a PNG (byte 25: 0 grey, 2 RGB).
+png_color_type() {
+    od -An -tu1 -j25 -N1 "$1" 2>/dev/null | tr -d ' '
+}
+
+# png_text FILE KEY: the text of the PNG's tEXt chunk KEY (empty if none).
+png_text() {
+    local keyhex
+    keyhex=$(printf '%s' "$2" | od -An -v -tx1 | tr -d ' \n')
+    od -An -v -tx1 "$1" 2>/dev/null | tr -d ' \n' | awk -v k="$keyhex" '
+        function hexval(h,   i, v) {
+            v = 0
+            for (i = 1; i <= length(h); i++)
+                v = v * 16 + index("0123456789abcdef", substr(h, i, 1)) - 1
+            return v
+        }
+        {
+            p = index($0, "74455874" k "00")
+            if (p < 9)
+                exit
+            n = hexval(substr($0, p - 8, 8)) - length(k) / 2 - 1
+            v = substr($0, p + 8 + length(k) + 2, 2 * n)
+            out = ""
+            for (i = 1; i <= length(v); i += 2)
+                out = out sprintf("%c", hexval(substr(v, i, 2)))
+            print out
+        }'
+}
+
+
 # finish: prints the summary line; non-zero exit on any failure or no check.
 finish() {
     printf '%s: %d passed, %d failed\n' "$TEST_NAME" "$SB_PASSED" "$SB_FAILED"

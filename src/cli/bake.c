@@ -4,8 +4,8 @@
  * One prepare (as render), then one sea_bake_frame per frame.  Each
  * high-resolution clipmap level l gets, per frame, single-part scanline EXR
  * files of plain R, G, B(, A) channels named <quantity>_<l>[_<frame>].exr
- * (see BAKE_GROUPS) and an 8-bit PNG preview of each file's first quantity
- * (radiance for optics and emission).  Low-resolution levels get no files:
+ * (see BAKE_GROUPS) and an 8-bit PNG preview of each (see bake_previews:
+ * one mapping per quantity for every level and frame of a bake).  Low-resolution levels get no files:
  * their constants are in manifest.json, which also places every map in the
  * world (JSON through cJSON; the library stays JSON-free).
  *
@@ -123,6 +123,9 @@ static const char BAKE_HELP[] =
     "  emission_<l>   RGB radiance x scale of what the sensor sees (the moments\n"
     "                 seabake render reads there), K x K texels per facet (RGB\n"
     "                 only, for POV-Ray and Blender)\n"
+    "Previews: one mapping per quantity for all levels and frames; normal in\n"
+    "colour as stored, roughness in colour on an absolute scale (value\n"
+    "roughness, saturation anisotropy, hue 2 x rotation); seabake(1), BAKE.\n"
     "Row 0 is the north edge.  Low-resolution levels get no maps; manifest.json\n"
     "lists every level (facet size, origin, extent, texels, files, channels,\n"
     "units), the scene, the sensor, seed, times and the emission scale.  DIR is\n"
@@ -212,6 +215,37 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     return SEA_OK;
 }
 
+/* -------------------------------------------------------------- previews */
+
+/* The mapping of each group's preview, one for every level and frame of a
+ * bake, so that levels and frames compare: set from the first frame's
+ * texels of every high-resolution level (at most BAKE_PREVIEW_SAMPLES of
+ * them, evenly strided).  moments (mx) and moments2 (mx my + C_xy): grey,
+ * linear, symmetric about 0 (mid grey), +-the 99.5 % quantile of |value|;
+ * optics (radiance) and emission: grey, the tone curve of render's
+ * preview (sea_png_tone_auto); normal: RGB = the map's (n + 1) / 2 as
+ * stored; roughness: colour on an absolute scale, hue = 2 x rotation (the
+ * major axis, a half turn around the colour wheel), saturation =
+ * anisotropy, value = roughness (clamped to [0, 1]). */
+enum { BAKE_PREVIEW_SAMPLES = 1 << 22 };
+typedef struct {
+    sea_png_tone tone[BAKE_N_GROUPS];
+    char range[BAKE_N_GROUPS][64], text[BAKE_N_GROUPS][160];
+} bake_previews;
+
+static void hsv_rgb(double h, double sat, double v, float rgb[3])
+{
+    h = 6.0 * (h - floor(h));
+    sat = sat < 0.0 ? 0.0 : sat > 1.0 ? 1.0 : sat;
+    v = v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v;
+    const int i = (int)h % 6;
+    const double f = h - floor(h), p = v * (1 - sat), q = v * (1 - sat * f),
+                 t = v * (1 - sat * (1 - f));
+    const double c[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)c[i][k];
+}
+
 /* ------------------------------------------------------------------ maps */
 
 static double texel_value(const sea_bake_level *bl, size_t q, bake_quantity k, double scale)
@@ -272,9 +306,43 @@ static const char *quantity_unit(const sea_scene *sc, bake_quantity k)
 
 /* Every file of one level and frame into tmp; the manifest entry of the
  * frame (file names) into files. */
+/* The preview of group g (its channels in ch) to path. */
+static sea_status write_preview(const char *path, size_t g, size_t width, size_t height,
+                                const sea_exr_channel *ch, const bake_previews *pv,
+                                sea_error *err)
+{
+    const bake_quantity q0 = BAKE_GROUPS[g].q[0];
+    const size_t n = width * height;
+    if (q0 == Q_NX || q0 == Q_ROUGHNESS) {
+        float *rgb = malloc(3 * n * sizeof *rgb);
+        if (rgb == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        for (size_t i = 0; i < n; i++) {
+            if (q0 == Q_NX)
+                for (int c = 0; c < 3; c++)
+                    rgb[3 * i + c] = ch[c].data[i];
+            else
+                hsv_rgb(2.0 * ch[2].data[i], ch[1].data[i], ch[0].data[i], rgb + 3 * i);
+        }
+        const sea_png_text text[] = {
+            {"seabake:quantity", BAKE_GROUPS[g].name},
+            {"seabake:tone", q0 == Q_NX ? "RGB = (n + 1) / 2 as stored in the map"
+                                        : "hue = 2 rotation (turns), saturation = anisotropy, "
+                                          "value = roughness, absolute [0, 1]"}};
+        sea_status st = sea_png_write_rgb(path, (int)width, (int)height, rgb, 8, text, 2, err);
+        free(rgb);
+        return st;
+    }
+    const sea_png_text text[] = {{"seabake:quantity", BAKE_Q[BAKE_GROUPS[g].q[BAKE_GROUPS[g].preview]].name},
+                                 {"seabake:range", pv->range[g]},
+                                 {"seabake:tone", pv->text[g]}};
+    return sea_png_write_toned(path, (int)width, (int)height, ch[BAKE_GROUPS[g].preview].data,
+                               &pv->tone[g], 8, text, 3, err);
+}
+
 static sea_status write_level(const bake_setup *s, const char *tmp, const sea_bake_level *bl,
                               long frame, double t, double scale, float *buf[GROUP_CH_MAX],
-                              cJSON *files, sea_error *err)
+                              const bake_previews *pv, cJSON *files, sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
     char level_s[16], frame_s[32], time_s[32], facet_s[32], scale_s[32];
@@ -323,13 +391,8 @@ static sea_status write_level(const bake_setup *s, const char *tmp, const sea_ba
         } else {
             st = sea_exr_write(exr_path, (int)width, (int)height, ch, BAKE_GROUPS[g].n, attrs,
                                n_attrs, &s->exr, err);
-            if (st == SEA_OK) {
-                double lo, hi;
-                const float *shown = buf[BAKE_GROUPS[g].preview];
-                sea_png_range(shown, n, SEA_CLI_PNG_CLIP, &lo, &hi);
-                st = sea_png_write_gray(png_path, (int)width, (int)height, shown, lo, hi, 8,
-                                        err);
-            }
+            if (st == SEA_OK)
+                st = write_preview(png_path, g, width, height, ch, pv, err);
             if (st == SEA_OK) {
                 cJSON *f = cJSON_AddObjectToObject(files, BAKE_GROUPS[g].name);
                 if (f == NULL || !cJSON_AddStringToObject(f, "exr", exr_name) ||
@@ -742,6 +805,64 @@ static int bake_progress_compute(void *ctx, double fraction)
     return sea_cli_interrupted() != 0;
 }
 
+/* Every group's preview mapping, from the first frame (see bake_previews). */
+static sea_status previews_setup(const sea_bake *b, double scale, bake_previews *pv,
+                                 sea_error *err)
+{
+    float *v = malloc(BAKE_PREVIEW_SAMPLES * sizeof *v);
+    if (v == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the preview ranges");
+    for (size_t g = 0; g < BAKE_N_GROUPS; g++) {
+        const bake_quantity k = BAKE_GROUPS[g].q[BAKE_GROUPS[g].preview];
+        sea_png_tone *t = &pv->tone[g];
+        snprintf(pv->range[g], sizeof pv->range[g], "absolute");
+        snprintf(pv->text[g], sizeof pv->text[g], "see seabake(1), BAKE");
+        sea_png_tone_linear(0.0, 1.0, t, NULL);
+        if (k == Q_NX || k == Q_ROUGHNESS)
+            continue; /* RGB on absolute scales */
+        size_t total = 0, m = 0;
+        for (size_t l = 0; l < b->n_levels; l++)
+            if (!b->levels[l].level.low_res)
+                total += b->levels[l].level.nx * b->levels[l].level.ny *
+                         (k == Q_EMISSION ? b->levels[l].view_k * b->levels[l].view_k : 1);
+        const size_t stride = total / BAKE_PREVIEW_SAMPLES + 1;
+        size_t at = 0; /* index into the levels' texels, one after another */
+        for (size_t l = 0; l < b->n_levels; l++) {
+            const sea_bake_level *bl = &b->levels[l];
+            if (bl->level.low_res)
+                continue;
+            const size_t n = bl->level.nx * bl->level.ny *
+                             (k == Q_EMISSION ? bl->view_k * bl->view_k : 1);
+            size_t q = (stride - at % stride) % stride;
+            for (; q < n && m < BAKE_PREVIEW_SAMPLES; q += stride)
+                v[m++] = (float)texel_value(bl, q, k, scale);
+            at += n;
+        }
+        if (k == Q_RADIANCE || k == Q_EMISSION) {
+            sea_png_tone_auto(v, m, t);
+        } else {
+            /* slopes: symmetric about 0 */
+            static const double p[2] = {0.005, 0.995};
+            double qv[2];
+            sea_png_quantiles(v, m, p, 2, qv);
+            double a = fmax(fabs(qv[0]), fabs(qv[1]));
+            if (!(a > 0.0) || !isfinite(a))
+                a = 1.0;
+            sea_png_tone_linear(-a, a, t, NULL);
+        }
+        snprintf(pv->range[g], sizeof pv->range[g], "%.6g:%.6g", t->lo, t->hi);
+        if (t->knee < t->hi)
+            snprintf(pv->text[g], sizeof pv->text[g],
+                     "%s: linear %.6g black, %.6g %.0f %% grey; linear to %.6g white", BAKE_Q[k].name,
+                     t->lo, t->knee, 100.0 * SEA_PNG_KNEE_GREY, t->hi);
+        else
+            snprintf(pv->text[g], sizeof pv->text[g], "%s: linear %.6g black to %.6g white",
+                     BAKE_Q[k].name, t->lo, t->hi);
+    }
+    free(v);
+    return SEA_OK;
+}
+
 static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
                            bake_stats *stats, sea_error *err)
 {
@@ -765,6 +886,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     }
     cJSON *manifest = NULL;
     double scale = 1.0;
+    bake_previews pv;
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
     memset(stats, 0, sizeof *stats);
     bake_progress prog = {{"bake", 0, (size_t)(last - first + 1), -1},
@@ -789,6 +911,8 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             manifest = manifest_json(s, r, &b, scale);
             if (manifest == NULL)
                 st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+            else
+                st = previews_setup(&b, scale, &pv, err);
         }
         if (st == SEA_OK) {
             cJSON *fr = cJSON_CreateObject();
@@ -806,8 +930,9 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             cJSON *files = cJSON_AddObjectToObject(entry, "files");
             cJSON_AddItemToArray(cJSON_GetObjectItem(cJSON_GetArrayItem(levels, (int)l), "frames"),
                                  entry);
-            st = sea_cli_interrupted() != 0 ? bake_interrupted(err)
-                                  : write_level(s, tmp, &b.levels[l], f, t, scale, buf, files, err);
+            st = sea_cli_interrupted() != 0
+                     ? bake_interrupted(err)
+                     : write_level(s, tmp, &b.levels[l], f, t, scale, buf, &pv, files, err);
             stats->texels += b.levels[l].level.nx * b.levels[l].level.ny;
             if (prog.on)
                 sea_cli_progress_bar(&prog.bar, COMPUTE_SHARE + (1.0 - COMPUTE_SHARE) *

@@ -186,6 +186,8 @@ sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *e
 /* The range of the PNG previews of render and bake: the 0.5 % and 99.5 %
  * quantiles, so that a few glint pixels do not flatten the rest. */
 #define SEA_CLI_PNG_CLIP 0.005
+/* render --png-range LO:HI: kelvin, 0 < LO < HI <= this. */
+#define SEA_CLI_PNG_RANGE_MAX 10000.0
 sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, long *b,
                               double *rate, sea_error *err);
 

@@ -4,8 +4,10 @@
  * One prepare (camera, levels, spectral samples, wave plan), then one
  * sea_render_frame per frame; each frame writes the radiance to OUT.exr
  * (channel Y), the requested AOVs to OUT.<aov>.exr and a brightness
- * temperature preview to OUT.png, with a frame suffix (OUT_0001.exr) when
- * --frames is given.
+ * temperature preview to OUT.png (each AOV its own OUT.<aov>.png), with a
+ * frame suffix (OUT_0001.exr) when --frames is given.  The previews' tone
+ * curves are fixed by the first frame (or --png-range), so a sequence
+ * does not flicker.
  *
  * Every option is checked, and the scene file read, before any work; the
  * output directories are checked before the (long) rendering.  The
@@ -63,10 +65,16 @@ static const char RENDER_HELP[] =
     "  --aov LIST          comma list of level (facet size, m; 0 for the sky),\n"
     "                      emissivity, reflectivity (sr^-1), temperature\n"
     "                      (brightness, K): each to OUT.<aov>.exr, channel Y\n"
-    "  --png FILE.png      the preview (brightness temperature, linear between the\n"
-    "                      0.5 % and 99.5 % quantiles); default OUT.png; none: no\n"
-    "                      preview\n"
-    "  --png-depth D       bits per pixel of the preview, 8 (default) or 16\n"
+    "  --png FILE.png      the preview of the brightness temperature; default\n"
+    "                      OUT.png; none: no previews at all.  Grey, two linear\n"
+    "                      ramps: the 0.5 % quantile black, knee K = 2 median -\n"
+    "                      that 80 % grey, the maximum white (one ramp when the\n"
+    "                      hot tail is short), all from the first frame; each\n"
+    "                      AOV gets OUT.<aov>.png (level in colour, one hue per\n"
+    "                      facet size, sky black)\n"
+    "  --png-range LO:HI   kelvin, 0 < LO < HI <= 10000: one linear ramp instead,\n"
+    "                      LO black, HI white (the temperature previews)\n"
+    "  --png-depth D       bits per sample of the previews, 8 (default) or 16\n"
     "  --format F          float (default) or half channels (the level AOV stays\n"
     "                      float)\n"
     "  --compression C     none, zip (default) or piz\n"
@@ -107,6 +115,8 @@ typedef struct {
     const char *out_ext, *png_ext;
     bool png;
     int png_depth;
+    bool png_range; /* --png-range given: png_lo:png_hi, K */
+    double png_lo, png_hi;
     bool aov[AOV_COUNT];
     bool framed;
     long frame_a, frame_b;
@@ -148,6 +158,35 @@ static sea_status parse_aovs(const char *text, bool aov[AOV_COUNT], sea_error *e
     }
 }
 
+/* --png-range LO:HI, kelvin, 0 < LO < HI <= SEA_CLI_PNG_RANGE_MAX. */
+static sea_status parse_png_range(const sea_cli_args *args, render_setup *s, sea_error *err)
+{
+    const char *text = sea_cli_args_get(args, "png-range");
+    if (text == NULL)
+        return SEA_OK;
+    if (!s->png)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--png-range applies only to a preview, not --png none");
+    static const sea_cli_range kelvin = {0.0, SEA_CLI_PNG_RANGE_MAX, true, false, "K"};
+    const char *colon = strchr(text, ':');
+    char lo_s[64];
+    if (colon == NULL || strchr(colon + 1, ':') != NULL || (size_t)(colon - text) >= sizeof lo_s)
+        return sea_fail(err, SEA_ERR_PARSE,
+                        "--png-range: '%s' is not LO:HI (kelvin, 0 < LO < HI <= %g)", text,
+                        SEA_CLI_PNG_RANGE_MAX);
+    snprintf(lo_s, sizeof lo_s, "%.*s", (int)(colon - text), text);
+    sea_status st;
+    if ((st = sea_cli_parse_number("--png-range", lo_s, &kelvin, &s->png_lo, err)) != SEA_OK ||
+        (st = sea_cli_parse_number("--png-range", colon + 1, &kelvin, &s->png_hi, err)) != SEA_OK)
+        return st;
+    if (!(s->png_lo < s->png_hi))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--png-range: '%s': LO must be below HI (kelvin, 0 < LO < HI <= %g)",
+                        text, SEA_CLI_PNG_RANGE_MAX);
+    s->png_range = true;
+    return SEA_OK;
+}
+
 /* The default output: the scene file's base name, its extension replaced
  * by .exr, in the current directory. */
 static char *default_stem(const char *scene_path)
@@ -184,6 +223,8 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "--png-depth applies only to a preview, not --png none");
     s->png_depth = (int)depth;
+    if ((st = parse_png_range(args, s, err)) != SEA_OK)
+        return st;
     const char *aov = sea_cli_args_get(args, "aov");
     if (aov != NULL && (st = parse_aovs(aov, s->aov, err)) != SEA_OK)
         return st;
@@ -261,16 +302,156 @@ static void levels_text(const sea_render *r, char *buf, size_t size)
     }
 }
 
+/* -------------------------------------------------------------- previews */
+
+/* The previews' mappings, fixed by the first frame (or --png-range) for
+ * the whole run, so that a sequence does not flicker. */
+typedef struct {
+    bool ready;
+    sea_png_tone tone[AOV_COUNT]; /* AOV_TEMPERATURE also the main preview */
+    char text[AOV_COUNT][160];    /* the tEXt "seabake:tone" of each */
+    char range[AOV_COUNT][64];    /* the tEXt "seabake:range[_K]": LO:HI */
+    const sea_clip_level *levels; /* the level AOV's palette */
+    size_t n_levels;
+    char palette[SEA_CLIP_MAX_LEVELS * 32];
+} render_previews;
+
+/* The colour of facet size f (m) in the level preview, in [0, 1]: hue =
+ * the fractional part of 0.618034 log2(f / 1 m) turns (the golden ratio:
+ * successive sizes far apart on the colour wheel; 1 m red), saturation
+ * 0.85, value 1; a low-resolution level in stripes of that colour and
+ * grey 0.4 (low_res; x + y picks the stripe); the sky (0) black. */
+static void level_colour(double f, bool low_res, int x, int y, float rgb[3])
+{
+    if (!(f > 0.0)) {
+        rgb[0] = rgb[1] = rgb[2] = 0.0f;
+        return;
+    }
+    if (low_res && ((x + y) / 4) % 2 == 1) {
+        rgb[0] = rgb[1] = rgb[2] = 0.4f;
+        return;
+    }
+    const double turns = 0.6180339887498949 * log2(f);
+    const double h = 6.0 * (turns - floor(turns)), s = 0.85, v = 1.0;
+    const int i = (int)h % 6;
+    const double fr = h - floor(h), p = v * (1 - s), q = v * (1 - s * fr), t = v * (1 - s * (1 - fr));
+    const double c[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)c[i][k];
+}
+
+/* The tone curve of one grey AOV (or the main preview: AOV_TEMPERATURE)
+ * from the first frame: temperature over every pixel (or --png-range),
+ * emissivity and reflectivity over the sea pixels (the sky has 0). */
+static sea_status preview_tone(const render_setup *s, const sea_image *img, int k,
+                               render_previews *pv, sea_error *err)
+{
+    const size_t npix = (size_t)img->width * (size_t)img->height;
+    sea_png_tone *t = &pv->tone[k];
+    const bool kelvin = k == AOV_TEMPERATURE;
+    if (kelvin && s->png_range) {
+        sea_png_tone_linear(s->png_lo, s->png_hi, t, NULL);
+    } else if (kelvin) {
+        sea_png_tone_auto(img->temperature, npix, t);
+    } else {
+        const float *plane = k == AOV_EMISSIVITY ? img->emissivity : img->reflectivity;
+        float *sea = malloc((npix > 0 ? npix : 1) * sizeof *sea);
+        if (sea == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        size_t m = 0;
+        for (size_t q = 0; q < npix; q++)
+            if (img->level[q] > 0.0f)
+                sea[m++] = plane[q];
+        sea_png_tone_auto(sea, m, t);
+        free(sea);
+    }
+    const char *unit = kelvin ? " K" : "";
+    if (t->knee < t->hi)
+        snprintf(pv->text[k], sizeof pv->text[k],
+                 "%s: linear %.6g%s black, %.6g%s %.0f %% grey; linear to %.6g%s white",
+                 RENDER_AOVS[k].quantity, t->lo, unit, t->knee, unit, 100.0 * SEA_PNG_KNEE_GREY,
+                 t->hi, unit);
+    else
+        snprintf(pv->text[k], sizeof pv->text[k], "%s: linear %.6g%s black to %.6g%s white",
+                 RENDER_AOVS[k].quantity, t->lo, unit, t->hi, unit);
+    snprintf(pv->range[k], sizeof pv->range[k], "%.6g:%.6g", t->lo, t->hi);
+    return SEA_OK;
+}
+
+/* Every mapping, from the first frame. */
+static sea_status previews_setup(const render_setup *s, const sea_image *img,
+                                 render_previews *pv, sea_error *err)
+{
+    sea_status st = SEA_OK;
+    for (int k = AOV_EMISSIVITY; k < AOV_COUNT && st == SEA_OK; k++)
+        if (k == AOV_TEMPERATURE || s->aov[k])
+            st = preview_tone(s, img, k, pv, err);
+    size_t used = 0;
+    pv->palette[0] = '\0';
+    for (size_t l = 0; l < pv->n_levels && used < sizeof pv->palette; l++) {
+        float c[3];
+        level_colour(pv->levels[l].facet, false, 0, 0, c);
+        int w = snprintf(pv->palette + used, sizeof pv->palette - used, "%s%.10g m%s #%02x%02x%02x",
+                         l ? ", " : "", pv->levels[l].facet, pv->levels[l].low_res ? " (LR)" : "",
+                         (unsigned)lround(255 * c[0]), (unsigned)lround(255 * c[1]),
+                         (unsigned)lround(255 * c[2]));
+        if (w < 0)
+            break;
+        used += (size_t)w;
+    }
+    pv->ready = st == SEA_OK;
+    return st;
+}
+
+/* The preview of AOV k (k < 0: the main preview) of one frame. */
+static sea_status write_preview(const render_setup *s, const sea_image *img, int k,
+                                const render_previews *pv, const char *path, sea_error *err)
+{
+    const int w = img->width, h = img->height;
+    if (k == AOV_LEVEL) {
+        const size_t npix = (size_t)w * (size_t)h;
+        float *rgb = malloc(3 * npix * sizeof *rgb);
+        if (rgb == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                const size_t q = (size_t)y * (size_t)w + (size_t)x;
+                const double f = img->level[q];
+                bool lr = false;
+                for (size_t l = 0; l < pv->n_levels; l++)
+                    if (fabs(pv->levels[l].facet - f) <= 1e-6 * f)
+                        lr = pv->levels[l].low_res != 0;
+                level_colour(f, lr, x, y, rgb + 3 * q);
+            }
+        const sea_png_text text[] = {{"seabake:quantity", RENDER_AOVS[k].quantity},
+                                     {"seabake:palette", pv->palette}};
+        sea_status st = sea_png_write_rgb(path, w, h, rgb, s->png_depth, text, 2, err);
+        free(rgb);
+        return st;
+    }
+    const int t = k < 0 ? AOV_TEMPERATURE : k;
+    const float *plane = t == AOV_EMISSIVITY     ? img->emissivity
+                         : t == AOV_REFLECTIVITY ? img->reflectivity
+                                                 : img->temperature;
+    const sea_png_text text[] = {{"seabake:quantity", RENDER_AOVS[t].quantity},
+                                 {t == AOV_TEMPERATURE ? "seabake:range_K" : "seabake:range",
+                                  pv->range[t]},
+                                 {"seabake:tone", pv->text[t]}};
+    return sea_png_write_toned(path, w, h, plane, &pv->tone[t], s->png_depth, text, 3, err);
+}
+
 /* ---------------------------------------------------------------- frames */
 
 /* Writes every file of one frame; on a failure removes those it wrote. */
 static sea_status write_frame(const render_setup *s, const sea_image *img, long frame, double t,
-                              const char *levels, sea_error *err)
+                              const char *levels, render_previews *pv, sea_error *err)
 {
     const sea_scene *sc = &s->sc;
-    char *written[2 + AOV_COUNT];
+    char *written[2 + 2 * AOV_COUNT];
     size_t n_written = 0;
-    sea_status st = SEA_OK;
+    sea_status st = s->png && !pv->ready ? previews_setup(s, img, pv, err) : SEA_OK;
+    if (st != SEA_OK)
+        return st;
     char time_s[32], seed[32], frame_s[32];
     snprintf(time_s, sizeof time_s, "%.10g", t);
     snprintf(seed, sizeof seed, "%lu", sc->seed);
@@ -318,17 +499,25 @@ static sea_status write_frame(const render_setup *s, const sea_image *img, long 
             written[n_written++] = path;
         else
             free(path);
+        /* its preview beside it: OUT.<aov>.png */
+        if (st != SEA_OK || !s->png)
+            continue;
+        if ((path = frame_path(s->out_stem, s->framed, frame, middle, ".png")) == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+            break;
+        }
+        st = write_preview(s, img, k, pv, path, err);
+        if (st == SEA_OK)
+            written[n_written++] = path;
+        else
+            free(path);
     }
 
     if (st == SEA_OK && s->png) {
-        const size_t npix = (size_t)img->width * (size_t)img->height;
-        double lo, hi;
-        sea_png_range(img->temperature, npix, SEA_CLI_PNG_CLIP, &lo, &hi);
         if ((path = frame_path(s->png_stem, s->framed, frame, "", s->png_ext)) == NULL) {
             st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         } else {
-            st = sea_png_write_gray(path, img->width, img->height, img->temperature, lo, hi,
-                                    s->png_depth, err);
+            st = write_preview(s, img, -1, pv, path, err);
             if (st == SEA_OK)
                 written[n_written++] = path;
             else
@@ -398,6 +587,9 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
     render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1}, s->progress};
     const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
     double t_min = INFINITY, t_max = -INFINITY;
+    render_previews pv;
+    memset(&pv, 0, sizeof pv);
+    pv.n_levels = sea_render_levels(r, &pv.levels);
     long done = 0;
     for (long f = first; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
@@ -405,7 +597,7 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
         st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
         bool wrote = false;
         if (st == SEA_OK && sea_cli_interrupted() == 0) {
-            st = write_frame(s, &img, f, t, levels, err);
+            st = write_frame(s, &img, f, t, levels, &pv, err);
             wrote = st == SEA_OK;
         }
         /* a frame written before the signal was seen is complete: counted */
@@ -492,6 +684,7 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"format", 0},
     {"compression", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},
+    {"png-range", 0},
     {"threads", 0},
     {"tolerance", 0},
     {"quiet", SEA_CLI_OPT_FLAG},
