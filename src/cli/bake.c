@@ -5,8 +5,8 @@
  * high-resolution clipmap level l gets, per frame, single-part scanline EXR
  * files of plain R, G, B(, A) channels named <quantity>_<l>[_<frame>].exr
  * (see BAKE_GROUPS) and an 8-bit PNG preview of each (see bake_previews:
- * one mapping per quantity for every level and frame of a bake).  Low-resolution levels get no files:
- * their constants are in manifest.json, which also places every map in the
+ * one mapping per quantity for every level and frame of a bake).
+ * Low-resolution levels get no files: their constants are in manifest.json, which also places every map in the
  * world (JSON through cJSON; the library stays JSON-free).
  *
  * Atomic output.  Everything is written into a fresh sibling directory
@@ -333,7 +333,8 @@ static sea_status write_preview(const char *path, size_t g, size_t width, size_t
         free(rgb);
         return st;
     }
-    const sea_png_text text[] = {{"seabake:quantity", BAKE_Q[BAKE_GROUPS[g].q[BAKE_GROUPS[g].preview]].name},
+    const char *quantity = BAKE_Q[BAKE_GROUPS[g].q[BAKE_GROUPS[g].preview]].name;
+    const sea_png_text text[] = {{"seabake:quantity", quantity},
                                  {"seabake:range", pv->range[g]},
                                  {"seabake:tone", pv->text[g]}};
     return sea_png_write_toned(path, (int)width, (int)height, ch[BAKE_GROUPS[g].preview].data,
@@ -853,8 +854,8 @@ static sea_status previews_setup(const sea_bake *b, double scale, bake_previews 
         snprintf(pv->range[g], sizeof pv->range[g], "%.6g:%.6g", t->lo, t->hi);
         if (t->knee < t->hi)
             snprintf(pv->text[g], sizeof pv->text[g],
-                     "%s: linear %.6g black, %.6g %.0f %% grey; linear to %.6g white", BAKE_Q[k].name,
-                     t->lo, t->knee, 100.0 * SEA_PNG_KNEE_GREY, t->hi);
+                     "%s: linear %.6g black, %.6g %.0f %% grey; linear to %.6g white",
+                     BAKE_Q[k].name, t->lo, t->knee, 100.0 * SEA_PNG_KNEE_GREY, t->hi);
         else
             snprintf(pv->text[g], sizeof pv->text[g], "%s: linear %.6g black to %.6g white",
                      BAKE_Q[k].name, t->lo, t->hi);

@@ -334,7 +334,8 @@ static void level_colour(double f, bool low_res, int x, int y, float rgb[3])
     const double turns = 0.6180339887498949 * log2(f);
     const double h = 6.0 * (turns - floor(turns)), s = 0.85, v = 1.0;
     const int i = (int)h % 6;
-    const double fr = h - floor(h), p = v * (1 - s), q = v * (1 - s * fr), t = v * (1 - s * (1 - fr));
+    const double fr = h - floor(h), p = v * (1 - s), q = v * (1 - s * fr);
+    const double t = v * (1 - s * (1 - fr));
     const double c[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
     for (int k = 0; k < 3; k++)
         rgb[k] = (float)c[i][k];
