@@ -6,8 +6,9 @@
  * files of plain R, G, B(, A) channels named <quantity>_<l>[_<frame>].exr
  * (see BAKE_GROUPS) and an 8-bit PNG preview of each (see bake_previews:
  * one mapping per quantity for every level and frame of a bake).
- * Low-resolution levels get no files: their constants are in manifest.json, which also places every map in the
- * world (JSON through cJSON; the library stays JSON-free).
+ * Low-resolution levels get no files: their constants are in manifest.json,
+ * which also places every map in the world (JSON through cJSON; the library
+ * stays JSON-free).
  *
  * Atomic output.  Everything is written into a fresh sibling directory
  * DIR.tmp.XXXXXX (mkdtemp, same parent as DIR, so renames stay on one file
