@@ -116,7 +116,7 @@ static const double RAY_D_MIN = 0.05;
  * of their crests at four points or more); steps double while the ray
  * clears the height bounds under them. */
 static const double STEP_MIN_FACETS = 0.5;
-enum { STEP_START = 8, MARCH_ITER_MAX = 1 << 22, REFINE_ITER_MAX = 64 };
+enum { STEP_START = 8, MARCH_ITER_MAX = 1 << 22, REFINE_ITER_MAX = 64, GRAZE_ITER_MAX = 4 };
 /* A crossing is refined until the ray's height above the surface there is
  * this fraction of the finest step (1e-9 m on 1 m facets), or its bracket
  * along the ray shrinks below REFINE_REL_T of it: the point met then does
@@ -545,6 +545,22 @@ static int ray_t_at(const ray *r, double z, int near, double *t)
     return *t >= 0.0;
 }
 
+/* d/dt of the ray's height and map point at t (spherical: to first order
+ * in the angle from the nadir point, ample for locating a minimum). */
+static void ray_rate(const ray *r, double t, double *dz, double *dx, double *dy)
+{
+    double ds = r->dh; /* map distance per unit t */
+    *dz = r->d[2];
+    if (r->sphere) {
+        const double R = SEA_EARTH_RADIUS, pz = R + r->o[2] + t * r->d[2];
+        const double horiz = t * r->dh;
+        *dz = (horiz * r->dh + pz * r->d[2]) / sqrt(horiz * horiz + pz * pz);
+        ds = R * (r->dh * pz - horiz * r->d[2]) / (pz * pz + horiz * horiz);
+    }
+    *dx = ds * r->ux;
+    *dy = ds * r->uy;
+}
+
 /* ------------------------------------------------------------- surfaces */
 
 typedef struct {
@@ -631,6 +647,30 @@ static double chain_height(const sea_multires_frame *f, int l, double x, double 
     return z; /* the rest is the low-resolution level, at height 0 */
 }
 
+/* The same with the gradient of the chain's levels (weighted as the
+ * heights; the fades' own gradients, over bands of facets, are left out). */
+static double chain_height_grad(const sea_multires_frame *f, int l, double x, double y,
+                                double *gx, double *gy)
+{
+    const sea_multires *mr = f->mr;
+    double z = 0.0, rest = 1.0;
+    *gx = *gy = 0.0;
+    for (int q = l; q < mr->first_lr && rest > 0.0; q++) {
+        if (!mr->used[q])
+            continue;
+        const double w = edge_weight(&mr->lev[q], x, y);
+        if (w <= 0.0)
+            continue;
+        double sx, sy;
+        const double h = hf_eval(f->hf[q], x, y, &sx, &sy, NULL);
+        z += rest * w * h;
+        *gx += rest * w * sx;
+        *gy += rest * w * sy;
+        rest -= rest * w;
+    }
+    return z;
+}
+
 static void axpy(sea_moments *acc, double w, const sea_moments *m)
 {
     acc->mx += w * m->mx;
@@ -705,6 +745,22 @@ static double surf_height(const surface *s, double x, double y)
     double z = chain_height(s->f, s->b.level, x, y);
     if (s->b.neighbour >= 0 && s->b.alpha > 0.0)
         z = (1.0 - s->b.alpha) * z + s->b.alpha * chain_height(s->f, s->b.neighbour, x, y);
+    return z;
+}
+
+static double surf_height_grad(const surface *s, double x, double y, double *gx, double *gy)
+{
+    if (s->lone != NULL)
+        return hf_eval(s->lone, x, y, gx, gy, NULL);
+    double z = chain_height_grad(s->f, s->b.level, x, y, gx, gy);
+    if (s->b.neighbour >= 0 && s->b.alpha > 0.0) {
+        double nx, ny;
+        const double zn = chain_height_grad(s->f, s->b.neighbour, x, y, &nx, &ny);
+        const double a = s->b.alpha;
+        z = (1.0 - a) * z + a * zn;
+        *gx = (1.0 - a) * *gx + a * nx;
+        *gy = (1.0 - a) * *gy + a * ny;
+    }
     return z;
 }
 
@@ -797,13 +853,80 @@ static double refine(const surface *s, const ray *r, double a, double fa, double
     return b;
 }
 
+/* The ray's height above the surface at t, and its rate of change. */
+static double above(const surface *s, const ray *r, double t, double *rate)
+{
+    double x, y, z, dz, dx, dy, gx, gy;
+    ray_point(r, t, &x, &y, &z);
+    ray_rate(r, t, &dz, &dx, &dy);
+    const double h = surf_height_grad(s, x, y, &gx, &gy);
+    *rate = dz - gx * dx - gy * dy;
+    return z - h;
+}
+
+/* A step [a, b] at the finest scale over which the ray stays above the
+ * surface at both ends but comes down toward it and leaves again (fa' < 0 <
+ * fb'): the ray passes over a crest, and may graze it between the two
+ * samples.  The minimum of the ray's height above the surface is located
+ * from the cubic through the ends' values and rates, a few times over the
+ * shrinking bracket; returns 1 and *tc with f(tc) <= 0 when the ray dips
+ * under the crest there. */
+static int graze(const surface *s, const ray *r, double a, double fa, double da, double b,
+                 double fb, double db, double *tc, double *fc)
+{
+    for (int it = 0; it < GRAZE_ITER_MAX; it++) {
+        /* cubic Hermite of f on [a, b] in u = (t - a) / h; its derivative
+         * is the quadratic c1 + 2 c2 u + 3 c3 u^2 */
+        const double h = b - a, m0 = da * h, m1 = db * h;
+        const double c1 = m0, c2 = 3.0 * (fb - fa) - 2.0 * m0 - m1, c3 = 2.0 * (fa - fb) + m0 + m1;
+        double u = 0.5;
+        if (fabs(c3) > 1e-300) {
+            const double disc = c2 * c2 - 3.0 * c3 * c1;
+            if (disc >= 0.0) {
+                const double q = -(c2 + copysign(sqrt(disc), c2));
+                const double u1 = q / (3.0 * c3), u2 = q != 0.0 ? c1 / q : u1;
+                /* the root where the derivative goes from - to + */
+                u = (u1 > 0.0 && u1 < 1.0 && 2.0 * c2 + 6.0 * c3 * u1 > 0.0) ? u1 : u2;
+            }
+        } else if (c2 > 0.0) {
+            u = -c1 / (2.0 * c2);
+        }
+        if (!(u > 0.0 && u < 1.0))
+            u = 0.5;
+        const double t = a + u * h;
+        double d;
+        const double f = above(s, r, t, &d);
+        if (f <= 0.0) {
+            *tc = t;
+            *fc = f;
+            return 1;
+        }
+        if (d < 0.0) {
+            a = t;
+            fa = f;
+            da = d;
+        } else {
+            b = t;
+            fb = f;
+            db = d;
+        }
+        /* far above the surface compared with the bracket's slope change:
+         * no dip */
+        if (fmin(fa, fb) > 0.5 * (db - da) * (b - a))
+            return 0;
+    }
+    return 0;
+}
+
 /* The first crossing of the surface by the ray in [t_a, t_b]: the ray
  * steps along, doubling its step while it stays above the surface's bounds
- * under the step and halving it where it does not, down to step_min, where
- * it samples the surface; a sign change is refined.  Returns 1 and *t. */
+ * under the step and dropping it fourfold where it does not, down to
+ * step_min, where it samples the surface (height and rate); a sign change,
+ * or a dip under a crest between two samples (graze), is refined.  Returns
+ * 1 and *t. */
 static int march(const surface *s, const ray *r, double t_a, double t_b, double *t_hit)
 {
-    double t = t_a, x, y, z, f = 0.0;
+    double t = t_a, x, y, z, f = 0.0, df = 0.0;
     ray_point(r, t, &x, &y, &z);
     double ell = STEP_START * s->step_min;
     int have_f = 0;
@@ -846,16 +969,22 @@ static int march(const surface *s, const ray *r, double t_a, double t_b, double 
             continue;
         }
         if (!have_f) {
-            f = z - surf_height(s, x, y);
+            f = above(s, r, t, &df);
             have_f = 1;
             if (f <= 0.0) {
                 *t_hit = t;
                 return 1;
             }
         }
-        const double f1 = z1 - surf_height(s, x1, y1);
+        double df1;
+        const double f1 = above(s, r, t1, &df1);
         if (f1 <= 0.0) {
             *t_hit = refine(s, r, t, f, t1, f1);
+            return 1;
+        }
+        double tc, fc;
+        if (df < 0.0 && df1 > 0.0 && graze(s, r, t, f, df, t1, f1, df1, &tc, &fc)) {
+            *t_hit = refine(s, r, t, f, tc, fc);
             return 1;
         }
         t = t1;
@@ -863,6 +992,7 @@ static int march(const surface *s, const ray *r, double t_a, double t_b, double 
         y = y1;
         z = z1;
         f = f1;
+        df = df1;
     }
     return 0;
 }
@@ -1410,7 +1540,7 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
     double qm[3];
     out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
     sea_moments acc = { 0 };
-    double wsum = 0.0, sx = 0.0, sy = 0.0;
+    double wsum = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
     for (int b = 0; b < nv; b++)
         for (int a = 0; a < nu; a++) {
             ray r;
@@ -1448,6 +1578,7 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
             wsum += w;
             sx += w * x;
             sy += w * y;
+            sz += w * z;
             out->rays++;
         }
     if (wsum > 0.0) {
@@ -1460,6 +1591,7 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
         acc.h *= k;
         out->x = sx * k;
         out->y = sy * k;
+        out->height = sz * k;
     } else {
         /* every ray passed above the waves: what lies under the mean-surface
          * point of the pixel centre */
@@ -1467,6 +1599,7 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
         acc = surf_moments(&s, p->x, p->y, &dom);
         out->x = p->x;
         out->y = p->y;
+        out->height = acc.h;
     }
     out->moments = acc;
     /* the point met: above the mean-surface point under it (the map
@@ -1474,7 +1607,7 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
     double q[3], n[3];
     sea_camera_sea_point(cam, out->x, out->y, q, n);
     for (int k = 0; k < 3; k++)
-        q[k] += acc.h * n[k];
+        q[k] += out->height * n[k];
     out->range = sqrt((q[0] - cam->pos[0]) * (q[0] - cam->pos[0]) +
                       (q[1] - cam->pos[1]) * (q[1] - cam->pos[1]) +
                       (q[2] - cam->pos[2]) * (q[2] - cam->pos[2]));

@@ -721,6 +721,7 @@ const sea_heightfield *sea_multires_frame_level(const sea_multires_frame *f, int
 typedef struct {
     int hit;               /* 1: the sea; 0: the sky (the mean surface is missed) */
     double x, y;           /* map point under what the rays met (their weighted mean), m */
+    double height;         /* height of the point met above the mean surface, m */
     double range;          /* sensor to the point met, m */
     double normal[3];      /* local vertical there (world) */
     sea_dir obs;           /* toward the sensor along the pixel's central ray, local frame */
