@@ -247,6 +247,29 @@ static sea_status exr_write_fail(sea_error *err, const char *path, const char *w
                     exr_get_default_error_message(rv));
 }
 
+/* The library's compression of a chunk, then the chunk as it is whenever
+ * that is not smaller.  A reader takes a chunk whose stored size equals its
+ * raw size for an uncompressed one, but OpenEXRCore 3.1's ZIP keeps its
+ * output when it is exactly that size (it falls back only when larger): a
+ * chunk of nearly incompressible floats (a noisy radiance image) was read
+ * back as garbage. */
+typedef struct {
+    exr_result_t (*compress)(exr_encode_pipeline_t *enc);
+} compress_step;
+
+static exr_result_t compress_or_store(exr_encode_pipeline_t *enc)
+{
+    const compress_step *step = enc->encoding_user_data;
+    exr_result_t rv = step->compress(enc);
+    if (rv == EXR_ERR_SUCCESS && enc->compressed_bytes >= enc->packed_bytes &&
+        enc->compressed_buffer != enc->packed_buffer &&
+        enc->compressed_alloc_size >= enc->packed_bytes) {
+        memcpy(enc->compressed_buffer, enc->packed_buffer, enc->packed_bytes);
+        enc->compressed_bytes = enc->packed_bytes;
+    }
+    return rv;
+}
+
 /* Header, then every chunk of scanlines.  The caller owns ctx. */
 static sea_status encode_image(exr_context_t ctx, const char *path, int width, int height,
                                const sea_exr_channel *channels, size_t n_channels,
@@ -296,6 +319,7 @@ static sea_status encode_image(exr_context_t ctx, const char *path, int width, i
         return exr_write_fail(err, path, "exr_get_scanlines_per_chunk", rv, sink);
 
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    compress_step step = { NULL };
     int enc_live = 0;
     sea_status st = SEA_OK;
     for (int y = 0; y < height; y += lines) {
@@ -338,6 +362,11 @@ static sea_status encode_image(exr_context_t ctx, const char *path, int width, i
                           EXR_ERR_SUCCESS) {
             st = exr_write_fail(err, path, "exr_encoding_choose_default_routines", rv, sink);
             break;
+        }
+        if (y == 0 && enc.compress_fn != NULL) {
+            step.compress = enc.compress_fn;
+            enc.encoding_user_data = &step;
+            enc.compress_fn = compress_or_store;
         }
         if ((rv = exr_encoding_run(ctx, part, &enc)) != EXR_ERR_SUCCESS) {
             st = exr_write_fail(err, path, "exr_encoding_run", rv, sink);
