@@ -142,7 +142,7 @@ static inline double max2(double a, double b)
 /* ------------------------------------------------------- the heightfield */
 
 struct sea_heightfield {
-    double L;
+    double L, inv_L;
     long i0, j0;
     size_t nx, ny;
     sea_moments *m; /* nx ny nodes, row j (south first), x fastest; owned */
@@ -198,8 +198,8 @@ static inline void locate_1d(double f, size_t n, double L, size_t *i, double *u,
 
 static inline void hf_locate(const sea_heightfield *hf, double x, double y, hf_cell *c)
 {
-    locate_1d(x / hf->L - (double)hf->i0 - 0.5, hf->nx, hf->L, &c->i, &c->u, &c->ex);
-    locate_1d(y / hf->L - (double)hf->j0 - 0.5, hf->ny, hf->L, &c->j, &c->v, &c->ey);
+    locate_1d(x * hf->inv_L - (double)hf->i0 - 0.5, hf->nx, hf->L, &c->i, &c->u, &c->ex);
+    locate_1d(y * hf->inv_L - (double)hf->j0 - 0.5, hf->ny, hf->L, &c->j, &c->v, &c->ey);
 }
 
 /* Height, and its gradient when zx is not NULL. */
@@ -363,6 +363,7 @@ static sea_status hf_adopt(const sea_rect *r, sea_moments *m, sea_heightfield **
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     }
     hf->L = r->step;
+    hf->inv_L = 1.0 / r->step;
     hf->i0 = r->i0;
     hf->j0 = r->j0;
     hf->nx = r->nx;
@@ -441,10 +442,15 @@ static inline size_t cell_index(double f, size_t ncell)
 static void hf_bound(const sea_heightfield *hf, double x0, double y0, double x1, double y1,
                      double *lo, double *hi)
 {
-    const double ox = (double)hf->i0 + 0.5, oy = (double)hf->j0 + 0.5;
-    size_t ca = cell_index(x0 / hf->L - ox, hf->w[0]), cb = cell_index(x1 / hf->L - ox, hf->w[0]);
-    size_t ra = cell_index(y0 / hf->L - oy, hf->h[0]), rb = cell_index(y1 / hf->L - oy, hf->h[0]);
-    int k = 0;
+    const double ox = (double)hf->i0 + 0.5, oy = (double)hf->j0 + 0.5, s = hf->inv_L;
+    size_t ca = cell_index(x0 * s - ox, hf->w[0]), cb = cell_index(x1 * s - ox, hf->w[0]);
+    size_t ra = cell_index(y0 * s - oy, hf->h[0]), rb = cell_index(y1 * s - oy, hf->h[0]);
+    /* the pyramid level where the rectangle spans at most 2 x 2 cells:
+     * from the bit length of its larger extent, then at most two more */
+    const size_t span = (cb - ca) > (rb - ra) ? cb - ca : rb - ra;
+    int k = span > 1 ? 62 - __builtin_clzll((unsigned long long)span) : 0;
+    if (k < 0)
+        k = 0;
     while ((cb >> k) - (ca >> k) > 1 || (rb >> k) - (ra >> k) > 1)
         k++;
     ca >>= k;
@@ -589,10 +595,12 @@ struct sea_multires {
     mr_pixel *px;
 };
 
-/* A level's window on the map and the part of it at full weight. */
+/* A level's window on the map, the part of it at full weight, and what
+ * its edge weight needs. */
 typedef struct {
     double x0, y0, x1, y1;     /* the window */
     double fx0, fy0, fx1, fy1; /* inside its fading band */
+    double inv_band;           /* 1 / band width, m^-1 */
 } mr_window;
 
 struct sea_multires_frame {
@@ -629,6 +637,16 @@ static double edge_weight(const sea_clip_level *lv, double x, double y)
     return min2(1.0, edge / edge_band(lv));
 }
 
+/* edge_weight of the frame's window of level q (the same value, from the
+ * window's corners in metres). */
+static inline double win_weight(const mr_window *w, double x, double y)
+{
+    const double edge = min2(min2(x - w->x0, w->x1 - x), min2(y - w->y0, w->y1 - y));
+    if (!(edge > 0.0))
+        return 0.0;
+    return min2(1.0, edge * w->inv_band);
+}
+
 /* Height of level l's chain at (x, y): l faded into the coarser levels
  * where its window ends, down to the flat low-resolution level. */
 static double chain_height(const sea_multires_frame *f, int l, double x, double y)
@@ -638,7 +656,7 @@ static double chain_height(const sea_multires_frame *f, int l, double x, double 
     for (int q = l; q < mr->first_lr && rest > 0.0; q++) {
         if (!mr->used[q])
             continue;
-        const double w = edge_weight(&mr->lev[q], x, y);
+        const double w = win_weight(&f->win[q], x, y);
         if (w <= 0.0)
             continue;
         z += rest * w * hf_eval(f->hf[q], x, y, NULL, NULL, NULL);
@@ -658,7 +676,7 @@ static double chain_height_grad(const sea_multires_frame *f, int l, double x, do
     for (int q = l; q < mr->first_lr && rest > 0.0; q++) {
         if (!mr->used[q])
             continue;
-        const double w = edge_weight(&mr->lev[q], x, y);
+        const double w = win_weight(&f->win[q], x, y);
         if (w <= 0.0)
             continue;
         double sx, sy;
@@ -701,7 +719,7 @@ static void chain_moments(const sea_multires_frame *f, int l, double x, double y
         }
         if (!mr->used[q])
             continue;
-        const double w = edge_weight(&mr->lev[q], x, y);
+        const double w = win_weight(&f->win[q], x, y);
         if (w <= 0.0)
             continue;
         const sea_moments m = hf_point(f->hf[q], x, y);
@@ -1467,6 +1485,7 @@ sea_status sea_multires_frame_alloc(const sea_multires *mr, double t, sea_progre
         w->fy0 = w->y0 + band;
         w->fx1 = w->x1 - band;
         w->fy1 = w->y1 - band;
+        w->inv_band = 1.0 / band;
         done += (double)(lv->nx * lv->ny);
         if (st == SEA_OK && progress != NULL && progress(ctx, done / work) != 0)
             st = sea_fail(err, SEA_ERR_CANCELLED, "cancelled after synthesising level %d", l);
