@@ -76,11 +76,15 @@
  * truth (man/seabake.1, IMAGES).
  *
  * Footprint.  A pixel's rays are a grid of nu x nv over its square in the
- * image, one per facet of its level along each image axis (at least one, at
- * most SUB_MAX): where the footprint spans several facets the pixel
- * averages them, weighted as above, and the rays that a crest stops never
- * reach the trough behind it.  A pixel whose every level is low-resolution
- * needs no ray: its surface is the flat mean surface. */
+ * image, one per RAY_SPACING facets of its level along each image axis (at
+ * least one, at most SUB_MAX): where the footprint spans several facets the
+ * pixel averages them, weighted as above, and the rays that a crest stops
+ * never reach the trough behind it.  Each ray averages the point moments
+ * at ku x kv points of its share of the footprint (POINT_SPACING facets
+ * apart, equal horizontal areas: LEAN's box filter, with Eq 7 supplying the
+ * projected area), so no pixel point-samples the surface.  A pixel whose
+ * every level is low-resolution needs no ray: its surface is the flat mean
+ * surface. */
 #include "config.h"
 
 #include <math.h>

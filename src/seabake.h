@@ -630,9 +630,11 @@ void sea_heightfield_range(const sea_heightfield *hf, double *lo, double *hi);
  * d_z < 0) on the surface, over the lattice's rectangle and t in [0, tmax]:
  * returns 1 and *t, or 0 when the ray leaves the rectangle first.  The ray
  * marches with steps that double while it stays above a pyramid of height
- * bounds and shrink to a quarter facet near the surface, where a crossing
- * is refined to 1e-6 of that step: ridges narrower than a quarter facet
- * that a ray grazes can be missed. */
+ * bounds and shrink to half a facet near the surface, where a crossing is
+ * refined until the ray is within 1e-9 facet of the surface, and where the
+ * ray passes over a crest between two samples the lowest point between them
+ * is located (a ridge narrower than half a facet that the ray grazes without
+ * passing over its top between two samples can still be missed). */
 int sea_heightfield_trace(const sea_heightfield *hf, const double o[3], const double d[3],
                           double tmax, double *t);
 
