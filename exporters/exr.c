@@ -264,6 +264,22 @@ static exr_result_t keep_chunk(exr_encode_pipeline_t *pipeline)
     return EXR_ERR_SUCCESS;
 }
 
+/* Writes a packed (and compressed) chunk; a compressed chunk that is not
+ * smaller than its raw bytes is written raw.  A reader takes a chunk whose
+ * stored size equals its raw size for an uncompressed one, but
+ * OpenEXRCore 3.1's ZIP keeps its output when it is exactly that size (it
+ * falls back only when larger): a chunk of nearly incompressible floats (a
+ * noisy radiance image) was read back as garbage. */
+static exr_result_t write_chunk(exr_context_t ctx, int part, const exr_chunk_info_t *cinfo,
+                                const exr_encode_pipeline_t *enc)
+{
+    const int raw = enc->compressed_buffer != enc->packed_buffer &&
+                    enc->compressed_bytes >= enc->packed_bytes;
+    return exr_write_scanline_chunk(ctx, part, cinfo->start_y,
+                                    raw ? enc->packed_buffer : enc->compressed_buffer,
+                                    raw ? enc->packed_bytes : enc->compressed_bytes);
+}
+
 /* Packs and compresses one chunk into enc (initialised on first use, *live
  * then set), leaving the bytes to write in enc->compressed_buffer and
  * compressed_bytes.  Safe to call for different chunks from several threads. */
@@ -389,9 +405,7 @@ static sea_status encode_image(exr_context_t ctx, const char *path, int width, i
                 st = sea_fail(err, SEA_ERR_IO, "cannot write %s: unexpected channel", path);
             else if (rc[k] != EXR_ERR_SUCCESS)
                 st = exr_write_fail(err, path, "exr_encoding_run", rc[k], sink);
-            else if ((rv = exr_write_scanline_chunk(ctx, part, cinfo[k].start_y,
-                                                    enc[k].compressed_buffer,
-                                                    enc[k].compressed_bytes)) != EXR_ERR_SUCCESS)
+            else if ((rv = write_chunk(ctx, part, &cinfo[k], &enc[k])) != EXR_ERR_SUCCESS)
                 st = exr_write_fail(err, path, "exr_write_scanline_chunk", rv, sink);
         }
     }

@@ -1,8 +1,11 @@
 /* bake.c - maps of every clipmap level at one time (issue 5): the facet
- * moments of each high-resolution level, exactly as sea_waves_facets gives
- * them, flipped to north-up rows, and the optics of each facet toward the
- * sensor; low-resolution levels are constants.  The derived renderer maps
- * (normal, roughness) are small total functions of the moments.
+ * moments of each high-resolution level of the multiresolution sea's frame
+ * (exactly as sea_waves_facets gives them), flipped to north-up rows, the
+ * optics of each facet toward the sensor, and the view maps: what the
+ * sensor sees along the ray through each map point, asked of the
+ * multiresolution sea as seabake render asks it (sea_multires_look_at);
+ * low-resolution levels are constants.  The derived renderer maps (normal,
+ * roughness) are small total functions of the moments.
  *
  * Nothing here writes files: the command line (src/cli/bake.c) turns a
  * sea_bake into EXR maps, previews and a manifest. */
@@ -43,31 +46,26 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
     *sun = sea_camera_local_dir(&g, sun_vec);
 }
 
-/* The facet moments of one high-resolution level, rows south first as
- * sea_waves_facets gives them, and north first in bl->moments. */
-static sea_status level_moments(const sea_render *r, double t, sea_bake_level *bl,
-                                sea_moments **south, sea_error *err)
+/* The facet moments of one high-resolution level, north first, from the
+ * frame's (rows south first). */
+static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl, sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, n = nx * ny, k2 = bl->view_k * bl->view_k;
-    sea_status st = sea_check_size(n, 2 * sizeof(sea_moments) + sizeof(sea_facet_optics) +
+    sea_status st = sea_check_size(n, sizeof(sea_moments) + sizeof(sea_facet_optics) +
                                           k2 * (sizeof(double) + 2),
                                    "bake level", err);
     if (st != SEA_OK)
         return st;
-    *south = malloc(n * sizeof **south);
     bl->moments = malloc(n * sizeof *bl->moments);
     bl->optics = malloc(n * sizeof *bl->optics);
     bl->view = malloc(n * k2 * sizeof *bl->view);
-    if (*south == NULL || bl->moments == NULL || bl->optics == NULL || bl->view == NULL)
+    if (bl->moments == NULL || bl->optics == NULL || bl->view == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for level %d (%zu x %zu texels)",
                         lv->level, nx, ny);
-    const sea_rect rect = { lv->facet, lv->i0, lv->j0, nx, ny };
-    st = sea_waves_facets(sea_render_waves(r), &rect, lv->sub_n, t, *south, err);
-    if (st != SEA_OK)
-        return st;
+    const sea_moments *south = sea_heightfield_moments(sea_multires_frame_level(f, lv->level));
     for (size_t row = 0; row < ny; row++)
-        memcpy(bl->moments + row * nx, *south + (ny - 1 - row) * nx, nx * sizeof **south);
+        memcpy(bl->moments + row * nx, south + (ny - 1 - row) * nx, nx * sizeof *south);
     return SEA_OK;
 }
 
@@ -151,11 +149,23 @@ static int report(bake_progress *bp, double part)
     return bp->cancelled;
 }
 
+/* The synthesis's share of a bake's progress. */
+typedef struct {
+    bake_progress *bp;
+    double work; /* facets synthesised in all */
+} synth_progress;
+
+static int synth_report(void *ctx, double fraction)
+{
+    synth_progress *sp = ctx;
+    return report(sp->bp, fraction * sp->work);
+}
+
 /* The optics of one high-resolution level: of its own facets (view 0), or
- * of what the sensor sees on its view grid (view 1; south: every level's
- * moments; where the mask is 0, the facet's own optics). */
-static sea_status level_optics(const sea_render *r,
-                               const sea_moments *const south[SEA_CLIP_MAX_LEVELS],
+ * of what the sensor sees on its view grid (view 1: the frame's answer for
+ * the ray through the texel centre; where the mask is 0, or that ray meets
+ * no sea, the facet's own optics). */
+static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
                                sea_bake_level *bl, int view, const unsigned char *mask,
                                bake_progress *bp, sea_error *err)
 {
@@ -203,17 +213,23 @@ static sea_status level_optics(const sea_render *r,
                 continue;
             }
             const double x = (double)lv->i0 * lv->facet + ((double)i + 0.5) * cell;
-            sea_dir obs, sun;
-            texel_dirs(cam, sun_vec, x, y, &obs, &sun);
+            sea_dir obs = { 0.0, 0.0 }, sun = { 0.0, 0.0 };
+            if (!view)
+                texel_dirs(cam, sun_vec, x, y, &obs, &sun);
             if (!view) {
                 s1 = texel_optics(r, &bl->moments[q], obs, sun, &bl->optics[q], bl, i, R, &e1);
             } else {
-                sea_moments vm;
-                int dom;
-                s1 = sea_render_view_moments(r, south, x, y, lv->level, &vm, &dom, &e1);
+                sea_multires_sample vs;
+                double u, v;
+                if (!sea_multires_look_at(f, x, y, &vs, &u, &v)) {
+                    bl->view[q] = bl->optics[(R / k) * nx + i / k].radiance;
+                    continue;
+                }
+                sea_pixel_geom g;
+                memcpy(g.normal, vs.normal, sizeof g.normal);
                 sea_facet_optics o;
-                if (s1 == SEA_OK)
-                    s1 = texel_optics(r, &vm, obs, sun, &o, bl, i, R, &e1);
+                s1 = texel_optics(r, &vs.moments, vs.obs, sea_camera_local_dir(&g, sun_vec), &o,
+                                  bl, i, R, &e1);
                 bl->view[q] = o.radiance;
             }
             if (s1 != SEA_OK) {
@@ -267,16 +283,24 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
     /* progress: facets synthesised, facet optics and view optics (the
      * view texels' count is an upper bound of their work) */
     bake_progress bp = { progress, ctx, 0.0, 0.0, 0 };
+    double synth = 0.0;
     for (size_t l = 0; l < n; l++)
-        if (!lv[l].low_res)
+        if (!lv[l].low_res) {
+            synth += (double)(lv[l].nx * lv[l].ny);
             bp.work += (double)(lv[l].nx * lv[l].ny) * (2.0 + (double)(view_k * view_k));
+        }
 #define PROGRESS(w)                                                                               \
     do {                                                                                          \
         bp.done += (w);                                                                           \
         if (st == SEA_OK && report(&bp, 0.0))                                                     \
             st = sea_fail(err, SEA_ERR_CANCELLED, "bake cancelled");                              \
     } while (0)
-    sea_moments *south[SEA_CLIP_MAX_LEVELS] = { NULL };
+    synth_progress sp = { &bp, synth };
+    sea_multires_frame *f = NULL;
+    st = sea_multires_frame_alloc(sea_render_multires(r), t, progress != NULL ? synth_report : NULL,
+                                  &sp, &f, err);
+    if (st == SEA_OK)
+        PROGRESS(synth);
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
         bl->level = lv[l];
@@ -285,12 +309,9 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
         bl->lr_obs = lr_obs;
         bl->lr_sun = lr_sun;
         bl->view_k = (size_t)view_k;
-        if (!lv[l].low_res) {
-            st = level_moments(r, t, bl, &south[lv[l].level], err);
-            PROGRESS((double)(lv[l].nx * lv[l].ny));
-        }
+        if (!lv[l].low_res)
+            st = level_moments(f, bl, err);
     }
-    const sea_moments *const *sm = (const sea_moments *const *)south;
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
         if (lv[l].low_res)
@@ -310,16 +331,15 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
             break;
         }
         if (st == SEA_OK)
-            st = level_optics(r, sm, bl, 0, NULL, &bp, err);
+            st = level_optics(r, f, bl, 0, NULL, &bp, err);
         PROGRESS((double)(lv[l].nx * lv[l].ny));
         if (st == SEA_OK)
-            st = level_optics(r, sm, bl, 1, mask, &bp, err);
+            st = level_optics(r, f, bl, 1, mask, &bp, err);
         PROGRESS((double)(lv[l].nx * lv[l].ny * bl->view_k * bl->view_k));
         free(mask);
     }
 #undef PROGRESS
-    for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++)
-        free(south[l]);
+    sea_multires_frame_free(f);
     if (st != SEA_OK)
         sea_bake_free(out);
     return st;

@@ -589,11 +589,18 @@ typedef struct {
     sea_dir ray;      /* direction of the ray in the world frame (sky pixels) */
     double footprint; /* IRA projection size L = sqrt(area of the pixel's
                          footprint), m; INFINITY if a pixel corner misses */
+    double edge_u[2], edge_v[2]; /* the footprint's edges along the image's
+                         u and v axes (mean of its two edges along each),
+                         map vectors, m; 0 if a pixel corner misses */
+    double footprint_u, footprint_v; /* their lengths, m; INFINITY if a pixel
+                         corner misses */
     double normal[3]; /* local vertical at the sea point */
 } sea_pixel_geom;
 
 /* Fills g.  Pure. */
 void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g);
+/* Unit direction (world) of the ray through image point (u, v). */
+void sea_camera_ray(const sea_camera *c, double u, double v, double d[3]);
 /* A world direction (unit vector) in the local frame of sea point g:
  * zenith from g->normal, azimuth counter-clockwise from local east.  Pure. */
 sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3]);
@@ -725,7 +732,52 @@ typedef struct {
 sea_status sea_response_load(const char *path, sea_response *r, sea_error *err);
 void sea_response_free(sea_response *r);
 
-/* ------------------------------------------------- clipmaps and rendering */
+/* --------------------------------------- the resolved surface of one level */
+
+/* The surface of a lattice of facets (a sea_rect: facet (i, j) covers
+ * [i L, (i+1) L) x [j L, (j+1) L)) made from the facets' moments: it passes
+ * through each facet centre at the facet's mean height h with the facet's
+ * mean slope m, joined by bicubic Hermite patches (zero twist) between
+ * neighbouring centres, so its slope varies smoothly and reproduces any
+ * plane exactly; beyond the outer centres (the lattice's outer half facet)
+ * it continues linearly.  A point of it carries moments too: its own slope
+ * s as the mean and s s^T + C as the raw second moments, C the facets'
+ * covariance M - m m^T interpolated bilinearly (the sub-facet part); at a
+ * facet centre these are the facet's own moments.  Read-only after
+ * creation: any number of threads may query it. */
+typedef struct sea_heightfield sea_heightfield;
+
+/* nx, ny >= 2; m: nx ny finite moments, row j (south first) then x, copied. */
+sea_status sea_heightfield_alloc(const sea_rect *r, const sea_moments *m, sea_heightfield **out,
+                                 sea_error *err);
+void sea_heightfield_free(sea_heightfield *hf);
+/* Its facets' moments, as given (rows south first). */
+const sea_moments *sea_heightfield_moments(const sea_heightfield *hf);
+/* The moments of the surface point above map point (x, y); h is its height. */
+sea_moments sea_heightfield_at(const sea_heightfield *hf, double x, double y);
+/* Bounds of its height (from the convex hulls of the patches' Bezier
+ * control points: at or beyond the true extremes). */
+void sea_heightfield_range(const sea_heightfield *hf, double *lo, double *hi);
+/* The first point of the ray o + t d (flat: x east, y north, z up, d unit,
+ * d_z < 0) on the surface, over the lattice's rectangle and t in [0, tmax]:
+ * returns 1 and *t, or 0 when the ray leaves the rectangle first.  The ray
+ * marches with steps that double while it stays above a pyramid of height
+ * bounds and shrink to half a facet near the surface, where a crossing is
+ * refined until the ray is within 1e-9 facet of the surface, and where the
+ * ray passes over a crest between two samples the lowest point between them
+ * is located (a ridge narrower than half a facet that the ray grazes without
+ * passing over its top between two samples can still be missed). */
+int sea_heightfield_trace(const sea_heightfield *hf, const double o[3], const double d[3],
+                          double tmax, double *t);
+
+/* ------------------------------------------------- the multiresolution sea */
+
+/* Optional progress report: fraction done in [0, 1], called by one thread
+ * at a time, which may be any of the call's OpenMP threads, not only the
+ * caller's: what it touches besides ctx must be safe from another thread.
+ * Returns 0 to go on; anything else stops the work, which then fails with
+ * SEA_ERR_CANCELLED (soon: within a row of pixels or texels). */
+typedef int (*sea_progress_fn)(void *ctx, double fraction);
 
 enum { SEA_CLIP_MAX_LEVELS = 24 };
 
@@ -749,6 +801,92 @@ typedef struct {
     double generated_share; /* share of the LR slope variance (trace) in waves >= facet */
     size_t pixels;    /* pixels whose footprint chose this level */
 } sea_clip_level;
+
+/* The multiresolution sea of a view (multires.c): the clipmap levels the
+ * sensor's pixels need and their windows (plan, once per scene), one
+ * realisation of their facets' moments and resolved surfaces at a time t
+ * (frame), and what a ray of the sensor sees on them (query).  A pixel reads
+ * the level its footprint chooses, blended with a neighbour near the
+ * midpoint between two levels and faded into the next coarser level at a
+ * window's edge: a sea_level_blend plus the positional fades.  Its rays meet
+ * that blend's surface (the heights of its waves longer than the facets,
+ * along the local vertical), and it averages the moments where they land:
+ * the projected area and hiding of the resolved facets come from which
+ * point each ray meets; the sub-facet ones from Eq 7 (see multires.c for
+ * why no further weight is due). */
+typedef struct sea_multires sea_multires;
+
+/* A pixel's levels: `level`, and `neighbour` (-1: none) with weight alpha
+ * in [0, 1/2]; each is faded into the coarser levels where its window ends,
+ * down to the low-resolution level (flat, m = 0, C = C_LR). */
+typedef struct {
+    int level, neighbour;
+    double alpha;
+} sea_level_blend;
+
+/* Plans the sea seen by cam (copied) for scene sc: the levels, their
+ * windows, the wave plan.  Uses the scene's [sea] and [model] keys and
+ * sensor position; independent of time. */
+sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
+                             sea_error *err);
+void sea_multires_free(sea_multires *mr);
+/* The levels used, finest first, then the low-resolution one. */
+size_t sea_multires_levels(const sea_multires *mr, const sea_clip_level **levels);
+/* The wave plan (NULL when every level is low-resolution). */
+const sea_waves *sea_multires_waves(const sea_multires *mr);
+/* Moments of a low-resolution facet: m = 0, C = C_LR, h = 0. */
+sea_moments sea_multires_lr_moments(const sea_multires *mr);
+const sea_camera *sea_multires_camera(const sea_multires *mr);
+
+/* One realisation at time t (finite): every high-resolution level's facet
+ * moments (sea_waves_facets with the level's sub-facets) and resolved
+ * surface.  progress (may be NULL) gets the share of facets synthesised
+ * after each level and may stop the work (SEA_ERR_CANCELLED).  The frame
+ * refers to mr, which must outlive it.  Read-only after creation. */
+typedef struct sea_multires_frame sea_multires_frame;
+sea_status sea_multires_frame_alloc(const sea_multires *mr, double t, sea_progress_fn progress,
+                                    void *ctx, sea_multires_frame **out, sea_error *err);
+void sea_multires_frame_free(sea_multires_frame *f);
+/* Level `level`'s surface (by exponent, as sea_clip_level.level; its
+ * facets' moments through sea_heightfield_moments), NULL for levels that
+ * are low-resolution or not used. */
+const sea_heightfield *sea_multires_frame_level(const sea_multires_frame *f, int level);
+
+/* What a pixel sees. */
+typedef struct {
+    int hit;               /* 1: the sea; 0: the sky (the mean surface is missed) */
+    double x, y;           /* map point under what the rays met (their weighted mean), m */
+    double height;         /* height of the point met above the mean surface, m */
+    double range;          /* sensor to the point met, m */
+    double normal[3];      /* local vertical there (world) */
+    sea_dir obs;           /* toward the sensor along the pixel's central ray, local frame */
+    sea_moments moments;   /* the LEAN average of the moments where the rays met the
+                              surface; h: the mean height met, m */
+    sea_level_blend blend; /* the levels the pixel reads */
+    int level;             /* exponent of the level of largest weight there */
+    int rays;              /* rays that met the surface */
+} sea_multires_sample;
+
+/* The pixel (i, j) of the camera (its centre (i + 1/2, j + 1/2)). */
+void sea_multires_pixel(const sea_multires_frame *f, int i, int j, sea_multires_sample *out);
+/* The pixel-sized square of the image centred on (u, v) (any real u, v):
+ * its footprint on the mean surface chooses the levels and the rays, as
+ * for a pixel; sea_multires_pixel is this at pixel centres, bit for bit. */
+void sea_multires_look(const sea_multires_frame *f, double u, double v, sea_multires_sample *out);
+/* What the sensor sees along the ray through the mean-surface point (x, y)
+ * of the map: sea_multires_look at the image point (*u, *v) where that point
+ * projects.  Returns out->hit (0 also when the point is behind the camera).
+ * A renderer that draws a flat map and looks up (x, y) shows there what
+ * seabake render shows at (*u, *v). */
+int sea_multires_look_at(const sea_multires_frame *f, double x, double y, sea_multires_sample *out,
+                         double *u, double *v);
+/* The LEAN average of the surface's moments at n map points (x[k], y[k])
+ * with weights w[k] >= 0 (not all 0), as blend b reads them: the footprint
+ * average of sea_multires_look with the points and weights of its rays. */
+sea_moments sea_multires_average(const sea_multires_frame *f, sea_level_blend b, size_t n,
+                                 const double *x, const double *y, const double *w);
+
+/* ------------------------------------------------------------- rendering */
 
 typedef struct sea_render sea_render;
 
@@ -781,13 +919,6 @@ typedef struct {
 /* Fills img with zeroed planes the caller releases with sea_image_free(). */
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err);
 void sea_image_free(sea_image *img);
-
-/* Optional progress report: fraction done in [0, 1], called by one thread
- * at a time, which may be any of the call's OpenMP threads, not only the
- * caller's: what it touches besides ctx must be safe from another thread.
- * Returns 0 to go on; anything else stops the work, which then fails with
- * SEA_ERR_CANCELLED (soon: within a row of pixels or texels). */
-typedef int (*sea_progress_fn)(void *ctx, double fraction);
 
 /* Renders the frame at time t (s; the scene's own time is sc->time) into
  * img, allocated for the scene's size.  Reads r, fills img: any number of
@@ -837,6 +968,8 @@ const sea_scene *sea_render_scene(const sea_render *r);
 const sea_camera *sea_render_camera(const sea_render *r);
 const sea_waves *sea_render_waves(const sea_render *r);
 sea_moments sea_render_lr_moments(const sea_render *r);
+/* The multiresolution sea the render asks what each pixel sees (owned by r). */
+const sea_multires *sea_render_multires(const sea_render *r);
 
 /* Optics of one facet, as sea_render_frame computes them for a pixel. */
 typedef struct {
@@ -854,19 +987,6 @@ typedef struct {
  * Reads r, fills out. */
 sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
                                    sea_dir sun, sea_facet_optics *out, sea_error *err);
-
-/* The moments seabake render reads at sea point (x, y) of the map: the
- * level (and blend) chosen by the footprint of the image point where the
- * sensor sees (x, y), faded into coarser levels outside their windows, as
- * sea_render_frame does for a pixel there.  south[l]: the moments of level
- * l (indexed by level exponent) as sea_waves_facets gives them for that
- * level's window (rows south first), NULL for levels not computed; points
- * the sensor does not see read level `own` (a used level).  *level gets the
- * level of largest weight.  Reads r and south, fills out and level. */
-sea_status sea_render_view_moments(const sea_render *r,
-                                   const sea_moments *const south[SEA_CLIP_MAX_LEVELS],
-                                   double x, double y, int own, sea_moments *out, int *level,
-                                   sea_error *err);
 
 /* ---------------------------------------------------------------- baking */
 

@@ -80,7 +80,7 @@ sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
     return SEA_OK;
 }
 
-static void ray_dir(const sea_camera *c, double u, double v, double d[3])
+void sea_camera_ray(const sea_camera *c, double u, double v, double d[3])
 {
     const double a = u - 0.5 * c->width, b = v - 0.5 * c->height;
     for (int i = 0; i < 3; i++)
@@ -154,7 +154,7 @@ sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3])
 void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g)
 {
     double d[3], q[3];
-    ray_dir(c, u, v, d);
+    sea_camera_ray(c, u, v, d);
     g->hit = intersect(c, d, q, g->normal, &g->x, &g->y, &g->range);
     const double cz = fmax(-1.0, fmin(1.0, d[2]));
     g->ray.theta = acos(cz);
@@ -164,7 +164,8 @@ void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g
     if (!g->hit) {
         g->x = g->y = g->range = 0.0;
         g->obs = (sea_dir){ 0.0, 0.0 };
-        g->footprint = INFINITY;
+        g->footprint = g->footprint_u = g->footprint_v = INFINITY;
+        g->edge_u[0] = g->edge_u[1] = g->edge_v[0] = g->edge_v[1] = 0.0;
         g->normal[0] = g->normal[1] = 0.0;
         g->normal[2] = 1.0;
         return;
@@ -177,14 +178,23 @@ void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g
     const double du[4] = { -0.5, 0.5, 0.5, -0.5 }, dv[4] = { -0.5, -0.5, 0.5, 0.5 };
     for (int k = 0; k < 4; k++) {
         double dk[3], qk[3], nk[3], tk;
-        ray_dir(c, u + du[k], v + dv[k], dk);
+        sea_camera_ray(c, u + du[k], v + dv[k], dk);
         if (!intersect(c, dk, qk, nk, &px[k], &py[k], &tk)) {
-            g->footprint = INFINITY;
+            g->footprint = g->footprint_u = g->footprint_v = INFINITY;
+            g->edge_u[0] = g->edge_u[1] = g->edge_v[0] = g->edge_v[1] = 0.0;
             return;
         }
     }
     const double ax = px[2] - px[0], ay = py[2] - py[0], bx = px[3] - px[1], by = py[3] - py[1];
     g->footprint = sqrt(0.5 * fabs(ax * by - ay * bx));
+    /* edges along the image axes: the mean of the two edges along u
+     * (corners 0 -> 1 and 3 -> 2) and along v (0 -> 3 and 1 -> 2) */
+    g->edge_u[0] = 0.5 * (px[1] - px[0] + px[2] - px[3]);
+    g->edge_u[1] = 0.5 * (py[1] - py[0] + py[2] - py[3]);
+    g->edge_v[0] = 0.5 * (px[3] - px[0] + px[2] - px[1]);
+    g->edge_v[1] = 0.5 * (py[3] - py[0] + py[2] - py[1]);
+    g->footprint_u = hypot(g->edge_u[0], g->edge_u[1]);
+    g->footprint_v = hypot(g->edge_v[0], g->edge_v[1]);
 }
 
 int sea_camera_project(const sea_camera *c, const double p[3], double *u, double *v)
