@@ -44,6 +44,7 @@ int test_preview_register(void);
 int test_exr_register(void);
 int test_stability_register(void);
 int test_multires_register(void);
+int test_mc_register(void);
 
 /* SEA_UNIT_QUICK set (check-valgrind sets it): the statistical tests that
  * need large areas run on small ones, to exercise the same code under a
