@@ -393,11 +393,17 @@ const char *sea_water_describe(const sea_water *w)
 sea_status sea_water_index(const sea_water *w, double wavelength, double complex *N,
                            sea_error *err)
 {
-    double nu = 1.0 / wavelength;
-    if (!(wavelength > 0.0) || !(nu >= w->nu_min && nu <= w->nu_max))
+    /* The range in wavelength, exactly as sea_water_range gives it (and the
+     * scene file is checked against): 1/(1/x) need not be x, so testing the
+     * wavenumber instead refused the table's own end (15.5 um: "outside
+     * the water table (2.4-15.5 um)").  The wavenumber is then clamped. */
+    double wl_min, wl_max;
+    sea_water_range(w, &wl_min, &wl_max);
+    if (!(wavelength >= wl_min && wavelength <= wl_max))
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "wavelength %.6g um is outside the water table (%.6g-%.6g um)",
-                        wavelength * 1e6, 1e6 / w->nu_max, 1e6 / w->nu_min);
+                        wavelength * 1e6, wl_min * 1e6, wl_max * 1e6);
+    const double nu = fmin(fmax(1.0 / wavelength, w->nu_min), w->nu_max);
     double n, k;
     table_eval(&w->pure, nu, &n, &k);
     if (w->salt.len > 0) {

@@ -95,6 +95,34 @@ static void test_out_of_range(void)
     sea_water_free(NULL);
 }
 
+/* The ends of the range sea_water_range gives are inside it for
+ * sea_water_index, and so is the table's last row as a user writes it
+ * (15.5 um of Hale & Querry): found by tests/fuzz/fuzz_water.c, the index
+ * once tested the wavenumber 1/x, which need not round back. */
+static void test_range_ends(void)
+{
+    static const double salinity[2] = {0.0, 35.0};
+    for (int t = 0; t < 2; t++) {
+        for (int s = 0; s < 2; s++) {
+            sea_water *w = NULL;
+            double lo, hi;
+            double complex N;
+            CU_ASSERT_FATAL(sea_water_alloc((sea_water_table)t, salinity[s], &w, NULL) == SEA_OK);
+            sea_water_range(w, &lo, &hi);
+            CU_ASSERT(sea_water_index(w, lo, &N, NULL) == SEA_OK);
+            CU_ASSERT(sea_water_index(w, hi, &N, NULL) == SEA_OK);
+            CU_ASSERT(sea_water_index(w, nextafter(lo, 0.0), &N, NULL) == SEA_ERR_DOMAIN);
+            CU_ASSERT(sea_water_index(w, nextafter(hi, 1.0), &N, NULL) == SEA_ERR_DOMAIN);
+            sea_water_free(w);
+        }
+    }
+    double complex N = index_at(SEA_WATER_HALE_QUERRY, 0.0, 15.5);
+    ASSERT_REL(creal(N), 1.297, 1e-12, 0);
+    ASSERT_REL(cimag(N), 0.414, 1e-12, 0);
+    N = index_at(SEA_WATER_HALE_QUERRY, 35.0, 15.5);
+    CU_ASSERT(creal(N) > 1.2 && creal(N) < 1.4);
+}
+
 static char *write_temp(const char *text)
 {
     char *path = strdup("/tmp/seabake-test-XXXXXX");
@@ -216,6 +244,7 @@ int test_water_register(void)
            !CU_add_test(s, "interpolation in wavenumber", test_interpolation_in_wavenumber) ||
            !CU_add_test(s, "salinity correction", test_salinity_correction) ||
            !CU_add_test(s, "out of range", test_out_of_range) ||
+           !CU_add_test(s, "the range's ends are in range", test_range_ends) ||
            !CU_add_test(s, "user table and its errors", test_user_table) ||
            !CU_add_test(s, "Fresnel normal incidence", test_fresnel_normal) ||
            !CU_add_test(s, "Fresnel real index = Eq 1", test_fresnel_real_index) ||
