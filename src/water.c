@@ -287,6 +287,47 @@ int sea_water_table_from_name(const char *name)
     return -1;
 }
 
+/* n and k at wavenumber nu in [nu_min, nu_max]: the table plus the
+ * sea-water correction scaled by salinity (k before clamping at 0). */
+static void water_eval(const sea_water *w, double nu, double *n, double *k)
+{
+    table_eval(&w->pure, nu, n, k);
+    if (w->salt.len > 0) {
+        double dn, dk;
+        table_eval(&w->salt, nu, &dn, &dk);
+        *n += dn * w->salt_scale;
+        *k += dk * w->salt_scale;
+    }
+}
+
+/* The corrected index within the bounds of water's (the table's own rows
+ * were checked when parsed; the correction moves n by up to 0.03 and could
+ * take a table's n = 1.0 below 1).  It is piecewise linear in nu with
+ * breakpoints at the rows of both tables, so its extremes are at those rows
+ * and at the range's ends. */
+static sea_status check_corrected(const sea_water *w, const char *what, double salinity,
+                                  sea_error *err)
+{
+    const sea_table *tables[2] = {&w->pure, &w->salt};
+    for (int t = 0; t < 2; t++) {
+        for (size_t i = 0; i < tables[t]->len + 2; i++) {
+            double nu = i < tables[t]->len ? tables[t]->nu[i]
+                                           : i == tables[t]->len ? w->nu_min : w->nu_max;
+            if (!(nu >= w->nu_min && nu <= w->nu_max))
+                continue;
+            double n, k;
+            water_eval(w, nu, &n, &k);
+            if (!(n >= SEA_WATER_N_MIN && n <= SEA_WATER_N_MAX && k <= SEA_WATER_K_MAX))
+                return sea_fail(err, SEA_ERR_DOMAIN,
+                                "%s: with the sea-water correction at salinity %g g/kg, n = %.6g, "
+                                "k = %.6g at %.6g um (allowed: n in [%g, %g], k in [0, %g])",
+                                what, salinity, n, k, 1e6 / nu, SEA_WATER_N_MIN,
+                                SEA_WATER_N_MAX, SEA_WATER_K_MAX);
+        }
+    }
+    return SEA_OK;
+}
+
 /* Takes ownership of *pure; adds the salinity correction. */
 static sea_status water_finish(sea_table *pure, double salinity, const char *what,
                                sea_water **out, sea_error *err)
@@ -314,6 +355,8 @@ static sea_status water_finish(sea_table *pure, double salinity, const char *wha
                           "%s does not overlap the sea-water correction (2.40-15.62 um)", what);
             goto fail;
         }
+        if ((st = check_corrected(w, what, salinity, err)) != SEA_OK)
+            goto fail;
     }
     snprintf(w->describe, sizeof w->describe,
              "%s; sea-water correction Pinkley & Williams 1976 at salinity %g g/kg", what,
@@ -405,13 +448,7 @@ sea_status sea_water_index(const sea_water *w, double wavelength, double complex
                         wavelength * 1e6, wl_min * 1e6, wl_max * 1e6);
     const double nu = fmin(fmax(1.0 / wavelength, w->nu_min), w->nu_max);
     double n, k;
-    table_eval(&w->pure, nu, &n, &k);
-    if (w->salt.len > 0) {
-        double dn, dk;
-        table_eval(&w->salt, nu, &dn, &dk);
-        n += dn * w->salt_scale;
-        k += dk * w->salt_scale;
-    }
+    water_eval(w, nu, &n, &k);
     *N = n + I * fmax(k, 0.0);
     return SEA_OK;
 }

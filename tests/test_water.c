@@ -181,6 +181,30 @@ static void test_user_table(void)
 }
 
 /* Normal incidence: rho = ((n-1)^2 + k^2)/((n+1)^2 + k^2) (closed form, 1e-14). */
+/* A table whose n is within bounds can leave them with the sea-water
+ * correction (n = 1.0 at 15.5 um, dn = -0.018 at 35 g/kg): refused at load
+ * time, naming the salinity, and accepted for pure water.  Found by
+ * tests/fuzz/fuzz_water.c (the index gave n = 0.984). */
+static void test_corrected_bounds(void)
+{
+    char *path = write_temp("wavelength_um,n,k\n2.4,1.279,9.56E-4\n15.5,1.0,0.414\n");
+    sea_water *w = NULL;
+    sea_error err = { "" };
+    CU_ASSERT(sea_water_load(path, 35.0, &w, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(w == NULL);
+    CU_ASSERT(strstr(err.msg, "salinity 35") != NULL);
+    CU_ASSERT(strstr(err.msg, "15.5 um") != NULL);
+    CU_ASSERT(sea_water_load(path, 0.0, &w, &err) == SEA_OK);
+    sea_water_free(w);
+    unlink(path);
+    free(path);
+    /* The shipped tables stay within the bounds at every salinity. */
+    for (int t = 0; t < 2; t++) {
+        CU_ASSERT(sea_water_alloc((sea_water_table)t, SEA_SALINITY_MAX, &w, NULL) == SEA_OK);
+        sea_water_free(w);
+    }
+}
+
 static void test_fresnel_normal(void)
 {
     const double complex N = 1.351 + 0.0046 * I;
@@ -246,6 +270,7 @@ int test_water_register(void)
            !CU_add_test(s, "out of range", test_out_of_range) ||
            !CU_add_test(s, "the range's ends are in range", test_range_ends) ||
            !CU_add_test(s, "user table and its errors", test_user_table) ||
+           !CU_add_test(s, "bounds after the sea-water correction", test_corrected_bounds) ||
            !CU_add_test(s, "Fresnel normal incidence", test_fresnel_normal) ||
            !CU_add_test(s, "Fresnel real index = Eq 1", test_fresnel_real_index) ||
            !CU_add_test(s, "Planck and brightness temperature", test_planck);
