@@ -209,6 +209,16 @@ static sea_status table_parse(const char *text, const char *source, const char *
             goto fail;
         }
         double nu = x_is_wavenumber ? x * 100.0 : 1e6 / x; /* 1/m */
+        /* Both nu and the wavelength 1/nu must be finite: 1e6 / 2e-307
+         * overflowed to an infinite wavenumber, and sea_water_range then
+         * gave 0 as the shortest wavelength (found by the water fuzz
+         * target). */
+        if (!(isfinite(nu) && nu > 0.0 && isfinite(1.0 / nu))) {
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is outside the range of numbers",
+                          source, lineno, x_is_wavenumber ? "wavenumber_cm1" : "wavelength_um",
+                          x);
+            goto fail;
+        }
         if (out->len > 0) {
             double prev = out->nu[out->len - 1];
             double first = out->nu[0];

@@ -389,6 +389,11 @@ failing "--water n below 1 after the correction" 2 emissivity --wavelength 15.5 
     --theta 85 --water "$FIX/low_n.csv"
 run emissivity --wavelength 15.5 --wind 8 --theta 85 --water "$FIX/low_n.csv" --salinity 0
 check_eq "--water n = 1 without the correction" "$RC" 0
+# Regression: a row whose wavenumber overflows is refused (found by the
+# water fuzz target: the table's range started at 0 um).
+printf 'wavelength_um,n,k\n2,1.279,6E-4\n2.2250738585072014e-307,1.2,0\n' >"$FIX/tiny_wl.csv"
+failing "--water wavelength 2e-307 um" 2 emissivity --wavelength 4 --wind 8 --theta 0 \
+    --water "$FIX/tiny_wl.csv"
 rm -rf "${OK:?}"/*
 
 listing

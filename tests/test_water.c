@@ -198,6 +198,13 @@ static void test_corrected_bounds(void)
     sea_water_free(w);
     unlink(path);
     free(path);
+    /* A wavelength whose wavenumber overflows (1e6 / 2e-307 um), or a
+     * wavenumber whose wavelength does: refused (found by
+     * tests/fuzz/fuzz_water.c: the range's shortest wavelength was 0). */
+    expect_load_error("wavelength_um,n,k\n2,1.279,6E-4\n2.2250738585072014e-307,1.2,0\n",
+                      SEA_ERR_DOMAIN, "wavelength_um");
+    expect_load_error("wavenumber_cm1,n,k\n1000,1.279,6E-4\n1e308,1.2,0\n", SEA_ERR_DOMAIN,
+                      "wavenumber_cm1");
     /* The shipped tables stay within the bounds at every salinity. */
     for (int t = 0; t < 2; t++) {
         CU_ASSERT(sea_water_alloc((sea_water_table)t, SEA_SALINITY_MAX, &w, NULL) == SEA_OK);
