@@ -175,7 +175,9 @@ sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **o
 /* A user table: CSV text with '#' comment lines, a header row naming the
  * columns wavelength_um,n,k and at least two rows in strictly monotonic
  * wavelength order; n in [SEA_WATER_N_MIN, SEA_WATER_N_MAX], k in [0,
- * SEA_WATER_K_MAX] (SEA_ERR_DOMAIN naming the file, line and column).
+ * SEA_WATER_K_MAX] (SEA_ERR_DOMAIN naming the file, line and column), and
+ * so with the sea-water correction added at salinity > 0 (SEA_ERR_DOMAIN
+ * naming the salinity and wavelength).
  * Thread-safe (reads the file; LC_NUMERIC, see Threads); *out as with
  * sea_water_alloc. */
 sea_status sea_water_load(const char *path, double salinity, sea_water **out,

@@ -209,6 +209,16 @@ static sea_status table_parse(const char *text, const char *source, const char *
             goto fail;
         }
         double nu = x_is_wavenumber ? x * 100.0 : 1e6 / x; /* 1/m */
+        /* Both nu and the wavelength 1/nu must be finite: 1e6 / 2e-307
+         * overflowed to an infinite wavenumber, and sea_water_range then
+         * gave 0 as the shortest wavelength (found by the water fuzz
+         * target). */
+        if (!(isfinite(nu) && nu > 0.0 && isfinite(1.0 / nu))) {
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is outside the range of numbers",
+                          source, lineno, x_is_wavenumber ? "wavenumber_cm1" : "wavelength_um",
+                          x);
+            goto fail;
+        }
         if (out->len > 0) {
             double prev = out->nu[out->len - 1];
             double first = out->nu[0];
@@ -287,6 +297,47 @@ int sea_water_table_from_name(const char *name)
     return -1;
 }
 
+/* n and k at wavenumber nu in [nu_min, nu_max]: the table plus the
+ * sea-water correction scaled by salinity (k before clamping at 0). */
+static void water_eval(const sea_water *w, double nu, double *n, double *k)
+{
+    table_eval(&w->pure, nu, n, k);
+    if (w->salt.len > 0) {
+        double dn, dk;
+        table_eval(&w->salt, nu, &dn, &dk);
+        *n += dn * w->salt_scale;
+        *k += dk * w->salt_scale;
+    }
+}
+
+/* The corrected index within the bounds of water's (the table's own rows
+ * were checked when parsed; the correction moves n by up to 0.03 and could
+ * take a table's n = 1.0 below 1).  It is piecewise linear in nu with
+ * breakpoints at the rows of both tables, so its extremes are at those rows
+ * and at the range's ends. */
+static sea_status check_corrected(const sea_water *w, const char *what, double salinity,
+                                  sea_error *err)
+{
+    const sea_table *tables[2] = {&w->pure, &w->salt};
+    for (int t = 0; t < 2; t++) {
+        for (size_t i = 0; i < tables[t]->len + 2; i++) {
+            double nu = i < tables[t]->len ? tables[t]->nu[i]
+                                           : i == tables[t]->len ? w->nu_min : w->nu_max;
+            if (!(nu >= w->nu_min && nu <= w->nu_max))
+                continue;
+            double n, k;
+            water_eval(w, nu, &n, &k);
+            if (!(n >= SEA_WATER_N_MIN && n <= SEA_WATER_N_MAX && k <= SEA_WATER_K_MAX))
+                return sea_fail(err, SEA_ERR_DOMAIN,
+                                "%s: with the sea-water correction at salinity %g g/kg, n = %.6g, "
+                                "k = %.6g at %.6g um (allowed: n in [%g, %g], k in [0, %g])",
+                                what, salinity, n, k, 1e6 / nu, SEA_WATER_N_MIN,
+                                SEA_WATER_N_MAX, SEA_WATER_K_MAX);
+        }
+    }
+    return SEA_OK;
+}
+
 /* Takes ownership of *pure; adds the salinity correction. */
 static sea_status water_finish(sea_table *pure, double salinity, const char *what,
                                sea_water **out, sea_error *err)
@@ -314,6 +365,8 @@ static sea_status water_finish(sea_table *pure, double salinity, const char *wha
                           "%s does not overlap the sea-water correction (2.40-15.62 um)", what);
             goto fail;
         }
+        if ((st = check_corrected(w, what, salinity, err)) != SEA_OK)
+            goto fail;
     }
     snprintf(w->describe, sizeof w->describe,
              "%s; sea-water correction Pinkley & Williams 1976 at salinity %g g/kg", what,
@@ -393,19 +446,19 @@ const char *sea_water_describe(const sea_water *w)
 sea_status sea_water_index(const sea_water *w, double wavelength, double complex *N,
                            sea_error *err)
 {
-    double nu = 1.0 / wavelength;
-    if (!(wavelength > 0.0) || !(nu >= w->nu_min && nu <= w->nu_max))
+    /* The range in wavelength, exactly as sea_water_range gives it (and the
+     * scene file is checked against): 1/(1/x) need not be x, so testing the
+     * wavenumber instead refused the table's own end (15.5 um: "outside
+     * the water table (2.4-15.5 um)").  The wavenumber is then clamped. */
+    double wl_min, wl_max;
+    sea_water_range(w, &wl_min, &wl_max);
+    if (!(wavelength >= wl_min && wavelength <= wl_max))
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "wavelength %.6g um is outside the water table (%.6g-%.6g um)",
-                        wavelength * 1e6, 1e6 / w->nu_max, 1e6 / w->nu_min);
+                        wavelength * 1e6, wl_min * 1e6, wl_max * 1e6);
+    const double nu = fmin(fmax(1.0 / wavelength, w->nu_min), w->nu_max);
     double n, k;
-    table_eval(&w->pure, nu, &n, &k);
-    if (w->salt.len > 0) {
-        double dn, dk;
-        table_eval(&w->salt, nu, &dn, &dk);
-        n += dn * w->salt_scale;
-        k += dk * w->salt_scale;
-    }
+    water_eval(w, nu, &n, &k);
     *N = n + I * fmax(k, 0.0);
     return SEA_OK;
 }

@@ -95,6 +95,34 @@ static void test_out_of_range(void)
     sea_water_free(NULL);
 }
 
+/* The ends of the range sea_water_range gives are inside it for
+ * sea_water_index, and so is the table's last row as a user writes it
+ * (15.5 um of Hale & Querry): found by tests/fuzz/fuzz_water.c, the index
+ * once tested the wavenumber 1/x, which need not round back. */
+static void test_range_ends(void)
+{
+    static const double salinity[2] = {0.0, 35.0};
+    for (int t = 0; t < 2; t++) {
+        for (int s = 0; s < 2; s++) {
+            sea_water *w = NULL;
+            double lo, hi;
+            double complex N;
+            CU_ASSERT_FATAL(sea_water_alloc((sea_water_table)t, salinity[s], &w, NULL) == SEA_OK);
+            sea_water_range(w, &lo, &hi);
+            CU_ASSERT(sea_water_index(w, lo, &N, NULL) == SEA_OK);
+            CU_ASSERT(sea_water_index(w, hi, &N, NULL) == SEA_OK);
+            CU_ASSERT(sea_water_index(w, nextafter(lo, 0.0), &N, NULL) == SEA_ERR_DOMAIN);
+            CU_ASSERT(sea_water_index(w, nextafter(hi, 1.0), &N, NULL) == SEA_ERR_DOMAIN);
+            sea_water_free(w);
+        }
+    }
+    double complex N = index_at(SEA_WATER_HALE_QUERRY, 0.0, 15.5);
+    ASSERT_REL(creal(N), 1.297, 1e-12, 0);
+    ASSERT_REL(cimag(N), 0.414, 1e-12, 0);
+    N = index_at(SEA_WATER_HALE_QUERRY, 35.0, 15.5);
+    CU_ASSERT(creal(N) > 1.2 && creal(N) < 1.4);
+}
+
 static char *write_temp(const char *text)
 {
     char *path = strdup("/tmp/seabake-test-XXXXXX");
@@ -153,6 +181,37 @@ static void test_user_table(void)
 }
 
 /* Normal incidence: rho = ((n-1)^2 + k^2)/((n+1)^2 + k^2) (closed form, 1e-14). */
+/* A table whose n is within bounds can leave them with the sea-water
+ * correction (n = 1.0 at 15.5 um, dn = -0.018 at 35 g/kg): refused at load
+ * time, naming the salinity, and accepted for pure water.  Found by
+ * tests/fuzz/fuzz_water.c (the index gave n = 0.984). */
+static void test_corrected_bounds(void)
+{
+    char *path = write_temp("wavelength_um,n,k\n2.4,1.279,9.56E-4\n15.5,1.0,0.414\n");
+    sea_water *w = NULL;
+    sea_error err = { "" };
+    CU_ASSERT(sea_water_load(path, 35.0, &w, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(w == NULL);
+    CU_ASSERT(strstr(err.msg, "salinity 35") != NULL);
+    CU_ASSERT(strstr(err.msg, "15.5 um") != NULL);
+    CU_ASSERT(sea_water_load(path, 0.0, &w, &err) == SEA_OK);
+    sea_water_free(w);
+    unlink(path);
+    free(path);
+    /* A wavelength whose wavenumber overflows (1e6 / 2e-307 um), or a
+     * wavenumber whose wavelength does: refused (found by
+     * tests/fuzz/fuzz_water.c: the range's shortest wavelength was 0). */
+    expect_load_error("wavelength_um,n,k\n2,1.279,6E-4\n2.2250738585072014e-307,1.2,0\n",
+                      SEA_ERR_DOMAIN, "wavelength_um");
+    expect_load_error("wavenumber_cm1,n,k\n1000,1.279,6E-4\n1e308,1.2,0\n", SEA_ERR_DOMAIN,
+                      "wavenumber_cm1");
+    /* The shipped tables stay within the bounds at every salinity. */
+    for (int t = 0; t < 2; t++) {
+        CU_ASSERT(sea_water_alloc((sea_water_table)t, SEA_SALINITY_MAX, &w, NULL) == SEA_OK);
+        sea_water_free(w);
+    }
+}
+
 static void test_fresnel_normal(void)
 {
     const double complex N = 1.351 + 0.0046 * I;
@@ -216,7 +275,9 @@ int test_water_register(void)
            !CU_add_test(s, "interpolation in wavenumber", test_interpolation_in_wavenumber) ||
            !CU_add_test(s, "salinity correction", test_salinity_correction) ||
            !CU_add_test(s, "out of range", test_out_of_range) ||
+           !CU_add_test(s, "the range's ends are in range", test_range_ends) ||
            !CU_add_test(s, "user table and its errors", test_user_table) ||
+           !CU_add_test(s, "bounds after the sea-water correction", test_corrected_bounds) ||
            !CU_add_test(s, "Fresnel normal incidence", test_fresnel_normal) ||
            !CU_add_test(s, "Fresnel real index = Eq 1", test_fresnel_real_index) ||
            !CU_add_test(s, "Planck and brightness temperature", test_planck);
