@@ -1556,7 +1556,7 @@ sb_run bake "$RSCENE" -o "$BDIR/set" --set sea.wind_speed=0
 check_error bake.set_range 2 "--set sea.wind_speed=0: \[sea\] wind_speed: 0 is out of range"
 printf 'not a directory\n' >"$BDIR/plain"
 sb_run bake "$RSCENE" -o "$BDIR/plain"
-check_error bake.dir_is_file 2 "-o: '.*plain' exists and is not a directory"
+check_error bake.dir_is_file 3 "-o: '.*plain' exists and is not a directory"
 check_eq bake.file_kept "$(cat "$BDIR/plain")" "not a directory"
 check_eq bake.failures_leftovers "$(bake_leftovers)" 0
 

@@ -373,7 +373,7 @@ sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quie
                             "-o: '%s' is a symbolic link to nothing (%s)", od->user,
                             strerror(errno));
         if (!S_ISDIR(tb.st_mode))
-            return sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory",
+            return sea_fail(err, SEA_ERR_IO, "-o: '%s' exists and is not a directory",
                             od->user);
         od->target = realpath(od->user, NULL);
         if (od->target == NULL)
@@ -397,13 +397,17 @@ sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quie
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     snprintf(od->lock, llen, "%s/.%.*s.lock", od->parent, (int)blen, base);
 
+    /* A file where the directory should be is refused before the lock file
+     * is made (which would stay behind); under the lock it is checked again. */
+    if (lstat(od->target, &sb) == 0 && !S_ISDIR(sb.st_mode))
+        return sea_fail(err, SEA_ERR_IO, "-o: '%s' exists and is not a directory", od->user);
     if ((st = take_lock(od, quiet, err)) != SEA_OK)
         return st;
     clean_stale(od);
     if (lstat(od->target, &sb) == 0) {
         struct stat pb;
         if (!S_ISDIR(sb.st_mode))
-            st = sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory",
+            st = sea_fail(err, SEA_ERR_IO, "-o: '%s' exists and is not a directory",
                           od->user);
         else if (stat(od->parent, &pb) == 0 && pb.st_dev != sb.st_dev)
             st = sea_fail(err, SEA_ERR_DOMAIN,
@@ -450,7 +454,7 @@ sea_status sea_cli_out_dir_commit(sea_cli_out_dir *od, bool quiet, sea_error *er
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", od->tmp,
                           od->target, strerror(errno));
     } else if (!S_ISDIR(sb.st_mode)) {
-        st = sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' exists and is not a directory", od->user);
+        st = sea_fail(err, SEA_ERR_IO, "-o: '%s' exists and is not a directory", od->user);
     } else if ((old = sea_cli_sibling_template(od->target, "old")) == NULL) {
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     } else if (mkdtemp(old) == NULL) {
