@@ -128,7 +128,7 @@ static void use_args(const sea_cli_args *args)
     const char *scene;
     fuzz_check_error(sea_cli_scene_arg(args, &scene, &err), &err);
     sea_emis_method em;
-    fuzz_check_error(sea_cli_opt_method(args, &em, &err), &err);
+    fuzz_check_error(sea_cli_opt_emissivity(args, &em, &err), &err);
     if (sea_cli_given(args, "wavelength")) {
         sea_cli_sea sea;
         st = sea_cli_sea_inputs(args, &sea, &err);
