@@ -802,9 +802,7 @@ typedef struct {
 static int bake_progress_compute(void *ctx, double fraction)
 {
     bake_progress *p = ctx;
-    if (p->on)
-        sea_cli_progress_bar(&p->bar, COMPUTE_SHARE * fraction);
-    return sea_cli_interrupted() != 0;
+    return sea_cli_progress_if(&p->bar, p->on, COMPUTE_SHARE * fraction);
 }
 
 /* Every group's preview mapping, from the first frame (see bake_previews). */

@@ -340,6 +340,9 @@ typedef struct {
  * sea_cli_progress; stops the work once a signal was caught
  * (sea_cli_signals_catch). */
 int sea_cli_progress_bar(void *ctx, double fraction);
+/* The same where the bar may be off (not a terminal, --quiet): the bar when
+ * on; either way non-zero once a signal came (sea_cli_interrupted). */
+int sea_cli_progress_if(sea_cli_progress *p, bool on, double fraction);
 /* Ends the bar's line (a newline) if anything was drawn. */
 void sea_cli_progress_end(sea_cli_progress *p);
 

@@ -41,6 +41,11 @@ int sea_cli_progress_bar(void *ctx, double fraction)
     return sea_cli_interrupted() != 0;
 }
 
+int sea_cli_progress_if(sea_cli_progress *p, bool on, double fraction)
+{
+    return on ? sea_cli_progress_bar(p, fraction) : sea_cli_interrupted() != 0;
+}
+
 void sea_cli_progress_end(sea_cli_progress *p)
 {
     if (p->shown >= 0)

@@ -567,9 +567,7 @@ typedef struct {
 static int render_progress_fn(void *ctx, double fraction)
 {
     render_progress *p = ctx;
-    if (p->on)
-        return sea_cli_progress_bar(&p->bar, fraction);
-    return sea_cli_interrupted() != 0;
+    return sea_cli_progress_if(&p->bar, p->on, fraction);
 }
 
 /* Every frame, written as it is done; then the summary line.  A signal
