@@ -209,8 +209,11 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
     /* Every sample's emissivity from one set of nodes: the geometry is the
      * same at every wavelength. */
     double eps_all[SEA_SCENE_BAND_MAX], rr_all[SEA_SCENE_BAND_MAX];
-    sea_status s = sea_emissivity_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
-                                    scaled ? &rule : NULL, r->N, r->nsamp, st, obs, eps_all, err);
+    /* With reflections >= 2 the sky sees 1 - eps as well: what the mirror
+     * rays do not meet again (sea_emissivity_multi_n). */
+    sea_status s = sea_emissivity_multi_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
+                                          scaled ? &rule : NULL, r->N, r->nsamp, st, obs,
+                                          r->sc.reflections, eps_all, err);
     if (s != SEA_OK)
         return s;
     if (sun_up)

@@ -372,6 +372,24 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
                             const sea_emis_rule *rule, const double complex *N, size_t n,
                             const sea_slope_stats *st, sea_dir v, double *out, sea_error *err);
 
+/* Multiple reflections: the emissivity toward v when the mirror ray of a
+ * facet may meet the surface again, up to `reflections` hits in all
+ * (1..SEA_REFLECTIONS_MAX; 1 is the paper, exactly sea_emissivity_n).  With
+ * R >= 2 the facet average gains rho_A P E_{R-1}, P the probability that the
+ * mirror ray meets the surface (the complement of Eq 14c's bistatic Smith
+ * factor) and E_{R-1} the emissivity of the facets it meets, seen from
+ * below the horizon when the ray rises (seabake-model(7), MULTIPLE
+ * REFLECTIONS).  The sky then sees 1 - out[i].  The facets the sensor sees
+ * take the nodes reflections = 1 takes (method or rule; the auto rule for
+ * SEA_EMIS_FULL), the facets met again the auto rule with halved orders.
+ * Same errors as sea_emissivity_n, and SEA_ERR_DOMAIN for reflections out
+ * of range; reads p. */
+enum { SEA_REFLECTIONS_MAX = 3 };
+sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
+                                  const sea_emis_rule *rule, const double complex *N, size_t n,
+                                  const sea_slope_stats *st, sea_dir v, int reflections,
+                                  double *out, sea_error *err);
+
 /* ------------------------------------ effective reflectivity (Eq 13-14, 20) */
 
 /* Effective reflectivity rho~(inc; obs) of Eq 13 with the bistatic Smith
@@ -690,6 +708,7 @@ typedef struct {
     sea_earth earth;           /* earth = flat | spherical; flat */
     sea_windows windows;       /* windows = view | clipmap; view */
     double tolerance;          /* tolerance, relative, (0, 0.1]; 1e-3 */
+    int reflections;           /* reflections, surface hits, [1, SEA_REFLECTIONS_MAX]; 1 */
 } sea_scene;
 
 /* Defaults of every optional key; the required ones are marked unset

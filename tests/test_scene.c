@@ -109,6 +109,7 @@ static void test_full_file(void)
     CU_ASSERT(sc.earth == SEA_EARTH_SPHERICAL);
     CU_ASSERT(sc.windows == SEA_WINDOWS_CLIPMAP);
     CU_ASSERT(sc.tolerance == 1e-4);
+    CU_ASSERT(sc.reflections == 2);
 }
 
 /* Spectral quantities: W m^-2 um^-1 -> W m^-2 m^-1 and per sr likewise. */
@@ -167,6 +168,7 @@ static void test_defaults(void)
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_AUTO && sc.earth == SEA_EARTH_FLAT);
     CU_ASSERT(sc.windows == SEA_WINDOWS_VIEW);
     CU_ASSERT(sc.tolerance == 1e-3);
+    CU_ASSERT(sc.reflections == 1);
     /* Every optional field of the loaded scene is the default's. */
     def.wind_speed = sc.wind_speed;
     def.altitude = sc.altitude;
@@ -297,6 +299,9 @@ static const error_case CASES[] = {
       "(allowed: an even integer in [16, 4096] facets)" },
     { BASE "[model]\ntolerance = 0\n", SEA_ERR_DOMAIN, 10, "[model] tolerance",
       "(allowed: (0, 0.1])" },
+    { BASE "[model]\nreflections = 4\n", SEA_ERR_DOMAIN, 10, "[model] reflections: 4 is out of range",
+      "(allowed: an integer in [1, 3])" },
+    { BASE "[model]\nreflections = 2.5\n", SEA_ERR_PARSE, 10, "[model] reflections", "[1, 3]" },
     { BASE "[model]\nfinest = 1001\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
     /* a denormal underflows strtod: refused as no number, with the range */
     { BASE "[model]\nfinest = 4.9e-324\n", SEA_ERR_PARSE, 10, "[model] finest", "[0.001, 1000] m" },

@@ -98,6 +98,17 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     else
         fprintf(stderr, "%s: emissivity: %s (not scaled by the tolerance)\n", what,
                 sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+    if (sc->reflections == 1)
+        fprintf(stderr,
+                "%s: reflections: 1 (the paper: a facet's mirror ray brings the sky; at 80-85 "
+                "deg the emissivity is 0.02-0.035 below ray-traced truth, seabake-model(7))\n",
+                what);
+    else
+        fprintf(stderr,
+                "%s: reflections: %d (a facet's mirror ray may meet the sea again; the auto "
+                "rule at every hit, its orders halved after the first; seabake-model(7) gives "
+                "the accuracy and the cost)\n",
+                what, sc->reflections);
     if (ch.wave_count == 0)
         fprintf(stderr, "%s: waves: none (every level is low-resolution)\n", what);
     else if (ch.directions > 0)
