@@ -893,12 +893,34 @@ static sea_dir frame_dir_to_global(const view_frame *f, double x, double y, doub
     return (sea_dir){ atan2(hypot(x, y), z), f->phi + atan2(y, x) };
 }
 
-/* E_R toward d (zenith in [0, pi)) for indices N[0..n), n <= SEA_MULTI_BLOCK.
+double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith)
+{
+    switch (sky->model) {
+    case SEA_SKY_CLEAR: {
+        /* [1 - (1 - eps_z)^(1/cos)] B(T_air): at and below the horizon the
+         * path is opaque (eps_z > 0), B(T_air) */
+        const double t = 1.0 - sky->zenith_emissivity;
+        const double f = cos_zenith > 0.0 ? 1.0 - pow(t, 1.0 / cos_zenith) : 1.0;
+        return f * sky->radiance[k];
+    }
+    case SEA_SKY_ISOTROPIC:
+    default:
+        return sky->radiance[k];
+    }
+}
+
+/* E_R toward d (zenith in [0, pi)) for indices N[0..n), n <= SEA_MULTI_BLOCK,
+ * and, when sky is not NULL, the sky's radiance that reaches d by
+ * reflections, K_R (indices k0 .. k0 + n of the sky's arrays):
+ *     K_R(v) = E_w[rho_A ((1 - P_A) L_sky(r_A) + P_A K_(R-1)(-r_A))],
+ *     K_1(v) = E_w[rho_A L_sky(r_A)]   (a falling r_A: the horizon's sky),
+ * so that E_R + K_R / L = 1 under a uniform sky of radiance L, at every R.
  * first: d is the sensor's direction and *r0 the rule of its facets (the
  * one reflections = 1 uses); otherwise d looks at facets met again, by the
  * auto rule with halved orders. */
 static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, sea_dir d,
-                           const emis_ctx *ec, size_t n, int R, const fixed_rule *r0, double *out)
+                           const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
+                           const sea_sky *sky, size_t k0, double *out, double *kout)
 {
     const int first = r0 != NULL;
     view_frame f;
@@ -914,22 +936,25 @@ static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, sea_d
     }
     fixed_nodes nd;
     nodes_fixed(p, &f, a, &nd);
-    if (R <= 1 || nd.zero) {
-        for (size_t k = 0; k < n; k++)
+    if (nd.zero || (R <= 1 && sky == NULL)) {
+        for (size_t k = 0; k < n; k++) {
             out[k] = emissivity_of_nodes(&nd, &ec[k]);
+            if (kout != NULL)
+                kout[k] = 0.0;
+        }
         return;
     }
     const double L_in = first ? lambda_along(st, d) : 0.0;
-    /* the rule's abscissae, as nodes_fixed placed them (auto: n_gh >= 2) */
+    /* the rule's abscissae, as nodes_fixed placed them */
     double t_lo, t_hi;
     view_window(&f, a.t_cut, &t_lo, &t_hi);
     const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
-    double num[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+    double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
     for (int i = 0; i < nd.n_i; i++) {
         const double wi = nd.w_i[i];
         if (!nd.plain && wi <= 0.0)
             continue;
-        double acc[SEA_MULTI_BLOCK] = { 0.0 };
+        double acc[SEA_MULTI_BLOCK] = { 0.0 }, kacc[SEA_MULTI_BLOCK] = { 0.0 };
         for (int j = 0; j < nd.n_j; j++) {
             const double cpsi = nd.cos_psi[i * nd.n_j + j];
             /* the node's slope, from the rule's abscissae */
@@ -943,47 +968,67 @@ static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, sea_d
             const double two_c = 2.0 * cpsi * inv_norm;
             const double rx = -two_c * gX - f.sin_th, ry = -two_c * gY,
                          rz = two_c - f.cos_th;
-            double P = 1.0;
-            if (rz > 0.0) {
-                const double L_r = lambda_along(st, frame_dir_to_global(&f, rx, ry, rz));
-                P = L_r / (1.0 + L_in + L_r);
+            /* the mirror ray's zenith cosine (the sky depends on no more) */
+            const double cz = rz / sqrt(rx * rx + ry * ry + rz * rz);
+            double P = 0.0;
+            if (R >= 2) {
+                P = 1.0;
+                if (rz > 0.0) {
+                    const double L_r = lambda_along(st, frame_dir_to_global(&f, rx, ry, rz));
+                    P = L_r / (1.0 + L_in + L_r);
+                }
             }
-            double eB[SEA_MULTI_BLOCK];
+            double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK];
             const int hit = P > 0.0;
             if (hit) {
                 /* seen from o = -r */
                 const sea_dir o = frame_dir_to_global(&f, -rx, -ry, -rz);
-                emis_multi_rec(p, st, o, ec, n, R - 1, NULL, eB);
+                emis_multi_rec(p, st, o, ec, n, R - 1, NULL, sky, k0, eB,
+                               sky != NULL ? kB : NULL);
             }
             for (size_t k = 0; k < n; k++) {
                 /* a facet without spread: the formula, as emissivity_of_nodes */
                 const emis_ctx exact = { ec[k].N, NULL };
                 const double rho = 1.0 - one_minus_rho(nd.plain ? &exact : &ec[k], cpsi);
                 acc[k] += nd.w_j[j] * ((1.0 - rho) + (hit ? rho * P * eB[k] : 0.0));
+                if (sky != NULL) {
+                    const double Ls = P < 1.0 ? sea_sky_radiance(sky, k0 + k, cz) : 0.0;
+                    kacc[k] += nd.w_j[j] * rho * ((1.0 - P) * Ls + (hit ? P * kB[k] : 0.0));
+                }
             }
         }
         if (nd.plain) {
-            for (size_t k = 0; k < n; k++)
+            for (size_t k = 0; k < n; k++) {
                 out[k] = acc[k];
+                if (kout != NULL)
+                    kout[k] = kacc[k];
+            }
             return;
         }
-        for (size_t k = 0; k < n; k++)
+        for (size_t k = 0; k < n; k++) {
             num[k] += wi * acc[k];
+            knum[k] += wi * kacc[k];
+        }
         den += wi;
     }
-    for (size_t k = 0; k < n; k++)
+    for (size_t k = 0; k < n; k++) {
         out[k] = den > 0.0 ? num[k] / den : 0.0;
+        if (kout != NULL)
+            kout[k] = den > 0.0 ? knum[k] / den : 0.0;
+    }
 }
 
-sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
-                                  const sea_emis_rule *rule, const double complex *N, size_t n,
-                                  const sea_slope_stats *st, sea_dir v, int reflections,
-                                  double *out, sea_error *err)
+/* The common part of sea_emissivity_multi_n and sea_emissivity_sky_n. */
+static sea_status emissivity_general(const sea_optics *p, sea_emis_method method,
+                                     const sea_emis_rule *rule, const double complex *N, size_t n,
+                                     const sea_slope_stats *st, sea_dir v, int reflections,
+                                     const sea_sky *sky, double *out, double *sky_out,
+                                     sea_error *err)
 {
     if (reflections < 1 || reflections > SEA_REFLECTIONS_MAX)
         return sea_fail(err, SEA_ERR_DOMAIN, "reflections %d is outside 1..%d", reflections,
                         SEA_REFLECTIONS_MAX);
-    if (reflections == 1)
+    if (reflections == 1 && sky == NULL)
         return sea_emissivity_n(p, method, rule, N, n, st, v, out, err);
     sea_status s;
     if (rule != NULL && (rule->n_gl < 1 || rule->n_gl > SEA_EMIS_GL_MAX || rule->n_gh < 0 ||
@@ -1000,7 +1045,29 @@ sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
         emis_ctx ec[SEA_MULTI_BLOCK];
         for (size_t k = 0; k < m; k++)
             ec[k] = (emis_ctx){ N[k0 + k], fresnel_of(p, N[k0 + k]) };
-        emis_multi_rec(p, st, v, ec, m, reflections, &r0, &out[k0]);
+        emis_multi_rec(p, st, v, ec, m, reflections, &r0, sky, k0, &out[k0],
+                       sky != NULL ? &sky_out[k0] : NULL);
     }
     return SEA_OK;
+}
+
+sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
+                                const sea_emis_rule *rule, const double complex *N, size_t n,
+                                const sea_slope_stats *st, sea_dir v, int reflections,
+                                const sea_sky *sky, double *eps, double *sky_out, sea_error *err)
+{
+    if (sky == NULL || (sky->model != SEA_SKY_ISOTROPIC && sky->model != SEA_SKY_CLEAR) ||
+        (sky->model == SEA_SKY_CLEAR &&
+         !(sky->zenith_emissivity > 0.0 && sky->zenith_emissivity <= 1.0)))
+        return sea_fail(err, SEA_ERR_DOMAIN, "sky model %d or zenith emissivity out of range",
+                        sky != NULL ? sky->model : -1);
+    return emissivity_general(p, method, rule, N, n, st, v, reflections, sky, eps, sky_out, err);
+}
+
+sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
+                                  const sea_emis_rule *rule, const double complex *N, size_t n,
+                                  const sea_slope_stats *st, sea_dir v, int reflections,
+                                  double *out, sea_error *err)
+{
+    return emissivity_general(p, method, rule, N, n, st, v, reflections, NULL, out, NULL, err);
 }

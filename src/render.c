@@ -27,6 +27,8 @@ struct sea_render {
     size_t nsamp;
     double *wl, *wt, *esun, *lsky;
     double *lsea;    /* blackbody radiance at the sea's temperature, per sample */
+    double *lair;    /* ... at the air's ([atmosphere] air_temperature), 0 without */
+    sea_sky sky;     /* the sky's model over the samples (radiance: lsky or lair) */
     double complex *N;
     double wsum;
     sea_render_choices choices;
@@ -80,6 +82,7 @@ void sea_render_free(sea_render *r)
     free(r->esun);
     free(r->lsky);
     free(r->lsea);
+    free(r->lair);
     free(r->N);
     free(r);
 }
@@ -125,14 +128,16 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     free(r->esun);
     free(r->lsky);
     free(r->lsea);
+    free(r->lair);
     free(r->N);
     r->wl = malloc(k * sizeof(double));
     r->wt = malloc(k * sizeof(double));
     r->esun = malloc(k * sizeof(double));
     r->lsky = malloc(k * sizeof(double));
     r->lsea = malloc(k * sizeof(double));
+    r->lair = malloc(k * sizeof(double));
     r->N = malloc(k * sizeof(double complex));
-    if (!r->wl || !r->wt || !r->esun || !r->lsky || !r->lsea || !r->N)
+    if (!r->wl || !r->wt || !r->esun || !r->lsky || !r->lsea || !r->lair || !r->N)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu spectral samples", k);
     r->nsamp = k;
     const sea_scene *sc = &r->sc;
@@ -163,8 +168,13 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
         r->lsky[i] = sc->sky_radiance >= 0.0 ? sc->sky_radiance
                                              : sea_planck_radiance(r->wl[i], sc->sky_temperature);
         r->lsea[i] = sea_planck_radiance(r->wl[i], sc->temperature);
+        r->lair[i] = isnan(sc->air_temperature)
+                         ? 0.0
+                         : sea_planck_radiance(r->wl[i], sc->air_temperature);
         r->wsum += r->wt[i];
     }
+    r->sky = (sea_sky){ sc->sky_model, sc->sky_zenith_emissivity,
+                        sc->sky_model == SEA_SKY_CLEAR ? r->lair : r->lsky };
     if (!(r->wsum > 0.0))
         return sea_fail(err, SEA_ERR_DOMAIN, "the response is zero over the whole band");
     return SEA_OK;
@@ -209,11 +219,20 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
     /* Every sample's emissivity from one set of nodes: the geometry is the
      * same at every wavelength. */
     double eps_all[SEA_SCENE_BAND_MAX], rr_all[SEA_SCENE_BAND_MAX];
-    /* With reflections >= 2 the sky sees 1 - eps as well: what the mirror
-     * rays do not meet again (sea_emissivity_multi_n). */
-    sea_status s = sea_emissivity_multi_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
-                                          scaled ? &rule : NULL, r->N, r->nsamp, st, obs,
-                                          r->sc.reflections, eps_all, err);
+    /* An isotropic sky (Eq 23) is seen in 1 - eps, with reflections >= 2
+     * as well: what the mirror rays do not meet again (sea_emissivity_multi_n).
+     * Any other sky is integrated over the facets' mirror rays (Eq 22,
+     * sea_emissivity_sky_n). */
+    const int directional = r->sc.sky_model != SEA_SKY_ISOTROPIC;
+    double ksky_all[SEA_SCENE_BAND_MAX];
+    sea_status s =
+        directional
+            ? sea_emissivity_sky_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
+                                   scaled ? &rule : NULL, r->N, r->nsamp, st, obs,
+                                   r->sc.reflections, &r->sky, eps_all, ksky_all, err)
+            : sea_emissivity_multi_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
+                                     scaled ? &rule : NULL, r->N, r->nsamp, st, obs,
+                                     r->sc.reflections, eps_all, err);
     if (s != SEA_OK)
         return s;
     if (sun_up)
@@ -221,7 +240,8 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
     for (size_t i = 0; i < r->nsamp; i++) {
         const double eps = eps_all[i];
         const double rr = sun_up ? rr_all[i] : 0.0;
-        const double Li = rr * r->esun[i] + (1.0 - eps) * r->lsky[i] + eps * r->lsea[i];
+        const double sky = directional ? ksky_all[i] : (1.0 - eps) * r->lsky[i];
+        const double Li = rr * r->esun[i] + sky + eps * r->lsea[i];
         sl += r->wt[i] * Li;
         se += r->wt[i] * eps;
         sr += r->wt[i] * rr;
@@ -420,6 +440,12 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
         sky_L += r->wt[i] * r->lsky[i];
     const double unit = radiance_unit(r); /* per um */
     const float sky_T = (float)band_temperature(r, sky_L);
+    /* the air between the sensor and the sea: Beer-Lambert along the range
+     * met, the path radiating (1 - tau) B(T_air) */
+    double air_L = 0.0;
+    for (size_t i = 0; i < r->nsamp; i++)
+        air_L += r->wt[i] * r->lair[i];
+    const double ext = isnan(sc->air_temperature) ? 0.0 : sc->extinction;
     size_t rows_done = 0;
     int failed = 0, cancelled = 0;
     sea_error first = { { 0 } };
@@ -432,8 +458,18 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
             sea_multires_sample s;
             sea_multires_pixel(f, (int)i, (int)j, &s);
             if (!s.hit) {
-                img->radiance[q] = (float)(sky_L * unit);
-                img->temperature[q] = sky_T;
+                double Ls = sky_L;
+                float Ts = sky_T;
+                if (sc->sky_model != SEA_SKY_ISOTROPIC) { /* the sky toward the ray */
+                    double d[3];
+                    sea_camera_ray(&r->cam, (double)i + 0.5, (double)j + 0.5, d);
+                    Ls = 0.0;
+                    for (size_t k = 0; k < r->nsamp; k++)
+                        Ls += r->wt[k] * sea_sky_radiance(&r->sky, k, d[2]);
+                    Ts = (float)band_temperature(r, Ls);
+                }
+                img->radiance[q] = (float)(Ls * unit);
+                img->temperature[q] = Ts;
                 img->level[q] = 0.0f;
                 img->emissivity[q] = img->reflectivity[q] = 0.0f;
                 continue;
@@ -446,6 +482,10 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
             sea_error e1;
             sea_status s1 = facet_radiance(r, &ss, s.obs, sun, sun.theta < M_PI / 2.0, &L, &e,
                                            &rho, &e1);
+            if (ext > 0.0) {
+                const double tau = exp(-ext * s.range);
+                L = tau * L + (1.0 - tau) * air_L;
+            }
             if (s1 == SEA_OK && !(isfinite(L) && L > 0.0 && isfinite(rho)))
                 s1 = sea_fail(&e1, SEA_ERR_NUMERIC, "radiance %g at pixel (%zu, %zu)", L, i, j);
             if (s1 != SEA_OK) {

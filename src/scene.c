@@ -195,8 +195,11 @@ void sea_response_free(sea_response *r)
 
 /* ---------------------------------------------------------- key table */
 
-typedef enum { SEC_SEA, SEC_SUN, SEC_SKY, SEC_SENSOR, SEC_MODEL, SEC_COUNT } sea_section;
-static const char *const SEA_SECTIONS[SEC_COUNT] = { "sea", "sun", "sky", "sensor", "model" };
+typedef enum {
+    SEC_SEA, SEC_SUN, SEC_SKY, SEC_ATMOSPHERE, SEC_SENSOR, SEC_MODEL, SEC_COUNT
+} sea_section;
+static const char *const SEA_SECTIONS[SEC_COUNT] = { "sea", "sun", "sky", "atmosphere", "sensor",
+                                                     "model" };
 
 typedef enum {
     KIND_REAL,   /* a number, range [lo, hi] (see flags), times scale */
@@ -220,7 +223,8 @@ typedef enum {
     K_TIME, K_LOOP_PERIOD,
     K_SUN_ZENITH, K_SUN_AZIMUTH, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, K_SUN_SOLID_ANGLE,
     K_SUN_TRANSMITTANCE,
-    K_SKY_RADIANCE, K_SKY_TEMPERATURE,
+    K_SKY_RADIANCE, K_SKY_TEMPERATURE, K_SKY_MODEL, K_SKY_ZENITH_EMISSIVITY,
+    K_AIR_TEMPERATURE, K_EXTINCTION,
     K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
     K_WAVELENGTH, K_BAND, K_RESPONSE, K_SAMPLES,
     K_METHOD, K_N, K_FINEST, K_GRID, K_EMISSIVITY, K_EARTH, K_WINDOWS, K_TOLERANCE,
@@ -234,6 +238,15 @@ static int windows_from_name(const char *name)
         return SEA_WINDOWS_VIEW;
     if (strcmp(name, "clipmap") == 0)
         return SEA_WINDOWS_CLIPMAP;
+    return -1;
+}
+
+static int sky_model_from_name(const char *name)
+{
+    if (strcmp(name, "isotropic") == 0)
+        return SEA_SKY_ISOTROPIC;
+    if (strcmp(name, "clear") == 0)
+        return SEA_SKY_CLEAR;
     return -1;
 }
 
@@ -298,6 +311,13 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                             "W m^-2 sr^-1 um^-1", sky_radiance),
     [K_SKY_TEMPERATURE] = REAL(SEC_SKY, "temperature", 0.0, 400.0, LO_OPEN, 1.0, "K",
                                sky_temperature),
+    [K_SKY_MODEL] = CHOICE(SEC_SKY, "model", sky_model_from_name, "isotropic, clear", sky_model),
+    [K_SKY_ZENITH_EMISSIVITY] = REAL(SEC_SKY, "zenith_emissivity", 0.0, 1.0, LO_OPEN, 1.0, "",
+                                     sky_zenith_emissivity),
+
+    [K_AIR_TEMPERATURE] = REAL(SEC_ATMOSPHERE, "air_temperature", 0.0, 400.0, LO_OPEN, 1.0, "K",
+                               air_temperature),
+    [K_EXTINCTION] = REAL(SEC_ATMOSPHERE, "extinction", 0.0, 1e3, 0, 1e-3, "1/km", extinction),
 
     [K_X] = REAL(SEC_SENSOR, "x", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_x),
     [K_Y] = REAL(SEC_SENSOR, "y", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_y),
@@ -534,7 +554,7 @@ static char *read_line(char *str, int num, void *stream)
             int sec = section_index(name);
             if (sec < 0) {
                 fail_line(ld, SEA_ERR_PARSE, ld->lineno,
-                          "[%.*s]: unknown section (allowed: sea, sun, sky, sensor, model)",
+                          "[%.*s]: unknown section (allowed: sea, sun, sky, atmosphere, sensor, model)",
                           SEA_QUOTE_MAX, name);
                 return NULL;
             }
@@ -751,6 +771,29 @@ static void check_scene(loader *ld)
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_SOLID_ANGLE, SUN_RULE);
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_TRANSMITTANCE, SUN_RULE);
     check_conflict(ld, K_SKY_RADIANCE, K_SKY_TEMPERATURE, "radiance or temperature, not both");
+    if (sc->sky_model == SEA_SKY_CLEAR) {
+        static const char CLEAR_RULE[] = "model = clear takes zenith_emissivity and the "
+                                         "[atmosphere] air_temperature, not radiance or temperature";
+        check_conflict(ld, K_SKY_MODEL, K_SKY_RADIANCE, CLEAR_RULE);
+        check_conflict(ld, K_SKY_MODEL, K_SKY_TEMPERATURE, CLEAR_RULE);
+        if (ld->status == SEA_OK && ld->key_line[K_SKY_ZENITH_EMISSIVITY] == 0)
+            fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_MODEL],
+                      "[sky] model = clear: missing zenith_emissivity (allowed: (0, 1], the "
+                      "sky's emissivity toward the zenith)");
+        if (ld->status == SEA_OK && ld->key_line[K_AIR_TEMPERATURE] == 0)
+            fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_MODEL],
+                      "[sky] model = clear: missing [atmosphere] air_temperature (allowed: "
+                      "(0, 400] K, the air the clear sky radiates at)");
+    } else if (ld->key_line[K_SKY_ZENITH_EMISSIVITY] != 0) {
+        fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_ZENITH_EMISSIVITY],
+                  "[sky] zenith_emissivity: needs model = clear (allowed: with model = clear "
+                  "only)");
+    }
+    if (ld->status == SEA_OK && ld->key_line[K_EXTINCTION] != 0 &&
+        ld->key_line[K_AIR_TEMPERATURE] == 0)
+        fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_EXTINCTION],
+                  "[atmosphere] extinction: needs air_temperature (allowed: with air_temperature: "
+                  "the path radiates (1 - transmittance) B(T_air))");
     check_conflict(ld, K_WAVELENGTH, K_BAND, "wavelength or band, not both");
     if (ld->key_line[K_N] != 0 && sc->method != SEA_METHOD_VARIABLE_STEP_2N)
         check_conflict(ld, K_N, K_METHOD, "n with method = variable-step-2n only");
@@ -868,6 +911,10 @@ void sea_scene_defaults(sea_scene *sc)
     sc->windows = SEA_WINDOWS_VIEW;
     sc->tolerance = 1e-3;
     sc->reflections = 1;
+    sc->sky_model = SEA_SKY_ISOTROPIC;
+    sc->sky_zenith_emissivity = NAN;
+    sc->air_temperature = NAN;
+    sc->extinction = 0.0;
 }
 
 /* Applies the overrides "section.key=value" through the file's own key
@@ -895,7 +942,7 @@ static void apply_overrides(loader *ld)
         snprintf(value, sizeof value, "%s", eq + 1);
         if (section_index(trim(section)) < 0) {
             fail_line(ld, SEA_ERR_PARSE, ld->lineno,
-                      "[%.*s]: unknown section (allowed: sea, sun, sky, sensor, model)",
+                      "[%.*s]: unknown section (allowed: sea, sun, sky, atmosphere, sensor, model)",
                       SEA_QUOTE_MAX, trim(section));
             return;
         }

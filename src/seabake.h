@@ -390,6 +390,32 @@ sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
                                   const sea_slope_stats *st, sea_dir v, int reflections,
                                   double *out, sea_error *err);
 
+/* The sky's radiance as a function of the zenith angle (Eq 22 instead of
+ * the isotropic Eq 23).  isotropic: radiance[k] everywhere; clear:
+ * L(theta) = [1 - (1 - eps_z)^(1 / cos theta)] radiance[k], radiance[k] the
+ * air's blackbody radiance B(lambda_k, T_air), and B(T_air) at and below
+ * the horizon.  Indexed as the N[] of the calls below. */
+typedef enum { SEA_SKY_ISOTROPIC = 0, SEA_SKY_CLEAR = 1 } sea_sky_model;
+typedef struct {
+    int model;                /* sea_sky_model */
+    double zenith_emissivity; /* clear: eps_z, (0, 1] */
+    const double *radiance;   /* per index: the sky's (isotropic) or B(T_air) (clear) */
+} sea_sky;
+/* L_sky of index k toward a direction of zenith cosine cos_zenith.  Pure. */
+double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith);
+/* The emissivity toward v (as sea_emissivity_multi_n, out eps[i]) and the
+ * sky's radiance reflected toward v, sky_out[i] = E_w[rho L_sky(r)] over
+ * the facets seen, r each facet's mirror ray (the sky at the horizon where
+ * r falls), with reflections >= 2 the share of r that meets the sea again
+ * followed to the facets it meets.  Under a uniform sky of radiance L,
+ * eps[i] L_sea + sky_out[i] adds up to L when L_sea = L, at every number of
+ * reflections (the isothermal closure).  SEA_ERR_DOMAIN for a sky model
+ * or eps_z out of range, and as sea_emissivity_multi_n; reads p. */
+sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
+                                const sea_emis_rule *rule, const double complex *N, size_t n,
+                                const sea_slope_stats *st, sea_dir v, int reflections,
+                                const sea_sky *sky, double *eps, double *sky_out, sea_error *err);
+
 /* ------------------------------------ effective reflectivity (Eq 13-14, 20) */
 
 /* Effective reflectivity rho~(inc; obs) of Eq 13 with the bistatic Smith
@@ -678,6 +704,11 @@ typedef struct {
     double sky_radiance;      /* radiance, W m^-2 sr^-1 um^-1 [0, 1e3] -> per m; < 0 when
                                  not given */
     double sky_temperature;   /* temperature, K (0, 400]; 250 (used without radiance) */
+    int sky_model;            /* model = isotropic | clear (sea_sky_model); isotropic */
+    double sky_zenith_emissivity; /* zenith_emissivity, (0, 1], clear only; NAN */
+    /* [atmosphere] (absent: none) */
+    double air_temperature;   /* air_temperature, K (0, 400]; NAN (no atmosphere) */
+    double extinction;        /* extinction, 1/km [0, 1e3] -> 1/m; 0 */
     /* [sensor] */
     double sensor_x, sensor_y; /* x, y, m, finite; 0 */
     double altitude;           /* altitude, m, (0, 1e6], required */

@@ -1118,6 +1118,12 @@ sb_run emissivity --wavelength 4 --wind 10 --theta 80 --reflections 4
 check_error emissivity.reflections_range 2 "--reflections: 4 is outside \[1, 3\]"
 sb_run energy --wavelength 4 --wind 10 --theta 80 --reflections 2
 check_error energy.no_reflections 2 "unknown option '--reflections'"
+# examples/horizon.ini (clear sky, air, two reflections), shrunk: the sky
+# at the horizon reads the air's 288 K, the sea between it and 290 K.
+sb_run render "$top_srcdir/examples/horizon.ini" -o "$RDIR/horizon.exr" --set sensor.width=48 \
+    --set sensor.height=27 --png none
+check_rc render.horizon_rc 0
+check_match render.horizon_range "$SB_ERR" "brightness temperature 28[78]\.[0-9]+ to 289\.[0-9]+ K"
 # ... and the fallbacks of LIMITS AND FALLBACKS a scene takes.
 sed -e 's/^wind_speed *=.*/wind_speed = 1/' -e 's/^zenith *=.*/zenith = 100/' \
     "$RSCENE" > "$RDIR/fallback.ini"

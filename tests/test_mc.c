@@ -372,6 +372,41 @@ static void test_multi(void)
             CU_ASSERT(t2 >= t1 && t2 <= 1.0);
         }
     }
+    /* Eq 22 under a uniform sky: the sky reflected is (1 - E_R) L, for the
+     * isotropic model and for a black clear sky (eps_z = 1), at every R
+     * (1e-12: the same weights, summed in another order); a clear sky of
+     * eps_z = 0.7 gives less, and more at 85 deg (mirror rays near the
+     * horizon) than the zenith's share at nadir. */
+    {
+        sea_slope_stats st10 = { { 0.05, 0 }, lr_cov(10) };
+        const double L[2] = { 2.0, 3.0 };
+        const sea_sky iso = { SEA_SKY_ISOTROPIC, NAN, L }, black = { SEA_SKY_CLEAR, 1.0, L },
+                      grey = { SEA_SKY_CLEAR, 0.7, L };
+        for (int i = 0; i < 6; i++)
+            for (int R = 1; R <= SEA_REFLECTIONS_MAX; R++) {
+                const sea_dir v = { ths[i] * DEG, 0.4 };
+                double e[2], k[2], ek[2], kk[2], eg[2], kg[2];
+                CU_ASSERT_FATAL(sea_emissivity_sky_n(P, SEA_EMIS_AUTO, NULL, N, 2, &st10, v, R,
+                                                     &iso, e, k, NULL) == SEA_OK);
+                CU_ASSERT_FATAL(sea_emissivity_sky_n(P, SEA_EMIS_AUTO, NULL, N, 2, &st10, v, R,
+                                                     &black, ek, kk, NULL) == SEA_OK);
+                CU_ASSERT_FATAL(sea_emissivity_sky_n(P, SEA_EMIS_AUTO, NULL, N, 2, &st10, v, R,
+                                                     &grey, eg, kg, NULL) == SEA_OK);
+                for (int q = 0; q < 2; q++) {
+                    double em;
+                    CU_ASSERT(sea_emissivity_multi_n(P, SEA_EMIS_AUTO, NULL, &N[q], 1, &st10, v, R,
+                                                     &em, NULL) == SEA_OK);
+                    ASSERT_ABS(e[q], em, 1e-12);
+                    ASSERT_ABS(k[q], (1.0 - e[q]) * L[q], 1e-12);
+                    ASSERT_ABS(kk[q], (1.0 - ek[q]) * L[q], 1e-12);
+                    CU_ASSERT(kg[q] < kk[q] && kg[q] > 0.7 * kk[q]);
+                }
+            }
+        sea_sky bad = { SEA_SKY_CLEAR, 0.0, L };
+        double e[2], k[2];
+        CU_ASSERT(sea_emissivity_sky_n(P, SEA_EMIS_AUTO, NULL, N, 2, &st10, (sea_dir){ 1, 0 }, 1,
+                                       &bad, e, k, NULL) == SEA_ERR_DOMAIN);
+    }
     sea_slope_stats flat = { { 0, 0 }, { 0, 0, 0 } };
     for (int i = 1; i < 6; i++) {
         const sea_dir v = { ths[i] * DEG, 0.4 };

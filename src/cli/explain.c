@@ -98,6 +98,20 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     else
         fprintf(stderr, "%s: emissivity: %s (not scaled by the tolerance)\n", what,
                 sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+    if (sc->sky_model == SEA_SKY_CLEAR)
+        fprintf(stderr,
+                "%s: sky: clear, L(theta) = [1 - (1 - %g)^(1/cos theta)] B(%g K), reflected over "
+                "each facet's mirror rays (Eq 22)\n",
+                what, sc->sky_zenith_emissivity, sc->air_temperature);
+    else
+        fprintf(stderr, "%s: sky: isotropic (Eq 23: the sea reflects it in 1 - emissivity)\n",
+                what);
+    if (!isnan(sc->air_temperature))
+        fprintf(stderr,
+                "%s: atmosphere: air at %g K, extinction %g/km: a sea pixel at range d is "
+                "tau L + (1 - tau) B(T_air), tau = exp(-extinction d)%s\n",
+                what, sc->air_temperature, sc->extinction * 1e3,
+                sc->extinction > 0.0 ? "" : " (no extinction: tau = 1)");
     if (sc->reflections == 1)
         fprintf(stderr,
                 "%s: reflections: 1 (the paper: a facet's mirror ray brings the sky; at 80-85 "
