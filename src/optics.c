@@ -903,6 +903,10 @@ double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith)
         const double f = cos_zenith > 0.0 ? 1.0 - pow(t, 1.0 / cos_zenith) : 1.0;
         return f * sky->radiance[k];
     }
+    case SEA_SKY_TABLE: {
+        const double th = cos_zenith >= 1.0 ? 0.0 : cos_zenith > 0.0 ? acos(cos_zenith) : M_PI_2;
+        return sea_profile_at(sky->zenith, &sky->radiance[k * sky->n_zenith], sky->n_zenith, th);
+    }
     case SEA_SKY_ISOTROPIC:
     default:
         return sky->radiance[k];
@@ -1056,9 +1060,12 @@ sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
                                 const sea_slope_stats *st, sea_dir v, int reflections,
                                 const sea_sky *sky, double *eps, double *sky_out, sea_error *err)
 {
-    if (sky == NULL || (sky->model != SEA_SKY_ISOTROPIC && sky->model != SEA_SKY_CLEAR) ||
+    if (sky == NULL ||
+        (sky->model != SEA_SKY_ISOTROPIC && sky->model != SEA_SKY_CLEAR &&
+         sky->model != SEA_SKY_TABLE) ||
         (sky->model == SEA_SKY_CLEAR &&
-         !(sky->zenith_emissivity > 0.0 && sky->zenith_emissivity <= 1.0)))
+         !(sky->zenith_emissivity > 0.0 && sky->zenith_emissivity <= 1.0)) ||
+        (sky->model == SEA_SKY_TABLE && (sky->n_zenith < 2 || sky->zenith == NULL)))
         return sea_fail(err, SEA_ERR_DOMAIN, "sky model %d or zenith emissivity out of range",
                         sky != NULL ? sky->model : -1);
     return emissivity_general(p, method, rule, N, n, st, v, reflections, sky, eps, sky_out, err);

@@ -28,7 +28,15 @@ struct sea_render {
     double *wl, *wt, *esun, *lsky;
     double *lsea;    /* blackbody radiance at the sea's temperature, per sample */
     double *lair;    /* ... at the air's ([atmosphere] air_temperature), 0 without */
-    sea_sky sky;     /* the sky's model over the samples (radiance: lsky or lair) */
+    sea_sky sky;     /* the sky's model over the samples (radiance: lsky, lair or a table's
+                        profile) */
+    /* tables ([sky] model = table, [atmosphere] table): the grids, and per
+     * sample their profiles on the grid's x (zenith or range) */
+    sea_grid *sky_grid, *atm_grid;
+    size_t sky_nx, atm_nx;
+    double *sky_x, *sky_v;             /* sky_v[k sky_nx + i] */
+    double *atm_x, *atm_tau, *atm_path; /* [k atm_nx + i] */
+    double atm_range_max;
     double complex *N;
     double wsum;
     sea_render_choices choices;
@@ -84,6 +92,13 @@ void sea_render_free(sea_render *r)
     free(r->lsea);
     free(r->lair);
     free(r->N);
+    sea_grid_free(r->sky_grid);
+    sea_grid_free(r->atm_grid);
+    free(r->sky_x);
+    free(r->sky_v);
+    free(r->atm_x);
+    free(r->atm_tau);
+    free(r->atm_path);
     free(r);
 }
 
@@ -174,7 +189,33 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
         r->wsum += r->wt[i];
     }
     r->sky = (sea_sky){ sc->sky_model, sc->sky_zenith_emissivity,
-                        sc->sky_model == SEA_SKY_CLEAR ? r->lair : r->lsky };
+                        sc->sky_model == SEA_SKY_CLEAR ? r->lair : r->lsky, 0, NULL };
+    /* the tables' profiles at each sample's wavelength */
+    const struct {
+        const sea_grid *g;
+        size_t nx, cols;
+        double **x, **v[2];
+    } tab[2] = { { r->sky_grid, r->sky_nx, 1, &r->sky_x, { &r->sky_v, NULL } },
+                 { r->atm_grid, r->atm_nx, 2, &r->atm_x, { &r->atm_tau, &r->atm_path } } };
+    for (int t = 0; t < 2; t++) {
+        if (tab[t].g == NULL)
+            continue;
+        const size_t nx = tab[t].nx;
+        for (size_t c = 0; c < tab[t].cols; c++) {
+            free(*tab[t].v[c]);
+            *tab[t].v[c] = malloc(k * nx * sizeof(double));
+            if (*tab[t].v[c] == NULL)
+                return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the tables");
+            for (size_t i = 0; i < k; i++) {
+                sea_status st = sea_grid_profile(tab[t].g, r->wl[i], c, *tab[t].x,
+                                                 *tab[t].v[c] + i * nx, err);
+                if (st != SEA_OK)
+                    return st;
+            }
+        }
+    }
+    if (r->sky_grid != NULL)
+        r->sky = (sea_sky){ SEA_SKY_TABLE, NAN, r->sky_v, r->sky_nx, r->sky_x };
     if (!(r->wsum > 0.0))
         return sea_fail(err, SEA_ERR_DOMAIN, "the response is zero over the whole band");
     return SEA_OK;
@@ -207,7 +248,7 @@ sea_render_choices sea_render_choices_of(const sea_render *r)
  * reflectivity through *e and *rho. */
 static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
                                  sea_dir sun, int sun_up, double *L, double *e, double *rho,
-                                 sea_error *err)
+                                 double *Lk, sea_error *err)
 {
     double sl = 0.0, se = 0.0, sr = 0.0;
     /* a scaled auto rule: the same orders for every wavelength */
@@ -242,6 +283,8 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
         const double rr = sun_up ? rr_all[i] : 0.0;
         const double sky = directional ? ksky_all[i] : (1.0 - eps) * r->lsky[i];
         const double Li = rr * r->esun[i] + sky + eps * r->lsea[i];
+        if (Lk != NULL)
+            Lk[i] = Li;
         sl += r->wt[i] * Li;
         se += r->wt[i] * eps;
         sr += r->wt[i] * rr;
@@ -292,7 +335,7 @@ sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *s
                                    sea_dir sun, sea_facet_optics *out, sea_error *err)
 {
     double L, e, rho;
-    sea_status s = facet_radiance(r, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho, err);
+    sea_status s = facet_radiance(r, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho, NULL, err);
     if (s != SEA_OK)
         return s;
     out->emissivity = e;
@@ -367,6 +410,21 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
                           : sea_water_alloc((sea_water_table)sc->water_table, sc->salinity,
                                             &r->water, err));
     TRY(sea_optics_alloc(&r->optics, err));
+    /* the sky's and the air's tables */
+    double x_max, w_min, w_max;
+    if (sc->sky_model == SEA_SKY_TABLE) {
+        TRY(sea_sky_table_load(sc->sky_table_file, &r->sky_grid, err));
+        sea_grid_axes(r->sky_grid, &r->sky_nx, &x_max, &w_min, &w_max);
+        if ((r->sky_x = malloc(r->sky_nx * sizeof(double))) == NULL)
+            TRY(sea_fail(err, SEA_ERR_NOMEM, "out of memory for the sky table"));
+    }
+    if (sc->atmosphere_table_file[0] != '\0') {
+        TRY(sea_atmosphere_table_load(sc->atmosphere_table_file, &r->atm_grid, err));
+        sea_grid_axes(r->atm_grid, &r->atm_nx, &x_max, &w_min, &w_max);
+        r->atm_range_max = x_max;
+        if ((r->atm_x = malloc(r->atm_nx * sizeof(double))) == NULL)
+            TRY(sea_fail(err, SEA_ERR_NOMEM, "out of memory for the atmosphere table"));
+    }
 
     /* spectral samples */
     if (sc->wavelength <= 0.0 && sc->response_file[0])
@@ -392,7 +450,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
                 double L, e, rho;
                 TRY(set_samples(r, k, &resp, err));
                 TRY(facet_radiance(r, &lrs, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
-                                   err));
+                                   NULL, err));
                 if (fabs(L - prev) <= sc->tolerance * fabs(L))
                     break;
                 prev = L;
@@ -480,11 +538,26 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
             const sea_slope_stats ss = sea_moments_stats(&s.moments);
             double L, e, rho;
             sea_error e1;
+            double Lk[SEA_SCENE_BAND_MAX];
             sea_status s1 = facet_radiance(r, &ss, s.obs, sun, sun.theta < M_PI / 2.0, &L, &e,
-                                           &rho, &e1);
+                                           &rho, r->atm_grid != NULL ? Lk : NULL, &e1);
             if (ext > 0.0) {
                 const double tau = exp(-ext * s.range);
                 L = tau * L + (1.0 - tau) * air_L;
+            } else if (s1 == SEA_OK && r->atm_grid != NULL) {
+                /* the table's transmittance and path radiance at the range met */
+                if (s.range > r->atm_range_max)
+                    s1 = sea_fail(&e1, SEA_ERR_DOMAIN,
+                                  "pixel (%zu, %zu) meets the sea at %.6g m, beyond the "
+                                  "[atmosphere] table's last range_m %.6g (allowed: a table that "
+                                  "reaches the farthest sea in view)",
+                                  i, j, s.range, r->atm_range_max);
+                L = 0.0;
+                for (size_t k = 0; k < r->nsamp; k++) {
+                    const double *tk = &r->atm_tau[k * r->atm_nx], *pk = &r->atm_path[k * r->atm_nx];
+                    L += r->wt[k] * (sea_profile_at(r->atm_x, tk, r->atm_nx, s.range) * Lk[k] +
+                                     sea_profile_at(r->atm_x, pk, r->atm_nx, s.range));
+                }
             }
             if (s1 == SEA_OK && !(isfinite(L) && L > 0.0 && isfinite(rho)))
                 s1 = sea_fail(&e1, SEA_ERR_NUMERIC, "radiance %g at pixel (%zu, %zu)", L, i, j);

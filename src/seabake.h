@@ -395,11 +395,14 @@ sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
  * L(theta) = [1 - (1 - eps_z)^(1 / cos theta)] radiance[k], radiance[k] the
  * air's blackbody radiance B(lambda_k, T_air), and B(T_air) at and below
  * the horizon.  Indexed as the N[] of the calls below. */
-typedef enum { SEA_SKY_ISOTROPIC = 0, SEA_SKY_CLEAR = 1 } sea_sky_model;
+typedef enum { SEA_SKY_ISOTROPIC = 0, SEA_SKY_CLEAR = 1, SEA_SKY_TABLE = 2 } sea_sky_model;
 typedef struct {
     int model;                /* sea_sky_model */
     double zenith_emissivity; /* clear: eps_z, (0, 1] */
-    const double *radiance;   /* per index: the sky's (isotropic) or B(T_air) (clear) */
+    const double *radiance;   /* per index: the sky's (isotropic) or B(T_air) (clear);
+                                 table: the profile, n_zenith values per index */
+    size_t n_zenith;          /* table: its zenith angles, radians, increasing from 0 to */
+    const double *zenith;     /* pi/2 (at and below the horizon: the last value) */
 } sea_sky;
 /* L_sky of index k toward a direction of zenith cosine cos_zenith.  Pure. */
 double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith);
@@ -415,6 +418,27 @@ sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
                                 const sea_emis_rule *rule, const double complex *N, size_t n,
                                 const sea_slope_stats *st, sea_dir v, int reflections,
                                 const sea_sky *sky, double *eps, double *sky_out, sea_error *err);
+
+/* Tables on a grid of (x, wavelength) read from CSV files (gridtable.c):
+ * a header naming the columns in any order, then every pair of the grid
+ * once.  Sky: zenith_deg (from 0 to 90), wavelength_um, radiance
+ * (W m^-2 sr^-1 um^-1).  Atmosphere: range_m (from 0), wavelength_um,
+ * transmittance ([0, 1]), path_radiance (W m^-2 sr^-1 um^-1), as MODTRAN or
+ * libRadtran give them.  Errors name the file, line, column and range. */
+typedef struct sea_grid sea_grid;
+sea_status sea_sky_table_load(const char *path, sea_grid **out, sea_error *err);
+sea_status sea_atmosphere_table_load(const char *path, sea_grid **out, sea_error *err);
+void sea_grid_free(sea_grid *g);
+/* Its number of x values, the last x (SI: radians or m) and wavelengths (m). */
+void sea_grid_axes(const sea_grid *g, size_t *nx, double *x_max, double *w_min, double *w_max);
+/* Value column `column` (0: radiance or transmittance, 1: path radiance;
+ * SI) interpolated linearly at wavelength (m), on the table's x (copied
+ * into x[nx], out[nx]).  SEA_ERR_DOMAIN outside the wavelengths. */
+sea_status sea_grid_profile(const sea_grid *g, double wavelength, size_t column, double *x,
+                            double *out, sea_error *err);
+/* Linear interpolation of (x[i], v[i]), x increasing, n >= 2; the end
+ * values beyond the ends.  Pure. */
+double sea_profile_at(const double *x, const double *v, size_t n, double at);
 
 /* ------------------------------------ effective reflectivity (Eq 13-14, 20) */
 
@@ -704,11 +728,15 @@ typedef struct {
     double sky_radiance;      /* radiance, W m^-2 sr^-1 um^-1 [0, 1e3] -> per m; < 0 when
                                  not given */
     double sky_temperature;   /* temperature, K (0, 400]; 250 (used without radiance) */
-    int sky_model;            /* model = isotropic | clear (sea_sky_model); isotropic */
+    int sky_model;            /* model = isotropic | clear | table (sea_sky_model); isotropic */
     double sky_zenith_emissivity; /* zenith_emissivity, (0, 1], clear only; NAN */
+    char sky_table_file[SEA_SCENE_PATH_MAX]; /* table = CSV (zenith_deg,wavelength_um,
+                                                radiance), model = table only; "" */
     /* [atmosphere] (absent: none) */
     double air_temperature;   /* air_temperature, K (0, 400]; NAN (no atmosphere) */
     double extinction;        /* extinction, 1/km [0, 1e3] -> 1/m; 0 */
+    char atmosphere_table_file[SEA_SCENE_PATH_MAX]; /* table = CSV (range_m,wavelength_um,
+                                  transmittance,path_radiance), not with extinction; "" */
     /* [sensor] */
     double sensor_x, sensor_y; /* x, y, m, finite; 0 */
     double altitude;           /* altitude, m, (0, 1e6], required */

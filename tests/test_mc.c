@@ -380,8 +380,9 @@ static void test_multi(void)
     {
         sea_slope_stats st10 = { { 0.05, 0 }, lr_cov(10) };
         const double L[2] = { 2.0, 3.0 };
-        const sea_sky iso = { SEA_SKY_ISOTROPIC, NAN, L }, black = { SEA_SKY_CLEAR, 1.0, L },
-                      grey = { SEA_SKY_CLEAR, 0.7, L };
+        const sea_sky iso = { SEA_SKY_ISOTROPIC, NAN, L, 0, NULL },
+                      black = { SEA_SKY_CLEAR, 1.0, L, 0, NULL },
+                      grey = { SEA_SKY_CLEAR, 0.7, L, 0, NULL };
         for (int i = 0; i < 6; i++)
             for (int R = 1; R <= SEA_REFLECTIONS_MAX; R++) {
                 const sea_dir v = { ths[i] * DEG, 0.4 };
@@ -402,7 +403,7 @@ static void test_multi(void)
                     CU_ASSERT(kg[q] < kk[q] && kg[q] > 0.7 * kk[q]);
                 }
             }
-        sea_sky bad = { SEA_SKY_CLEAR, 0.0, L };
+        sea_sky bad = { SEA_SKY_CLEAR, 0.0, L, 0, NULL };
         double e[2], k[2];
         CU_ASSERT(sea_emissivity_sky_n(P, SEA_EMIS_AUTO, NULL, N, 2, &st10, (sea_dir){ 1, 0 }, 1,
                                        &bad, e, k, NULL) == SEA_ERR_DOMAIN);

@@ -204,6 +204,117 @@ static void test_atmosphere(void)
     sea_image_free(&b);
 }
 
+/* The tables: a sky table that tabulates the clear model (every degree, at
+ * 9.95 and 10.05 um) and an atmosphere table that tabulates Beer-Lambert
+ * (every 50 m to 100 km, the path's (1 - tau) B(T_air) at both wavelengths)
+ * render the image of the analytic models at 10 um to 2e-4 relative
+ * (linear interpolation: over a degree of the clear sky, 6e-5; over
+ * 0.1 um of B(288 K), 6e-5; over 50 m of Beer-Lambert, 3e-5; measured
+ * below). */
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    CU_ASSERT_FATAL(f != NULL);
+    fputs(text, f);
+    fclose(f);
+}
+
+static void test_tables(void)
+{
+    char dir[] = "/tmp/seabake-tables-XXXXXX";
+    CU_ASSERT_FATAL(mkdtemp(dir) != NULL);
+    char sky_path[128], atm_path[128];
+    snprintf(sky_path, sizeof sky_path, "%s/sky.csv", dir);
+    snprintf(atm_path, sizeof atm_path, "%s/atm.csv", dir);
+    FILE *f = fopen(sky_path, "w");
+    CU_ASSERT_FATAL(f != NULL);
+    fputs("# clear sky, eps_z 0.7, 288 K\nwavelength_um,zenith_deg,radiance\n", f);
+    const double wls[2] = { 9.95, 10.05 };
+    for (int w = 0; w < 2; w++)
+        for (int z = 0; z <= 90; z++) {
+            const double c = cos(z * DEG), B = sea_planck_radiance(wls[w] * 1e-6, 288.0) * 1e-6;
+            fprintf(f, "%.17g,%d,%.17g\n", wls[w], z, (z < 90 ? 1.0 - pow(0.3, 1.0 / c) : 1.0) * B);
+        }
+    fclose(f);
+    f = fopen(atm_path, "w");
+    CU_ASSERT_FATAL(f != NULL);
+    fputs("range_m,wavelength_um,transmittance,path_radiance\n", f);
+    for (int q = 0; q <= 2000; q++)
+        for (int w = 0; w < 2; w++) {
+            const double tau = exp(-0.3e-3 * 50.0 * q);
+            fprintf(f, "%d,%.17g,%.17g,%.17g\n", 50 * q, wls[w], tau,
+                    (1.0 - tau) * sea_planck_radiance(wls[w] * 1e-6, 288.0) * 1e-6);
+        }
+    fclose(f);
+    sea_scene sc = base_scene(UNIT_QUICK ? 16 : 32);
+    sc.wavelength = 10e-6;
+    sc.sun_zenith = 120.0 * DEG;
+    sc.look_zenith = 60.0 * DEG;
+    sc.hfov = 100.0 * DEG;
+    sc.sky_model = SEA_SKY_CLEAR;
+    sc.sky_zenith_emissivity = 0.7;
+    sc.air_temperature = 288.0;
+    sc.extinction = 0.3e-3;
+    sea_image a, b;
+    render(&sc, 0.0, &a);
+    sc.sky_model = SEA_SKY_TABLE;
+    snprintf(sc.sky_table_file, sizeof sc.sky_table_file, "%s", sky_path);
+    sc.extinction = 0.0;
+    snprintf(sc.atmosphere_table_file, sizeof sc.atmosphere_table_file, "%s", atm_path);
+    render(&sc, 0.0, &b);
+    double worst = 0.0;
+    const size_t n = (size_t)sc.width * (size_t)sc.height;
+    for (size_t i = 0; i < n; i++)
+        worst = fmax(worst, fabs(b.radiance[i] / a.radiance[i] - 1.0));
+    MEASURED("tables against the analytic clear sky and Beer-Lambert: worst relative %.1e\n",
+             worst);
+    CU_ASSERT(worst <= 2e-4);
+    sea_image_free(&a);
+    sea_image_free(&b);
+    /* bad tables: the file, the line, the column and the rule */
+    const struct {
+        const char *text, *want;
+        sea_status st;
+    } bad[] = {
+        { "zenith_deg,wavelength_um\n0,4\n", "2 fields, expected 3", SEA_ERR_PARSE },
+        { "zenith_deg,wavelength_um,temperature\n", "the header must name the columns",
+          SEA_ERR_PARSE },
+        { "zenith_deg,wavelength_um,radiance\n0,4,1\n90,4,x\n", ":3: radiance: 'x' is not a number",
+          SEA_ERR_PARSE },
+        { "zenith_deg,wavelength_um,radiance\n0,4,1\n95,4,1\n", ":3: zenith_deg: 95 is out of range",
+          SEA_ERR_DOMAIN },
+        { "zenith_deg,wavelength_um,radiance\n0,4,1\n90,4,1\n0,5,1\n", "do not fill the grid",
+          SEA_ERR_PARSE },
+        { "zenith_deg,wavelength_um,radiance\n0,4,1\n90,4,1\n0,4,2\n90,5,1\n",
+          ":4: zenith_deg 0, wavelength_um 4: given twice", SEA_ERR_PARSE },
+        { "zenith_deg,wavelength_um,radiance\n10,4,1\n90,4,1\n", "zenith_deg runs from 10 to 90",
+          SEA_ERR_DOMAIN },
+        { "zenith_deg,wavelength_um,radiance\n0,4,-1\n90,4,1\n", "radiance: -1 is out of range",
+          SEA_ERR_DOMAIN },
+    };
+    for (size_t t = 0; t < sizeof bad / sizeof bad[0]; t++) {
+        write_text(sky_path, bad[t].text);
+        sea_grid *g = NULL;
+        sea_error err;
+        CU_ASSERT(sea_sky_table_load(sky_path, &g, &err) == bad[t].st);
+        CU_ASSERT(g == NULL);
+        if (strstr(err.msg, bad[t].want) == NULL || strstr(err.msg, sky_path) == NULL)
+            fprintf(stderr, "\n  message '%s' lacks '%s'\n", err.msg, bad[t].want);
+        CU_ASSERT(strstr(err.msg, bad[t].want) != NULL && strstr(err.msg, sky_path) != NULL);
+    }
+    write_text(atm_path, "range_m,wavelength_um,transmittance,path_radiance\n5,4,1,0\n9,4,0.5,1\n");
+    sea_grid *g = NULL;
+    sea_error err;
+    CU_ASSERT(sea_atmosphere_table_load(atm_path, &g, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(strstr(err.msg, "range_m starts at 5") != NULL);
+    write_text(atm_path, "range_m,wavelength_um,transmittance,path_radiance\n0,4,1.5,0\n9,4,0.5,1\n");
+    CU_ASSERT(sea_atmosphere_table_load(atm_path, &g, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(strstr(err.msg, ":2: transmittance: 1.5 is out of range (allowed: [0, 1])") != NULL);
+    remove(sky_path);
+    remove(atm_path);
+    rmdir(dir);
+}
+
 /* Multiple reflections in the image: a second hit only adds emission, so
  * with a sky colder than the sea every sea pixel's emissivity and radiance
  * grow from reflections = 1 to 2 (to rounding of the float images), the
@@ -729,6 +840,7 @@ int test_render_register(void)
            !CU_add_test(s, "multiple reflections in the image", test_multi_reflection_image) ||
            !CU_add_test(s, "clear sky (Eq 22): closure, horizon", test_clear_sky) ||
            !CU_add_test(s, "atmosphere: Beer-Lambert path", test_atmosphere) ||
+           !CU_add_test(s, "sky and atmosphere tables", test_tables) ||
            !CU_add_test(s, "flat-sea limit: Fresnel", test_flat_sea_limit) ||
            !CU_add_test(s, "Eq 23 from its terms", test_eq23_terms) ||
            !CU_add_test(s, "glint position", test_glint_position) ||

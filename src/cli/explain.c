@@ -103,10 +103,20 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
                 "%s: sky: clear, L(theta) = [1 - (1 - %g)^(1/cos theta)] B(%g K), reflected over "
                 "each facet's mirror rays (Eq 22)\n",
                 what, sc->sky_zenith_emissivity, sc->air_temperature);
+    else if (sc->sky_model == SEA_SKY_TABLE)
+        fprintf(stderr,
+                "%s: sky: the table %s (radiance by zenith angle and wavelength, linear in "
+                "both), reflected over each facet's mirror rays (Eq 22)\n",
+                what, sc->sky_table_file);
     else
         fprintf(stderr, "%s: sky: isotropic (Eq 23: the sea reflects it in 1 - emissivity)\n",
                 what);
-    if (!isnan(sc->air_temperature))
+    if (sc->atmosphere_table_file[0] != '\0')
+        fprintf(stderr,
+                "%s: atmosphere: the table %s: a sea pixel at range d is tau(d) L + "
+                "path_radiance(d), linear in range and wavelength\n",
+                what, sc->atmosphere_table_file);
+    else if (!isnan(sc->air_temperature))
         fprintf(stderr,
                 "%s: atmosphere: air at %g K, extinction %g/km: a sea pixel at range d is "
                 "tau L + (1 - tau) B(T_air), tau = exp(-extinction d)%s\n",
