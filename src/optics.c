@@ -1078,3 +1078,121 @@ sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
 {
     return emissivity_general(p, method, rule, N, n, st, v, reflections, NULL, out, NULL, err);
 }
+
+/* ------------------------------------------------------------ sun disc */
+
+/* The sun as a disc of angular radius a: the reflectivity averaged over
+ * the disc's incidence directions, (1/Omega) int_disc rho~(w_i; obs) dw_i.
+ * The mirror map sends the disc to a small ellipse in slope space,
+ * gamma = gamma0 + M u, |u| <= a (M: the mirror slope's derivatives along
+ * two orthogonal tangents at the sun's centre); rho, g/D and S hardly vary
+ * over it (a = 0.27 deg), so the average is rho g/D S Mass / Omega, Mass the
+ * slope distribution's probability inside the ellipse.  When the density is
+ * nearly linear over the ellipse Mass = p(gamma0) |det M| pi a^2 and this is
+ * the point sun's rho~ (J = |det M|): the disc is then skipped, when the
+ * second-order term, (a^2/8) lambda_max(M^T C^-1 M) (1 + d^2), d the
+ * centre's Mahalanobis distance, is below skip_rel.  Else Mass is computed
+ * in u: the Gaussian N(M^-1 (m - gamma0), M^-1 C M^-T) over the disc, the
+ * inner direction exactly (erf), the outer by Gauss-Legendre in u1 = a sin t
+ * over where it lives (8 standard deviations). */
+enum { SEA_DISC_NODES = 64 };
+
+static void mirror_slope(const double ui[3], const double uo[3], double g[2])
+{
+    const double h[3] = { ui[0] + uo[0], ui[1] + uo[1], ui[2] + uo[2] };
+    g[0] = -h[0] / h[2];
+    g[1] = -h[1] / h[2];
+}
+
+void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_t n,
+                             const sea_slope_stats *st, sea_dir inc, sea_dir obs, double radius,
+                             double skip_rel, double *out)
+{
+    sea_reflectivity_n(N, n, st, inc, obs, out);
+    if (!(radius > 0.0))
+        return;
+    double ui[3], uo[3], g0[2];
+    dir_vec(inc, ui);
+    dir_vec(obs, uo);
+    if (!(ui[2] + uo[2] > 0.0))
+        return;
+    mirror_slope(ui, uo, g0);
+    /* M: derivatives of the mirror slope along e1 (zenith) and e2 (azimuth) */
+    const double hz = ui[2] + uo[2];
+    const double h[3] = { ui[0] + uo[0], ui[1] + uo[1], hz };
+    const double ct = cos(inc.theta), stt = sin(inc.theta), cp = cos(inc.phi), sp = sin(inc.phi);
+    const double e[2][3] = { { ct * cp, ct * sp, -stt }, { -sp, cp, 0.0 } };
+    double M[2][2]; /* M[row: gamma x, y][col: e1, e2] */
+    for (int c = 0; c < 2; c++) {
+        M[0][c] = -(e[c][0] * hz - h[0] * e[c][2]) / (hz * hz);
+        M[1][c] = -(e[c][1] * hz - h[1] * e[c][2]) / (hz * hz);
+    }
+    const double det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
+    if (!(fabs(det) > 0.0))
+        return;
+    const double xx = st->cov.xx + SEA_COV_REG, yy = st->cov.yy + SEA_COV_REG, xy = st->cov.xy;
+    const double cdet = fmax(xx * yy - xy * xy, SEA_COV_REG * SEA_COV_REG);
+    /* C^-1 */
+    const double ixx = yy / cdet, iyy = xx / cdet, ixy = -xy / cdet;
+    /* Q = M^T C^-1 M, its largest eigenvalue */
+    double Q[2][2];
+    for (int a = 0; a < 2; a++)
+        for (int b = 0; b < 2; b++)
+            Q[a][b] = M[0][a] * (ixx * M[0][b] + ixy * M[1][b]) +
+                      M[1][a] * (ixy * M[0][b] + iyy * M[1][b]);
+    const double tr = Q[0][0] + Q[1][1], dq = Q[0][0] * Q[1][1] - Q[0][1] * Q[1][0];
+    const double lmax = 0.5 * tr + sqrt(fmax(0.25 * tr * tr - dq, 0.0));
+    const double dx = g0[0] - st->mean.x, dy = g0[1] - st->mean.y;
+    const double d2 = ixx * dx * dx + 2.0 * ixy * dx * dy + iyy * dy * dy;
+    if (radius * radius / 8.0 * lmax * (1.0 + d2) < skip_rel)
+        return;
+    /* the Gaussian in u: mean M^-1 (m - gamma0), covariance M^-1 C M^-T */
+    const double Mi[2][2] = { { M[1][1] / det, -M[0][1] / det }, { -M[1][0] / det, M[0][0] / det } };
+    const double mu[2] = { Mi[0][0] * -dx + Mi[0][1] * -dy, Mi[1][0] * -dx + Mi[1][1] * -dy };
+    double Cu[2][2];
+    const double C[2][2] = { { xx, xy }, { xy, yy } };
+    for (int a = 0; a < 2; a++)
+        for (int b = 0; b < 2; b++) {
+            double sacc = 0.0;
+            for (int k = 0; k < 2; k++)
+                for (int l = 0; l < 2; l++)
+                    sacc += Mi[a][k] * C[k][l] * Mi[b][l];
+            Cu[a][b] = sacc;
+        }
+    const double s1 = sqrt(Cu[0][0]);
+    const double beta = Cu[0][1] / Cu[0][0];
+    const double sc = sqrt(fmax(Cu[1][1] - beta * Cu[0][1], 1e-300));
+    const double lo = fmax(-radius, mu[0] - 8.0 * s1), hi = fmin(radius, mu[0] + 8.0 * s1);
+    double mass = 0.0;
+    if (lo < hi) {
+        const double t_lo = asin(lo / radius), t_hi = asin(hi / radius);
+        const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
+        const double *x = &p->gl_x[SEA_TRI(SEA_DISC_NODES - 1)];
+        const double *w = &p->gl_w[SEA_TRI(SEA_DISC_NODES - 1)];
+        for (int i = 0; i < SEA_DISC_NODES; i++) {
+            const double t = mid + half * x[i];
+            const double u1 = radius * sin(t), du = radius * cos(t);
+            const double z1 = (u1 - mu[0]) / s1;
+            const double hh = sqrt(fmax(radius * radius - u1 * u1, 0.0));
+            const double mc = mu[1] + beta * (u1 - mu[0]);
+            const double inner = 0.5 * (erfc((-hh - mc) / (M_SQRT2 * sc)) -
+                                        erfc((hh - mc) / (M_SQRT2 * sc)));
+            mass += half * w[i] * du * exp(-0.5 * z1 * z1) / (s1 * sqrt(2.0 * M_PI)) * inner;
+        }
+    }
+    /* the point value is rho pdf g/D S J with J = |det M|; the disc's is
+     * rho g/D S Mass / Omega, Omega = pi a^2 (to a^4) */
+    const double pdf0 = slope_pdf(st, g0[0], g0[1]);
+    const double point_per = pdf0 * fabs(det); /* what out[] holds per rho g/D S */
+    mirror_geom m;
+    mirror_geom_of(st, inc, obs, &m);
+    if (m.zero)
+        return;
+    const double disc_per = mass / (M_PI * radius * radius);
+    for (size_t i = 0; i < n; i++) {
+        if (point_per > 0.0 && out[i] > 0.0)
+            out[i] *= disc_per / point_per;
+        else
+            out[i] = sea_fresnel_unpolarized(m.cos_psi0, N[i]) * m.g_over_D * m.S * disc_per;
+    }
+}

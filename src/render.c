@@ -277,7 +277,8 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
     if (s != SEA_OK)
         return s;
     if (sun_up)
-        sea_reflectivity_n(r->N, r->nsamp, st, sun, obs, rr_all);
+        sea_reflectivity_disc_n(r->optics, r->N, r->nsamp, st, sun, obs, r->sc.sun_radius,
+                                0.1 * r->sc.tolerance, rr_all);
     for (size_t i = 0; i < r->nsamp; i++) {
         const double eps = eps_all[i];
         const double rr = sun_up ? rr_all[i] : 0.0;

@@ -198,7 +198,7 @@ typedef enum {
     K_WIND_SPEED, K_WIND_DIRECTION, K_FETCH, K_SEA_TEMPERATURE, K_SALINITY, K_WATER, K_SEED,
     K_TIME, K_LOOP_PERIOD,
     K_SUN_ZENITH, K_SUN_AZIMUTH, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, K_SUN_SOLID_ANGLE,
-    K_SUN_TRANSMITTANCE,
+    K_SUN_TRANSMITTANCE, K_SUN_ANGULAR_RADIUS,
     K_SKY_RADIANCE, K_SKY_TEMPERATURE, K_SKY_MODEL, K_SKY_ZENITH_EMISSIVITY,
     K_SKY_TABLE, K_AIR_TEMPERATURE, K_EXTINCTION, K_ATMOSPHERE_TABLE,
     K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
@@ -284,6 +284,8 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                                sun_solid_angle),
     [K_SUN_TRANSMITTANCE] = REAL(SEC_SUN, "transmittance", 0.0, 1.0, 0, 1.0, "",
                                  sun_transmittance),
+    [K_SUN_ANGULAR_RADIUS] = REAL(SEC_SUN, "angular_radius", 0.0, 5.0, 0, SEA_DEG, "deg",
+                                  sun_radius),
 
     [K_SKY_RADIANCE] = REAL(SEC_SKY, "radiance", 0.0, 1e3, 0, SEA_PER_UM,
                             "W m^-2 sr^-1 um^-1", sky_radiance),
@@ -757,6 +759,12 @@ static void check_scene(loader *ld)
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, SUN_RULE);
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_SOLID_ANGLE, SUN_RULE);
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_TRANSMITTANCE, SUN_RULE);
+    check_conflict(ld, K_SUN_SOLID_ANGLE, K_SUN_ANGULAR_RADIUS,
+                   "solid_angle or angular_radius, not both: each gives the other");
+    if (ld->key_line[K_SUN_ANGULAR_RADIUS] == 0) /* the disc of the solid angle */
+        ld->sc.sun_radius = acos(1.0 - sc->sun_solid_angle / (2.0 * M_PI));
+    else if (ld->key_line[K_SUN_IRRADIANCE] == 0) /* the solid angle of the disc */
+        ld->sc.sun_solid_angle = 2.0 * M_PI * (1.0 - cos(sc->sun_radius));
     check_conflict(ld, K_SKY_RADIANCE, K_SKY_TEMPERATURE, "radiance or temperature, not both");
     if (sc->sky_model == SEA_SKY_CLEAR) {
         static const char CLEAR_RULE[] = "model = clear takes zenith_emissivity and the "
@@ -919,6 +927,7 @@ void sea_scene_defaults(sea_scene *sc)
     sc->sun_irradiance = -1.0;
     sc->sun_temperature = 5778.0;
     sc->sun_solid_angle = 6.8e-5;
+    sc->sun_radius = acos(1.0 - 6.8e-5 / (2.0 * M_PI)); /* 0.2666 deg */
     sc->sun_transmittance = 1.0;
     sc->sky_radiance = -1.0;
     sc->sky_temperature = 250.0;

@@ -450,6 +450,17 @@ double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc
  * with the geometry (mirror facet, density, shadowing) computed once.  Pure. */
 void sea_reflectivity_n(const double complex *N, size_t n, const sea_slope_stats *st,
                         sea_dir inc, sea_dir obs, double *out);
+/* The sun as a disc of angular radius `radius` (rad): out[i] = the mean of
+ * rho~(w_i; obs) over the disc's directions around inc, so that E_sun out[i]
+ * is the glint of a sun of irradiance E_sun and that radius: a calm sea's
+ * glint then has the width and the peak radiance rho L_sun of a mirror
+ * image of the sun.  Where the slope density is nearly linear over the
+ * disc's image in slope space (relative effect below skip_rel) it is the
+ * point value of sea_reflectivity_n, bit for bit; radius 0 likewise.
+ * Reads p (its Gauss-Legendre nodes). */
+void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_t n,
+                             const sea_slope_stats *st, sea_dir inc, sea_dir obs, double radius,
+                             double skip_rel, double *out);
 /* BRDF f = rho~ / cos(theta_inc) (Eq 20), sr^-1.  Pure. */
 double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
 
@@ -723,6 +734,9 @@ typedef struct {
                                  surface, normal to the beam; < 0 when not given */
     double sun_temperature;   /* temperature, K (0, 10000]; 5778 (used without irradiance) */
     double sun_solid_angle;   /* solid_angle, sr (0, 0.01]; 6.8e-5 */
+    double sun_radius;        /* angular_radius, deg [0, 5] -> rad; the disc of solid_angle,
+                                 acos(1 - solid_angle / 2 pi): 0.2666 deg by default; 0 is a
+                                 point (the paper) */
     double sun_transmittance; /* transmittance, [0, 1]; 1 */
     /* [sky] */
     double sky_radiance;      /* radiance, W m^-2 sr^-1 um^-1 [0, 1e3] -> per m; < 0 when
