@@ -17,15 +17,22 @@
 
 #include "seabake.h"
 
+static void level_free(sea_bake_level *bl)
+{
+    free(bl->moments);
+    free(bl->optics);
+    free(bl->view);
+    bl->moments = NULL;
+    bl->optics = NULL;
+    bl->view = NULL;
+}
+
 void sea_bake_free(sea_bake *b)
 {
     if (b == NULL)
         return;
-    for (size_t l = 0; l < b->n_levels; l++) {
-        free(b->levels[l].moments);
-        free(b->levels[l].optics);
-        free(b->levels[l].view);
-    }
+    for (size_t l = 0; l < b->n_levels; l++)
+        level_free(&b->levels[l]);
     memset(b, 0, sizeof *b);
 }
 
@@ -254,6 +261,13 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
 sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
                           sea_progress_fn progress, void *ctx, sea_error *err)
 {
+    return sea_bake_frame_each(r, t, view_k, out, progress, ctx, NULL, NULL, err);
+}
+
+sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_bake *out,
+                               sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
+                               void *each_ctx, sea_error *err)
+{
     memset(out, 0, sizeof *out);
     if (!isfinite(t))
         return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
@@ -309,13 +323,13 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
         bl->lr_obs = lr_obs;
         bl->lr_sun = lr_sun;
         bl->view_k = (size_t)view_k;
-        if (!lv[l].low_res)
-            st = level_moments(f, bl, err);
     }
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
         if (lv[l].low_res)
             continue;
+        if ((st = level_moments(f, bl, err)) != SEA_OK)
+            break;
         double hole[4];
         const int has_hole = l > 0 && !lv[l - 1].low_res;
         if (has_hole) {
@@ -337,6 +351,10 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
             st = level_optics(r, f, bl, 1, mask, &bp, err);
         PROGRESS((double)(lv[l].nx * lv[l].ny * bl->view_k * bl->view_k));
         free(mask);
+        if (st == SEA_OK && each != NULL) {
+            st = each(each_ctx, out, l, err);
+            level_free(bl);
+        }
     }
 #undef PROGRESS
     sea_multires_frame_free(f);

@@ -1040,6 +1040,21 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
                           sea_progress_fn progress, void *ctx, sea_error *err);
 void sea_bake_free(sea_bake *b);
 
+/* What sea_bake_frame_each calls when level l of b is complete: b holds
+ * every level's header (level, view_k, lr_*) and level l's maps (the maps
+ * of the levels before it are already freed).  A status other than SEA_OK
+ * (with err filled) stops the bake and is returned. */
+typedef sea_status (*sea_bake_level_fn)(void *ctx, const sea_bake *b, size_t l, sea_error *err);
+
+/* sea_bake_frame one level at a time, the same maps: each high-resolution
+ * level is computed, handed to each (called on the calling thread, never
+ * concurrently), and freed before the next is computed, so that the maps of
+ * only one level are held at once.  On success *out holds the headers (no
+ * maps; sea_bake_free() is harmless); on failure nothing to free. */
+sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_bake *out,
+                               sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
+                               void *each_ctx, sea_error *err);
+
 /* Tangent-space normal of the mean slope (+x east, +y north, +z up):
  * n = (-mx, -my, 1) / sqrt(mx^2 + my^2 + 1).  Pure. */
 void sea_bake_normal(const sea_moments *m, double n[3]);
