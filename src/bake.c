@@ -116,27 +116,38 @@ static unsigned char *view_mask(const sea_camera *cam, const sea_clip_level *lv,
             if (!sea_camera_project(cam, q, &u, &v) || !(u >= 0.0 && u <= cam->width) ||
                 !(v >= 0.0 && v <= cam->height))
                 continue;
-            sea_pixel_geom g;
-            sea_camera_pixel(cam, u, v, &g);
-            seen[R * vx + i] = (unsigned char)g.hit;
+            seen[R * vx + i] = (unsigned char)sea_camera_hits(cam, u, v);
+        }
+    }
+    /* within VIEW_MARGIN of a seen texel (the square around it): along the
+     * rows into mask, then along the columns back into seen */
+#pragma omp parallel for schedule(static)
+    for (size_t R = 0; R < vy; R++) {
+        const unsigned char *in = seen + R * vx;
+        unsigned char *out = mask + R * vx;
+        for (size_t i = 0; i < vx; i++) {
+            const size_t i0 = i >= VIEW_MARGIN ? i - VIEW_MARGIN : 0;
+            const size_t i1 = i + VIEW_MARGIN < vx ? i + VIEW_MARGIN : vx - 1;
+            unsigned char any = 0;
+            for (size_t ii = i0; ii <= i1 && !any; ii++)
+                any = in[ii];
+            out[i] = any;
         }
     }
 #pragma omp parallel for schedule(static)
     for (size_t R = 0; R < vy; R++) {
         const size_t r0 = R >= VIEW_MARGIN ? R - VIEW_MARGIN : 0;
         const size_t r1 = R + VIEW_MARGIN < vy ? R + VIEW_MARGIN : vy - 1;
-        for (size_t i = 0; i < vx; i++) {
-            const size_t i0 = i >= VIEW_MARGIN ? i - VIEW_MARGIN : 0;
-            const size_t i1 = i + VIEW_MARGIN < vx ? i + VIEW_MARGIN : vx - 1;
-            unsigned char any = 0;
-            for (size_t rr = r0; rr <= r1 && !any; rr++)
-                for (size_t ii = i0; ii <= i1 && !any; ii++)
-                    any = seen[rr * vx + ii];
-            mask[R * vx + i] = any;
+        unsigned char *out = seen + R * vx;
+        memset(out, 0, vx);
+        for (size_t rr = r0; rr <= r1; rr++) {
+            const unsigned char *in = mask + rr * vx;
+            for (size_t i = 0; i < vx; i++)
+                out[i] |= in[i];
         }
     }
-    free(seen);
-    return mask;
+    free(mask);
+    return seen;
 }
 
 /* Progress over a frame: work done and to do (texel evaluations), and

@@ -601,6 +601,9 @@ typedef struct {
 
 /* Fills g.  Pure. */
 void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g);
+/* sea_camera_pixel's g.hit alone (the ray through (u, v) meets the sea),
+ * without the rest of its work.  Pure. */
+int sea_camera_hits(const sea_camera *c, double u, double v);
 /* Unit direction (world) of the ray through image point (u, v). */
 void sea_camera_ray(const sea_camera *c, double u, double v, double d[3]);
 /* A world direction (unit vector) in the local frame of sea point g:

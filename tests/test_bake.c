@@ -491,6 +491,32 @@ static void test_each_level(void)
     sea_render_free(r);
 }
 
+/* The view mask's test: sea_camera_hits is sea_camera_pixel's hit, on
+ * both earths, over an image that holds the horizon (and beyond it). */
+static void test_camera_hits(void)
+{
+    sea_scene sc = bake_scene();
+    sc.look_zenith = 88.0 * DEG;
+    size_t hits = 0, total = 0, diff = 0;
+    for (int e = 0; e < 2; e++) {
+        sc.earth = e ? SEA_EARTH_SPHERICAL : SEA_EARTH_FLAT;
+        sea_render *r = prepare(&sc);
+        const sea_camera *cam = sea_render_camera(r);
+        for (double v = -3.25; v <= cam->height + 3.0; v += 0.37)
+            for (double u = -3.5; u <= cam->width + 3.0; u += 0.53) {
+                sea_pixel_geom g;
+                sea_camera_pixel(cam, u, v, &g);
+                const int h = sea_camera_hits(cam, u, v);
+                diff += h != g.hit;
+                hits += h != 0;
+                total++;
+            }
+        sea_render_free(r);
+    }
+    CU_ASSERT_EQUAL(diff, 0);
+    CU_ASSERT(hits > total / 10 && hits < total - total / 10);
+}
+
 int test_bake_register(void)
 {
     CU_pSuite s = CU_add_suite("bake", NULL, NULL);
@@ -503,5 +529,6 @@ int test_bake_register(void)
            !CU_add_test(s, "view maps reproduce seabake render", test_view_matches_render) ||
            !CU_add_test(s, "cancelled by the progress function", test_cancel) ||
            !CU_add_test(s, "one level at a time", test_each_level) ||
+           !CU_add_test(s, "the view mask's hit test", test_camera_hits) ||
            !CU_add_test(s, "errors, spherical earth", test_errors_and_earth);
 }
