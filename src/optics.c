@@ -81,7 +81,8 @@ static const double SEA_NADIR_THETA = 1e-12;
 #define SEA_TRI(n) ((n) * ((n) + 1) / 2)
 /* Fresnel reflectance of one index tabulated in cos psi on [0, 1], for the
  * emissivity's quadrature nodes: SEA_FRESNEL_INTERVALS equal intervals and
- * 4-point Lagrange interpolation (one-sided at the ends).  A table is used
+ * 4-point Lagrange interpolation (one-sided at the ends), stored as each
+ * interval's cubic in monomials of the offset in it.  A table is used
  * only where it was checked, when built, against the formula at every
  * interval's midpoint and near grazing incidence: within
  * SEA_FRESNEL_TABLE_TOL absolute (measured on water, 1.09-1.48 + 0.001-0.42 i:
@@ -94,7 +95,9 @@ static const double SEA_FRESNEL_TABLE_TOL = 1e-10;
 typedef struct {
     double complex N;
     int usable;
-    double v[SEA_FRESNEL_INTERVALS + 1];
+    /* interval k: the cubic through its 4 nodes as a polynomial in the
+     * offset t = u - k in [0, 1], u = c M (a0 + t (a1 + t (a2 + t a3))) */
+    double a[SEA_FRESNEL_INTERVALS][4];
 } fresnel_table;
 
 struct sea_optics {
@@ -430,39 +433,73 @@ static sea_emis_rule auto_rule(const view_frame *f)
 
 /* ------------------------------------------------------------ emissivity */
 
-/* The table's interpolation at c in [0, 1]. */
-static inline double fresnel_interp(const fresnel_table *t, double c)
+/* Where the table is read for c in [0, 1]: interval *k and offset t in
+ * [0, 1] (c = 1 is the end of the last interval). */
+static inline double fresnel_pos(double c, int *k)
 {
     const int M = SEA_FRESNEL_INTERVALS;
     const double u = (c < 0.0 ? 0.0 : c > 1.0 ? 1.0 : c) * M;
-    int b = (int)u - 1; /* nodes b .. b + 3 around the interval */
-    b = b < 0 ? 0 : b > M - 3 ? M - 3 : b;
-    const double x = u - b; /* in [0, 3] */
-    const double *v = &t->v[b];
-    const double x0 = x, x1 = x - 1.0, x2 = x - 2.0, x3 = x - 3.0;
-    /* Lagrange weights on nodes 0..3; constants multiplied, not divided */
-    const double sixth = 1.0 / 6.0, x01 = x0 * x1, x23 = x2 * x3;
-    const double r = sixth * (v[3] * x01 * x2 - v[0] * x1 * x23) +
-                     0.5 * (v[1] * x0 * x23 - v[2] * x01 * x3);
-    return r < 0.0 ? 0.0 : r > 1.0 ? 1.0 : r; /* a reflectance, as the formula's */
+    int i = (int)u;
+    i = i > M - 1 ? M - 1 : i;
+    *k = i;
+    return u - i;
 }
 
-static void fresnel_build(fresnel_table *t, double complex N)
+/* The table's cubic of interval k at offset t, clamped to [0, 1] (a
+ * reflectance, as the formula's). */
+static inline double fresnel_eval(const fresnel_table *tb, int k, double t)
 {
-    const int M = SEA_FRESNEL_INTERVALS;
-    t->N = N;
+    const double *a = tb->a[k];
+    const double r = a[0] + t * (a[1] + t * (a[2] + t * a[3]));
+    return r < 0.0 ? 0.0 : r > 1.0 ? 1.0 : r;
+}
+
+/* The table's interpolation at c in [0, 1]. */
+static inline double fresnel_interp(const fresnel_table *tb, double c)
+{
+    int k;
+    const double t = fresnel_pos(c, &k);
+    return fresnel_eval(tb, k, t);
+}
+
+/* Interval k interpolates the 4 nodes k - 1 .. k + 2 (one-sided at the
+ * ends: 0 .. 3 and M - 3 .. M), the Lagrange cubic written in monomials of
+ * the offset t from node k: no division and 3 multiply-adds per value. */
+static void fresnel_build(fresnel_table *tb, double complex N)
+{
+    enum { M = SEA_FRESNEL_INTERVALS };
+    double v[M + 1];
+    tb->N = N;
     for (int k = 0; k <= M; k++)
-        t->v[k] = sea_fresnel_unpolarized((double)k / M, N);
+        v[k] = sea_fresnel_unpolarized((double)k / M, N);
+    for (int k = 0; k < M; k++) {
+        const int b = k < 1 ? 0 : k > M - 2 ? M - 3 : k - 1;
+        const double *w = &v[b];
+        /* P(x) on the nodes x = 0..3 in monomials of x ... */
+        double c[4] = {
+            w[0],
+            (-11.0 * w[0] + 18.0 * w[1] - 9.0 * w[2] + 2.0 * w[3]) / 6.0,
+            (2.0 * w[0] - 5.0 * w[1] + 4.0 * w[2] - w[3]) / 2.0,
+            (-w[0] + 3.0 * w[1] - 3.0 * w[2] + w[3]) / 6.0,
+        };
+        /* ... shifted to x = x0 + t (Taylor coefficients at x0 = k - b by
+         * repeated synthetic division) */
+        const double x0 = k - b;
+        for (int i = 0; i < 3; i++)
+            for (int m = 2; m >= i; m--)
+                c[m] += x0 * c[m + 1];
+        memcpy(tb->a[k], c, sizeof c);
+    }
     double worst = 0.0;
     for (int k = 0; k < M; k++) {
         const double c = (k + 0.5) / M;
-        worst = fmax(worst, fabs(fresnel_interp(t, c) - sea_fresnel_unpolarized(c, N)));
+        worst = fmax(worst, fabs(fresnel_interp(tb, c) - sea_fresnel_unpolarized(c, N)));
     }
     static const double near_grazing[] = { 1e-9, 1e-6, 1e-4, 1e-3 };
     for (size_t k = 0; k < sizeof near_grazing / sizeof near_grazing[0]; k++)
-        worst = fmax(worst, fabs(fresnel_interp(t, near_grazing[k]) -
+        worst = fmax(worst, fabs(fresnel_interp(tb, near_grazing[k]) -
                                  sea_fresnel_unpolarized(near_grazing[k], N)));
-    t->usable = worst <= SEA_FRESNEL_TABLE_TOL;
+    tb->usable = worst <= SEA_FRESNEL_TABLE_TOL;
 }
 
 /* The usable table of N, built on first use; NULL when the formula must be
@@ -552,6 +589,10 @@ typedef struct {
     int plain;             /* no outer average (delta): the result is the inner sum */
     double w_i[SEA_EMIS_GL_MAX], w_j[SEA_EMIS_GH_MAX];
     double cos_psi[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX];
+    /* Where every node (of positive w_i) reads a Fresnel table: the same
+     * for every index, so found once (table_positions) when a table is used. */
+    int tab_k[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX];
+    double tab_t[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX];
 } fixed_nodes;
 
 static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, double gX, double mY,
@@ -624,6 +665,13 @@ static double emissivity_of_nodes(const fixed_nodes *nd, const emis_ctx *ec)
         double acc;
         if (nd->n_j == 1 && nd->w_j[0] == 1.0) {
             acc = one_minus_rho(e, c[0]);
+        } else if (e->table != NULL) {
+            /* the table at the positions found once for every index */
+            const int *k = &nd->tab_k[i * nd->n_j];
+            const double *t = &nd->tab_t[i * nd->n_j];
+            acc = 0.0;
+            for (int j = 0; j < nd->n_j; j++)
+                acc += nd->w_j[j] * (1.0 - fresnel_eval(e->table, k[j], t[j]));
         } else {
             acc = 0.0;
             for (int j = 0; j < nd->n_j; j++)
@@ -635,6 +683,21 @@ static double emissivity_of_nodes(const fixed_nodes *nd, const emis_ctx *ec)
         den += w;
     }
     return den > 0.0 ? num / den : 0.0;
+}
+
+/* The table positions of the nodes emissivity_of_nodes reads through a
+ * table (positive w_i, an inner rule of several nodes). */
+static void table_positions(fixed_nodes *nd)
+{
+    if (nd->zero || nd->plain || nd->n_j == 1)
+        return;
+    for (int i = 0; i < nd->n_i; i++) {
+        if (!(nd->w_i[i] > 0.0))
+            continue;
+        const int o = i * nd->n_j;
+        for (int j = 0; j < nd->n_j; j++)
+            nd->tab_t[o + j] = fresnel_pos(nd->cos_psi[o + j], &nd->tab_k[o + j]);
+    }
 }
 
 sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
@@ -671,8 +734,13 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
     }
     fixed_nodes nd;
     nodes_fixed(p, &f, r, &nd);
+    int positioned = 0;
     for (size_t i = 0; i < n; i++) {
         const emis_ctx e = { N[i], fresnel_of(p, N[i]) };
+        if (e.table != NULL && !positioned) {
+            table_positions(&nd);
+            positioned = 1;
+        }
         out[i] = emissivity_of_nodes(&nd, &e);
     }
     return SEA_OK;
