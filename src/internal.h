@@ -10,4 +10,7 @@
 
 #define SEA_INTERNAL __attribute__((visibility("hidden")))
 
+/* planck.c: the black body L(lambda, T) = a / expm1(b / T), a and b of lambda. */
+SEA_INTERNAL void sea_planck_coefficients(double wavelength, double *a, double *b);
+
 #endif /* SEABAKE_INTERNAL_H */
