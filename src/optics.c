@@ -505,19 +505,28 @@ static void fresnel_build(fresnel_table *tb, double complex N)
 /* The usable table of N, built on first use; NULL when the formula must be
  * evaluated (no usable table, or the cache is full).  The plan is const to
  * its users: its cache is filled under its own lock. */
-static const fresnel_table *fresnel_of(const sea_optics *pc, double complex N)
+static const fresnel_table *fresnel_of(const sea_optics *pc, double complex N, size_t *hint)
 {
     sea_optics *p = (sea_optics *)pc;
     size_t n = atomic_load_explicit(&p->n_fresnel, memory_order_acquire);
+    /* A band's samples were tabulated in order: the slot after the
+     * previous sample's first. */
+    const size_t h = *hint;
+    *hint = h + 1;
+    if (h < n && p->fresnel[h]->N == N)
+        return p->fresnel[h]->usable ? p->fresnel[h] : NULL;
     for (size_t i = 0; i < n; i++)
-        if (p->fresnel[i]->N == N)
+        if (p->fresnel[i]->N == N) {
+            *hint = i + 1;
             return p->fresnel[i]->usable ? p->fresnel[i] : NULL;
+        }
     const fresnel_table *found = NULL;
     pthread_mutex_lock(&p->fresnel_lock);
     n = atomic_load_explicit(&p->n_fresnel, memory_order_relaxed);
     size_t i = 0;
     while (i < n && p->fresnel[i]->N != N)
         i++;
+    *hint = i + 1;
     if (i < n) {
         found = p->fresnel[i];
     } else if (n < SEA_FRESNEL_CACHE) {
@@ -685,6 +694,40 @@ static double emissivity_of_nodes(const fixed_nodes *nd, const emis_ctx *ec)
     return den > 0.0 ? num / den : 0.0;
 }
 
+/* emissivity_of_nodes for four indices with tables at once, each summed in
+ * the same order (the same values): four independent chains of additions
+ * instead of one, for a band's samples.  Needs the table positions and
+ * the general case (not zero, not plain, several inner nodes). */
+static void emissivity_of_nodes4(const fixed_nodes *nd, const fresnel_table *const tb[4],
+                                 double out[4])
+{
+    double n0 = 0.0, n1 = 0.0, n2 = 0.0, n3 = 0.0, den = 0.0;
+    for (int i = 0; i < nd->n_i; i++) {
+        const double w = nd->w_i[i];
+        if (w <= 0.0)
+            continue;
+        const int *k = &nd->tab_k[i * nd->n_j];
+        const double *t = &nd->tab_t[i * nd->n_j];
+        double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
+        for (int j = 0; j < nd->n_j; j++) {
+            const double wj = nd->w_j[j];
+            a0 += wj * (1.0 - fresnel_eval(tb[0], k[j], t[j]));
+            a1 += wj * (1.0 - fresnel_eval(tb[1], k[j], t[j]));
+            a2 += wj * (1.0 - fresnel_eval(tb[2], k[j], t[j]));
+            a3 += wj * (1.0 - fresnel_eval(tb[3], k[j], t[j]));
+        }
+        n0 += w * a0;
+        n1 += w * a1;
+        n2 += w * a2;
+        n3 += w * a3;
+        den += w;
+    }
+    out[0] = den > 0.0 ? n0 / den : 0.0;
+    out[1] = den > 0.0 ? n1 / den : 0.0;
+    out[2] = den > 0.0 ? n2 / den : 0.0;
+    out[3] = den > 0.0 ? n3 / den : 0.0;
+}
+
 /* The table positions of the nodes emissivity_of_nodes reads through a
  * table (positive w_i, an inner rule of several nodes). */
 static void table_positions(fixed_nodes *nd)
@@ -735,13 +778,31 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
     fixed_nodes nd;
     nodes_fixed(p, &f, r, &nd);
     int positioned = 0;
-    for (size_t i = 0; i < n; i++) {
-        const emis_ctx e = { N[i], fresnel_of(p, N[i]) };
+    size_t slot = 0; /* where the next index's table is looked for first */
+    const int general = !nd.zero && !nd.plain && nd.n_j > 1;
+    for (size_t i = 0; i < n;) {
+        const emis_ctx e = { N[i], fresnel_of(p, N[i], &slot) };
         if (e.table != NULL && !positioned) {
             table_positions(&nd);
             positioned = 1;
         }
-        out[i] = emissivity_of_nodes(&nd, &e);
+        /* four samples with tables at once (the last repeated to fill) */
+        const fresnel_table *tb[4] = { e.table };
+        size_t g = 1;
+        while (general && e.table != NULL && g < 4 && i + g < n &&
+               (tb[g] = fresnel_of(p, N[i + g], &slot)) != NULL)
+            g++;
+        if (g < 2) {
+            out[i++] = emissivity_of_nodes(&nd, &e);
+            continue;
+        }
+        for (size_t m = g; m < 4; m++)
+            tb[m] = tb[g - 1];
+        double o4[4];
+        emissivity_of_nodes4(&nd, tb, o4);
+        for (size_t m = 0; m < g; m++)
+            out[i + m] = o4[m];
+        i += g;
     }
     return SEA_OK;
 }
