@@ -31,6 +31,14 @@
 #include <stdatomic.h>
 #include <string.h>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+/* The emissivity's node loops in AVX2, chosen at run time (never required
+ * at build time): the same IEEE operations in the same order as the
+ * portable loops (no fused multiply-add), so the same bits. */
+#define SEA_OPTICS_AVX2 1
+#endif
+
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_integration.h>
 
@@ -112,6 +120,7 @@ struct sea_optics {
     double gl_w[SEA_TRI(SEA_EMIS_GL_MAX)];
     double gh_x[SEA_TRI(SEA_EMIS_GH_MAX)]; /* probabilists' Hermite nodes */
     double gh_w[SEA_TRI(SEA_EMIS_GH_MAX)]; /* normalised weights (sum 1) */
+    int avx2;                              /* this processor runs the AVX2 loops */
 };
 
 sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
@@ -122,6 +131,10 @@ sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     pthread_mutex_init(&p->fresnel_lock, NULL);
     atomic_init(&p->n_fresnel, 0);
+#ifdef SEA_OPTICS_AVX2
+    __builtin_cpu_init();
+    p->avx2 = __builtin_cpu_supports("avx2") != 0;
+#endif
     p->gl_inner = gsl_integration_glfixed_table_alloc(SEA_GL_INNER_NODES);
     if (p->gl_inner == NULL)
         goto nomem;
@@ -597,12 +610,132 @@ typedef struct {
     int zero;              /* every facet turned away: the result is 0 */
     int plain;             /* no outer average (delta): the result is the inner sum */
     double w_i[SEA_EMIS_GL_MAX], w_j[SEA_EMIS_GH_MAX];
-    double cos_psi[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX];
+    /* (+ 4: the AVX2 loops write whole vectors past a row's end) */
+    double cos_psi[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX + 4];
     /* Where every node (of positive w_i) reads a Fresnel table: the same
      * for every index, so found once (table_positions) when a table is used. */
-    int tab_k[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX];
-    double tab_t[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX];
+    int tab_k[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX + 4];
+    double tab_t[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX + 4];
+    int positioned;        /* tab_k and tab_t are filled */
+    int avx2;              /* the AVX2 loops (sea_optics.avx2) */
 } fixed_nodes;
+
+#ifdef SEA_OPTICS_AVX2
+/* inner_nodes' loop and then fresnel_pos for the row, four nodes at a time.
+ * Loads and stores whole vectors (masked ones are slow on some
+ * processors): x may be read, and cos_psi, k and t written, up to 3 nodes
+ * past n, which every caller's arrays allow (a following row overwritten
+ * later, or spare room); what lies there is never summed. */
+__attribute__((target("avx2"))) static void row_nodes_avx2(double num, double one_gX2,
+                                                           double mY, double s, const double *x,
+                                                           int n, double *cos_psi, int *k,
+                                                           double *t)
+{
+    const __m256d vnum = _mm256_set1_pd(num), vone = _mm256_set1_pd(one_gX2);
+    const __m256d vmY = _mm256_set1_pd(mY), vs = _mm256_set1_pd(s);
+    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    const __m256d M = _mm256_set1_pd((double)SEA_FRESNEL_INTERVALS);
+    const __m128i last = _mm_set1_epi32(SEA_FRESNEL_INTERVALS - 1);
+    for (int j = 0; j < n; j += 4) {
+        const __m256d gY = _mm256_add_pd(vmY, _mm256_mul_pd(vs, _mm256_loadu_pd(x + j)));
+        const __m256d c =
+            _mm256_div_pd(vnum, _mm256_sqrt_pd(_mm256_add_pd(vone, _mm256_mul_pd(gY, gY))));
+        const __m256d u = _mm256_mul_pd(_mm256_min_pd(_mm256_max_pd(c, zero), one), M);
+        const __m128i ki = _mm_min_epi32(_mm256_cvttpd_epi32(u), last);
+        _mm256_storeu_pd(cos_psi + j, c);
+        _mm256_storeu_pd(t + j, _mm256_sub_pd(u, _mm256_cvtepi32_pd(ki)));
+        _mm_storeu_si128((__m128i *)(k + j), ki);
+    }
+}
+
+/* The sum over the row's n nodes of w_j (1 - rho) from table tb, four
+ * nodes at a time (fresnel_eval's operations; each node's four
+ * coefficients are one load, transposed), added in the order of j.  Reads
+ * up to 3 positions past n (of the same arrays, as row_nodes_avx2 writes
+ * them); a lane past n reads interval 0 and is not added. */
+__attribute__((target("avx2"))) static double row_sum_avx2(const fresnel_table *tb,
+                                                           const int *k, const double *t,
+                                                           const double *w, int n)
+{
+    double acc = 0.0;
+    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    for (int j = 0; j < n; j += 4) {
+        const int r = n - j;
+        const __m256d c0 = _mm256_loadu_pd(tb->a[k[j]]);
+        const __m256d c1 = _mm256_loadu_pd(tb->a[r > 1 ? k[j + 1] : 0]);
+        const __m256d c2 = _mm256_loadu_pd(tb->a[r > 2 ? k[j + 2] : 0]);
+        const __m256d c3 = _mm256_loadu_pd(tb->a[r > 3 ? k[j + 3] : 0]);
+        /* rows (a0 a1 a2 a3) of the four nodes -> a_m of the four nodes */
+        const __m256d l01 = _mm256_unpacklo_pd(c0, c1), h01 = _mm256_unpackhi_pd(c0, c1);
+        const __m256d l23 = _mm256_unpacklo_pd(c2, c3), h23 = _mm256_unpackhi_pd(c2, c3);
+        const __m256d a0 = _mm256_permute2f128_pd(l01, l23, 0x20);
+        const __m256d a1 = _mm256_permute2f128_pd(h01, h23, 0x20);
+        const __m256d a2 = _mm256_permute2f128_pd(l01, l23, 0x31);
+        const __m256d a3 = _mm256_permute2f128_pd(h01, h23, 0x31);
+        const __m256d tt = _mm256_loadu_pd(t + j);
+        __m256d v = _mm256_add_pd(a2, _mm256_mul_pd(tt, a3));
+        v = _mm256_add_pd(a1, _mm256_mul_pd(tt, v));
+        v = _mm256_add_pd(a0, _mm256_mul_pd(tt, v));
+        v = _mm256_min_pd(_mm256_max_pd(v, zero), one);
+        v = _mm256_mul_pd(_mm256_loadu_pd(w + j), _mm256_sub_pd(one, v));
+        const __m128d lo = _mm256_castpd256_pd128(v), hi = _mm256_extractf128_pd(v, 1);
+        acc += _mm_cvtsd_f64(lo);
+        if (r > 1)
+            acc += _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo));
+        if (r > 2)
+            acc += _mm_cvtsd_f64(hi);
+        if (r > 3)
+            acc += _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi));
+    }
+    return acc;
+}
+#endif
+
+#ifdef SEA_OPTICS_AVX2
+/* row_sum of four tables at once, one table a lane: a node's four
+ * coefficient rows, one from each table, transposed; each lane adds in
+ * the order of j, as row_sum does. */
+__attribute__((target("avx2"))) static void row_sum4_avx2(const fresnel_table *const tb[4],
+                                                          const int *k, const double *t,
+                                                          const double *w, int n, double out[4])
+{
+    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    __m256d acc = zero;
+    for (int j = 0; j < n; j++) {
+        const int kj = k[j];
+        const __m256d c0 = _mm256_loadu_pd(tb[0]->a[kj]), c1 = _mm256_loadu_pd(tb[1]->a[kj]);
+        const __m256d c2 = _mm256_loadu_pd(tb[2]->a[kj]), c3 = _mm256_loadu_pd(tb[3]->a[kj]);
+        const __m256d l01 = _mm256_unpacklo_pd(c0, c1), h01 = _mm256_unpackhi_pd(c0, c1);
+        const __m256d l23 = _mm256_unpacklo_pd(c2, c3), h23 = _mm256_unpackhi_pd(c2, c3);
+        const __m256d a0 = _mm256_permute2f128_pd(l01, l23, 0x20);
+        const __m256d a1 = _mm256_permute2f128_pd(h01, h23, 0x20);
+        const __m256d a2 = _mm256_permute2f128_pd(l01, l23, 0x31);
+        const __m256d a3 = _mm256_permute2f128_pd(h01, h23, 0x31);
+        const __m256d tt = _mm256_set1_pd(t[j]);
+        __m256d v = _mm256_add_pd(a2, _mm256_mul_pd(tt, a3));
+        v = _mm256_add_pd(a1, _mm256_mul_pd(tt, v));
+        v = _mm256_add_pd(a0, _mm256_mul_pd(tt, v));
+        v = _mm256_min_pd(_mm256_max_pd(v, zero), one);
+        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(w[j]), _mm256_sub_pd(one, v)));
+    }
+    _mm256_storeu_pd(out, acc);
+}
+#endif
+
+/* The sum of w_j (1 - rho) over the n nodes of a row (positions k, t)
+ * from table tb, in the order of j. */
+static double row_sum(const fixed_nodes *nd, const fresnel_table *tb, const int *k,
+                      const double *t, int n)
+{
+#ifdef SEA_OPTICS_AVX2
+    if (nd->avx2)
+        return row_sum_avx2(tb, k, t, nd->w_j, n);
+#endif
+    double acc = 0.0;
+    for (int j = 0; j < n; j++)
+        acc += nd->w_j[j] * (1.0 - fresnel_eval(tb, k[j], t[j]));
+    return acc;
+}
 
 static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, double gX, double mY,
                         fixed_nodes *nd, int i)
@@ -618,6 +751,13 @@ static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, doub
     const double num = f->cos_th - gX * f->sin_th, one_gX2 = 1.0 + gX * gX;
     const double s = f->s_Y_given_X;
     double *out = &nd->cos_psi[i * n_gh];
+#ifdef SEA_OPTICS_AVX2
+    if (nd->avx2) { /* the table positions too, nearly free here */
+        row_nodes_avx2(num, one_gX2, mY, s, x, n_gh, out, &nd->tab_k[i * n_gh],
+                       &nd->tab_t[i * n_gh]);
+        return;
+    }
+#endif
     for (int j = 0; j < n_gh; j++) {
         const double gY = mY + s * x[j];
         out[j] = num / sqrt(one_gX2 + gY * gY);
@@ -627,6 +767,8 @@ static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, doub
 static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, fixed_nodes *nd)
 {
     nd->zero = nd->plain = 0;
+    nd->avx2 = p->avx2;
+    nd->positioned = p->avx2 && r.n_gh > 0;
     nd->n_j = r.n_gh > 0 ? r.n_gh : 1;
     if (r.n_gh > 0)
         memcpy(nd->w_j, &p->gh_w[SEA_TRI(r.n_gh - 1)], (size_t)r.n_gh * sizeof(double));
@@ -645,12 +787,18 @@ static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, 
     const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
     const double *x = &p->gl_x[SEA_TRI(r.n_gl - 1)], *wx = &p->gl_w[SEA_TRI(r.n_gl - 1)];
     nd->n_i = r.n_gl;
+    /* the weights first, then the rows: the rows' square roots and
+     * divisions, free of calls, overlap one another */
     for (int i = 0; i < r.n_gl; i++) {
         const double t = mid + half * x[i];
         const double w = wx[i] * view_weight(f, t);
         nd->w_i[i] = w > 0.0 ? w : 0.0;
-        if (w > 0.0)
+    }
+    for (int i = 0; i < r.n_gl; i++) {
+        if (nd->w_i[i] > 0.0) {
+            const double t = mid + half * x[i];
             inner_nodes(p, f, r.n_gh, f->m_X + f->s_X * t, f->m_Y + f->b_YX * t, nd, i);
+        }
     }
 }
 
@@ -676,11 +824,8 @@ static double emissivity_of_nodes(const fixed_nodes *nd, const emis_ctx *ec)
             acc = one_minus_rho(e, c[0]);
         } else if (e->table != NULL) {
             /* the table at the positions found once for every index */
-            const int *k = &nd->tab_k[i * nd->n_j];
-            const double *t = &nd->tab_t[i * nd->n_j];
-            acc = 0.0;
-            for (int j = 0; j < nd->n_j; j++)
-                acc += nd->w_j[j] * (1.0 - fresnel_eval(e->table, k[j], t[j]));
+            acc = row_sum(nd, e->table, &nd->tab_k[i * nd->n_j], &nd->tab_t[i * nd->n_j],
+                          nd->n_j);
         } else {
             acc = 0.0;
             for (int j = 0; j < nd->n_j; j++)
@@ -708,13 +853,19 @@ static void emissivity_of_nodes4(const fixed_nodes *nd, const fresnel_table *con
             continue;
         const int *k = &nd->tab_k[i * nd->n_j];
         const double *t = &nd->tab_t[i * nd->n_j];
-        double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
-        for (int j = 0; j < nd->n_j; j++) {
-            const double wj = nd->w_j[j];
-            a0 += wj * (1.0 - fresnel_eval(tb[0], k[j], t[j]));
-            a1 += wj * (1.0 - fresnel_eval(tb[1], k[j], t[j]));
-            a2 += wj * (1.0 - fresnel_eval(tb[2], k[j], t[j]));
-            a3 += wj * (1.0 - fresnel_eval(tb[3], k[j], t[j]));
+        double a0, a1, a2, a3;
+#ifdef SEA_OPTICS_AVX2
+        if (nd->avx2) {
+            double a[4];
+            row_sum4_avx2(tb, k, t, nd->w_j, nd->n_j, a);
+            a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3];
+        } else
+#endif
+        {
+            a0 = row_sum(nd, tb[0], k, t, nd->n_j);
+            a1 = row_sum(nd, tb[1], k, t, nd->n_j);
+            a2 = row_sum(nd, tb[2], k, t, nd->n_j);
+            a3 = row_sum(nd, tb[3], k, t, nd->n_j);
         }
         n0 += w * a0;
         n1 += w * a1;
@@ -732,7 +883,7 @@ static void emissivity_of_nodes4(const fixed_nodes *nd, const fresnel_table *con
  * table (positive w_i, an inner rule of several nodes). */
 static void table_positions(fixed_nodes *nd)
 {
-    if (nd->zero || nd->plain || nd->n_j == 1)
+    if (nd->zero || nd->plain || nd->n_j == 1 || nd->positioned)
         return;
     for (int i = 0; i < nd->n_i; i++) {
         if (!(nd->w_i[i] > 0.0))
