@@ -43,6 +43,7 @@
 #include <gsl/gsl_integration.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 /* Gauss-Legendre nodes of the reflectance's inner (gamma_Y) integral: a
  * smooth integrand over the exact mirror-up window, vanishing linearly at
@@ -169,6 +170,17 @@ sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
 nomem:
     sea_optics_free(p);
     return sea_fail(err, SEA_ERR_NOMEM, "out of memory (quadrature tables)");
+}
+
+int sea_optics_set_simd(sea_optics *p, int on)
+{
+    p->avx2 = 0;
+#ifdef SEA_OPTICS_AVX2
+    p->avx2 = on && __builtin_cpu_supports("avx2") != 0;
+#else
+    (void)on;
+#endif
+    return p->avx2;
 }
 
 void sea_optics_free(sea_optics *p)

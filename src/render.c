@@ -240,8 +240,9 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
 
 /* Brightness temperature of a (band) radiance: the T whose blackbody gives
  * the same weighted sum, by safeguarded Newton iterations on ln T.  Each
- * iteration takes one expm1 per sample (B = a / E, E = expm1(x), x = b / T,
- * dB/dT = B x (1 + 1/E) / T), the wavelength's powers found once. */
+ * iteration takes one expm1 and one division per sample (B = a / E,
+ * E = expm1(x), x = b / T, dB/dT = B x (1 + 1/E) / T), the wavelength's
+ * powers found once. */
 static double band_temperature(const sea_render *r, double L)
 {
     if (r->nsamp == 1)
@@ -252,10 +253,11 @@ static double band_temperature(const sea_render *r, double L)
         T = 300.0;
     for (int it = 0; it < 100; it++) {
         double f = -L, df = 0.0;
+        const double inv_T = 1.0 / T;
         for (size_t i = 0; i < r->nsamp; i++) {
-            const double x = r->pb[i] / T, E = expm1(x), B = r->pa[i] / E;
+            const double x = r->pb[i] * inv_T, inv_E = 1.0 / expm1(x), B = r->pa[i] * inv_E;
             f += r->wt[i] * B;
-            df += r->wt[i] * (B * x * (1.0 + 1.0 / E) / T);
+            df += r->wt[i] * (B * x * (1.0 + inv_E) * inv_T);
         }
         if (f > 0.0)
             hi = T;
