@@ -853,6 +853,8 @@ static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, doub
     }
 }
 
+static void table_positions(fixed_nodes *nd);
+
 static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, fixed_nodes *nd)
 {
     nd->zero = nd->plain = 0;
@@ -896,6 +898,7 @@ static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, 
             inner_nodes(p, f, r.n_gh, f->m_X + f->s_X * t, f->m_Y + f->b_YX * t, nd, i);
         }
     }
+    table_positions(nd); /* (the AVX2 rows found them already) */
 }
 
 /* 1 - rho averaged over the nodes: the inner sums weighted by w_i over the
@@ -990,6 +993,20 @@ static void table_positions(fixed_nodes *nd)
     }
 }
 
+/* The fixed rule of a call: the given orders, Eq 12's 64 nodes (fast), or
+ * the default's orders from the view frame (auto, and full where a fixed
+ * rule is needed). */
+static fixed_rule fixed_rule_of(const view_frame *f, sea_emis_method method,
+                                const sea_emis_rule *rule)
+{
+    if (rule != NULL)
+        return (fixed_rule){ rule->n_gl, rule->n_gh, SEA_RULE_T_CUT };
+    if (method == SEA_EMIS_FAST)
+        return (fixed_rule){ 64, 0, SEA_T_CUT };
+    const sea_emis_rule a = auto_rule(f);
+    return (fixed_rule){ a.n_gl, a.n_gh, SEA_RULE_T_CUT };
+}
+
 sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
                             const sea_emis_rule *rule, const double complex *N, size_t n,
                             const sea_slope_stats *st, sea_dir v, double *out, sea_error *err)
@@ -1013,26 +1030,13 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
         return s;
     view_frame f;
     view_frame_init(st, v, &f);
-    fixed_rule r;
-    if (rule != NULL) {
-        r = (fixed_rule){rule->n_gl, rule->n_gh, SEA_RULE_T_CUT};
-    } else if (method == SEA_EMIS_FAST) {
-        r = (fixed_rule){64, 0, SEA_T_CUT};
-    } else {
-        const sea_emis_rule a = auto_rule(&f);
-        r = (fixed_rule){a.n_gl, a.n_gh, SEA_RULE_T_CUT};
-    }
+    const fixed_rule r = fixed_rule_of(&f, method, rule);
     fixed_nodes nd;
     nodes_fixed(p, &f, r, &nd);
-    int positioned = 0;
     size_t slot = 0; /* where the next index's table is looked for first */
     const int general = !nd.zero && !nd.plain && nd.n_j > 1;
     for (size_t i = 0; i < n;) {
         const emis_ctx e = { N[i], fresnel_of(p, N[i], &slot) };
-        if (e.table != NULL && !positioned) {
-            table_positions(&nd);
-            positioned = 1;
-        }
         /* four samples with tables at once (the last repeated to fill) */
         const fresnel_table *tb[4] = { e.table };
         size_t g = 1;
@@ -1223,4 +1227,347 @@ sea_status sea_energy_balance(const sea_optics *p, sea_emis_method method, doubl
         return s;
     out->total = out->emissivity + out->reflectance;
     return SEA_OK;
+}
+
+/* ------------------------------------------------- multiple reflections */
+
+/* The emissivity with up to R surface hits (R >= 2).  Seen from v, a facet
+ * A of the sub-facet distribution emits 1 - rho(psi_A); the rest of what the
+ * sensor receives from A comes along the mirror ray r = 2 (n.v) n - v.  In
+ * the paper (R = 1) r always brings the sky.  Here r meets the surface again
+ * with the probability
+ *     P = Lambda(r) / (1 + Lambda(v) + Lambda(r))    (r up; 1 when r points down),
+ * the complement of the bistatic Smith factor (1 + L_v)/(1 + L_v + L_r) that
+ * Eq 14c and the energy balance give the escaping ray, so that emission and
+ * escaping reflection add to exactly 1 when nothing is absorbed twice.
+ * What r meets is again the slope distribution, weighted by the projected
+ * area seen along r: the facet B is seen from o = -r, which lies below the
+ * horizon when r rises.  The weight (cos th_o - gamma_X sin th_o)+ p(gamma)
+ * of the emissivity holds for such o as well (it is the rate at which a
+ * ray of that direction meets facets of slope gamma, as for a ray from the
+ * sensor), so B emits E_{R-1}(o): the same average, one hit fewer, toward a
+ * zenith angle in (90, 180) deg for a rising ray.  After B the mirror ray
+ * leaves again with P = L_r'/(1 + L_r') (B was met from below: no
+ * visibility condition from above), and so on:
+ *     E_R(v) = E_w[(1 - rho_A) + rho_A P_A E_{R-1}(-r_A)],  E_1 = Eq 7.
+ * The sky then sees 1 - E_R, which is what an isotropic sky's reflection
+ * is (Eq 23), so Kirchhoff's closure holds at every R. */
+
+/* Indices handled at once by one recursion (stack arrays). */
+enum { SEA_MULTI_BLOCK = 32 };
+/* The emissivity of a facet met again multiplies rho P <= 0.4, so it takes
+ * half the default orders (at least 4 x 2 nodes): over the Monte Carlo
+ * table's cases (tests/data/mc_emissivity.csv) this moves E_2 by at most
+ * 1e-4 against the full orders, at half the cost. */
+static const double SEA_MULTI_INNER_SCALE = 0.5;
+enum { SEA_MULTI_INNER_GL_MIN = 4, SEA_MULTI_INNER_GH_MIN = 2 };
+
+static sea_dir frame_dir_to_global(const view_frame *f, double x, double y, double z)
+{
+    return (sea_dir){ atan2(hypot(x, y), z), f->phi + atan2(y, x) };
+}
+
+double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith)
+{
+    switch (sky->model) {
+    case SEA_SKY_CLEAR: {
+        /* [1 - (1 - eps_z)^(1/cos)] B(T_air): at and below the horizon the
+         * path is opaque (eps_z > 0), B(T_air) */
+        const double t = 1.0 - sky->zenith_emissivity;
+        const double f = cos_zenith > 0.0 ? 1.0 - pow(t, 1.0 / cos_zenith) : 1.0;
+        return f * sky->radiance[k];
+    }
+    case SEA_SKY_TABLE: {
+        const double th = cos_zenith >= 1.0 ? 0.0 : cos_zenith > 0.0 ? acos(cos_zenith) : M_PI_2;
+        return sea_profile_at(sky->zenith, &sky->radiance[k * sky->n_zenith], sky->n_zenith, th);
+    }
+    case SEA_SKY_ISOTROPIC:
+    default:
+        return sky->radiance[k];
+    }
+}
+
+/* E_R toward d (zenith in [0, pi)) for indices N[0..n), n <= SEA_MULTI_BLOCK,
+ * and, when sky is not NULL, the sky's radiance that reaches d by
+ * reflections, K_R (indices k0 .. k0 + n of the sky's arrays):
+ *     K_R(v) = E_w[rho_A ((1 - P_A) L_sky(r_A) + P_A K_(R-1)(-r_A))],
+ *     K_1(v) = E_w[rho_A L_sky(r_A)]   (a falling r_A: the horizon's sky),
+ * so that E_R + K_R / L = 1 under a uniform sky of radiance L, at every R.
+ * first: d is the sensor's direction and *r0 the rule of its facets (the
+ * one reflections = 1 uses); otherwise d looks at facets met again, by the
+ * auto rule with halved orders. */
+static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, sea_dir d,
+                           const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
+                           const sea_sky *sky, size_t k0, double *out, double *kout)
+{
+    const int first = r0 != NULL;
+    view_frame f;
+    view_frame_init(st, d, &f);
+    fixed_rule a;
+    if (first) {
+        a = *r0;
+    } else {
+        const sea_emis_rule h = auto_rule(&f);
+        a = (fixed_rule){ (int)fmax(SEA_MULTI_INNER_GL_MIN, ceil(h.n_gl * SEA_MULTI_INNER_SCALE)),
+                          (int)fmax(SEA_MULTI_INNER_GH_MIN, ceil(h.n_gh * SEA_MULTI_INNER_SCALE)),
+                          SEA_RULE_T_CUT };
+    }
+    fixed_nodes nd;
+    nodes_fixed(p, &f, a, &nd);
+    if (nd.zero || (R <= 1 && sky == NULL)) {
+        for (size_t k = 0; k < n; k++) {
+            out[k] = emissivity_of_nodes(&nd, &ec[k]);
+            if (kout != NULL)
+                kout[k] = 0.0;
+        }
+        return;
+    }
+    const double L_in = first ? lambda_along(st, d) : 0.0;
+    /* the rule's abscissae, as nodes_fixed placed them */
+    double t_lo, t_hi;
+    view_window(&f, a.t_cut, &t_lo, &t_hi);
+    const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
+    double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+    for (int i = 0; i < nd.n_i; i++) {
+        const double wi = nd.w_i[i];
+        if (!nd.plain && wi <= 0.0)
+            continue;
+        double acc[SEA_MULTI_BLOCK] = { 0.0 }, kacc[SEA_MULTI_BLOCK] = { 0.0 };
+        for (int j = 0; j < nd.n_j; j++) {
+            const double cpsi = nd.cos_psi[i * nd.n_j + j];
+            /* the node's slope, from the rule's abscissae */
+            const double tt = nd.plain ? 0.0 : mid + half * p->gl_x[SEA_TRI(a.n_gl - 1) + i];
+            const double gX = nd.plain ? f.m_X : f.m_X + f.s_X * tt;
+            /* Eq 12 (n_gh = 0): gamma_Y = m_Y, as inner_nodes */
+            const double gY = a.n_gh == 0 ? f.m_Y
+                                          : f.m_Y + (nd.plain ? 0.0 : f.b_YX * tt) +
+                                                f.s_Y_given_X * p->gh_x[SEA_TRI(a.n_gh - 1) + j];
+            const double inv_norm = 1.0 / sqrt(1.0 + gX * gX + gY * gY);
+            const double two_c = 2.0 * cpsi * inv_norm;
+            const double rx = -two_c * gX - f.sin_th, ry = -two_c * gY,
+                         rz = two_c - f.cos_th;
+            /* the mirror ray's zenith cosine (the sky depends on no more) */
+            const double cz = rz / sqrt(rx * rx + ry * ry + rz * rz);
+            double P = 0.0;
+            if (R >= 2) {
+                P = 1.0;
+                if (rz > 0.0) {
+                    const double L_r = lambda_along(st, frame_dir_to_global(&f, rx, ry, rz));
+                    P = L_r / (1.0 + L_in + L_r);
+                }
+            }
+            double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK];
+            const int hit = P > 0.0;
+            if (hit) {
+                /* seen from o = -r */
+                const sea_dir o = frame_dir_to_global(&f, -rx, -ry, -rz);
+                emis_multi_rec(p, st, o, ec, n, R - 1, NULL, sky, k0, eB,
+                               sky != NULL ? kB : NULL);
+            }
+            for (size_t k = 0; k < n; k++) {
+                /* a facet without spread: the formula, as emissivity_of_nodes */
+                const emis_ctx exact = { ec[k].N, NULL };
+                const double rho = 1.0 - one_minus_rho(nd.plain ? &exact : &ec[k], cpsi);
+                acc[k] += nd.w_j[j] * ((1.0 - rho) + (hit ? rho * P * eB[k] : 0.0));
+                if (sky != NULL) {
+                    const double Ls = P < 1.0 ? sea_sky_radiance(sky, k0 + k, cz) : 0.0;
+                    kacc[k] += nd.w_j[j] * rho * ((1.0 - P) * Ls + (hit ? P * kB[k] : 0.0));
+                }
+            }
+        }
+        if (nd.plain) {
+            for (size_t k = 0; k < n; k++) {
+                out[k] = acc[k];
+                if (kout != NULL)
+                    kout[k] = kacc[k];
+            }
+            return;
+        }
+        for (size_t k = 0; k < n; k++) {
+            num[k] += wi * acc[k];
+            knum[k] += wi * kacc[k];
+        }
+        den += wi;
+    }
+    for (size_t k = 0; k < n; k++) {
+        out[k] = den > 0.0 ? num[k] / den : 0.0;
+        if (kout != NULL)
+            kout[k] = den > 0.0 ? knum[k] / den : 0.0;
+    }
+}
+
+/* The common part of sea_emissivity_multi_n and sea_emissivity_sky_n. */
+static sea_status emissivity_general(const sea_optics *p, sea_emis_method method,
+                                     const sea_emis_rule *rule, const double complex *N, size_t n,
+                                     const sea_slope_stats *st, sea_dir v, int reflections,
+                                     const sea_sky *sky, double *out, double *sky_out,
+                                     sea_error *err)
+{
+    if (reflections < 1 || reflections > SEA_REFLECTIONS_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "reflections %d is outside 1..%d", reflections,
+                        SEA_REFLECTIONS_MAX);
+    if (reflections == 1 && sky == NULL)
+        return sea_emissivity_n(p, method, rule, N, n, st, v, out, err);
+    sea_status s;
+    if (rule != NULL && (rule->n_gl < 1 || rule->n_gl > SEA_EMIS_GL_MAX || rule->n_gh < 0 ||
+                         rule->n_gh > SEA_EMIS_GH_MAX))
+        return sea_emissivity_n(p, method, rule, N, n, st, v, out, err); /* its message */
+    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
+        return s;
+    /* the sensor's facets by the rule reflections = 1 would use (full: auto) */
+    view_frame f;
+    view_frame_init(st, v, &f);
+    const fixed_rule r0 = fixed_rule_of(&f, method, rule);
+    for (size_t k0 = 0; k0 < n; k0 += SEA_MULTI_BLOCK) {
+        const size_t m = n - k0 < SEA_MULTI_BLOCK ? n - k0 : SEA_MULTI_BLOCK;
+        emis_ctx ec[SEA_MULTI_BLOCK];
+        size_t slot = 0;
+        for (size_t k = 0; k < m; k++)
+            ec[k] = (emis_ctx){ N[k0 + k], fresnel_of(p, N[k0 + k], &slot) };
+        emis_multi_rec(p, st, v, ec, m, reflections, &r0, sky, k0, &out[k0],
+                       sky != NULL ? &sky_out[k0] : NULL);
+    }
+    return SEA_OK;
+}
+
+sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
+                                const sea_emis_rule *rule, const double complex *N, size_t n,
+                                const sea_slope_stats *st, sea_dir v, int reflections,
+                                const sea_sky *sky, double *eps, double *sky_out, sea_error *err)
+{
+    if (sky == NULL ||
+        (sky->model != SEA_SKY_ISOTROPIC && sky->model != SEA_SKY_CLEAR &&
+         sky->model != SEA_SKY_TABLE) ||
+        (sky->model == SEA_SKY_CLEAR &&
+         !(sky->zenith_emissivity > 0.0 && sky->zenith_emissivity <= 1.0)) ||
+        (sky->model == SEA_SKY_TABLE && (sky->n_zenith < 2 || sky->zenith == NULL)))
+        return sea_fail(err, SEA_ERR_DOMAIN, "sky model %d or zenith emissivity out of range",
+                        sky != NULL ? sky->model : -1);
+    return emissivity_general(p, method, rule, N, n, st, v, reflections, sky, eps, sky_out, err);
+}
+
+sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
+                                  const sea_emis_rule *rule, const double complex *N, size_t n,
+                                  const sea_slope_stats *st, sea_dir v, int reflections,
+                                  double *out, sea_error *err)
+{
+    return emissivity_general(p, method, rule, N, n, st, v, reflections, NULL, out, NULL, err);
+}
+
+/* ------------------------------------------------------------ sun disc */
+
+/* The sun as a disc of angular radius a: the reflectivity averaged over
+ * the disc's incidence directions, (1/Omega) int_disc rho~(w_i; obs) dw_i.
+ * The mirror map sends the disc to a small ellipse in slope space,
+ * gamma = gamma0 + M u, |u| <= a (M: the mirror slope's derivatives along
+ * two orthogonal tangents at the sun's centre); rho, g/D and S hardly vary
+ * over it (a = 0.27 deg), so the average is rho g/D S Mass / Omega, Mass the
+ * slope distribution's probability inside the ellipse.  When the density is
+ * nearly linear over the ellipse Mass = p(gamma0) |det M| pi a^2 and this is
+ * the point sun's rho~ (J = |det M|): the disc is then skipped, when the
+ * second-order term, (a^2/8) lambda_max(M^T C^-1 M) (1 + d^2), d the
+ * centre's Mahalanobis distance, is below skip_rel.  Else Mass is computed
+ * in u: the Gaussian N(M^-1 (m - gamma0), M^-1 C M^-T) over the disc, the
+ * inner direction exactly (erf), the outer by Gauss-Legendre in u1 = a sin t
+ * over where it lives (8 standard deviations). */
+enum { SEA_DISC_NODES = 64 };
+
+static void mirror_slope(const double ui[3], const double uo[3], double g[2])
+{
+    const double h[3] = { ui[0] + uo[0], ui[1] + uo[1], ui[2] + uo[2] };
+    g[0] = -h[0] / h[2];
+    g[1] = -h[1] / h[2];
+}
+
+void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_t n,
+                             const sea_slope_stats *st, sea_dir inc, sea_dir obs, double radius,
+                             double skip_rel, double *out)
+{
+    sea_reflectivity_n(N, n, st, inc, obs, out);
+    if (!(radius > 0.0))
+        return;
+    double ui[3], uo[3], g0[2];
+    dir_vec(inc, ui);
+    dir_vec(obs, uo);
+    if (!(ui[2] + uo[2] > 0.0))
+        return;
+    mirror_slope(ui, uo, g0);
+    /* M: derivatives of the mirror slope along e1 (zenith) and e2 (azimuth) */
+    const double hz = ui[2] + uo[2];
+    const double h[3] = { ui[0] + uo[0], ui[1] + uo[1], hz };
+    const double ct = cos(inc.theta), stt = sin(inc.theta), cp = cos(inc.phi), sp = sin(inc.phi);
+    const double e[2][3] = { { ct * cp, ct * sp, -stt }, { -sp, cp, 0.0 } };
+    double M[2][2]; /* M[row: gamma x, y][col: e1, e2] */
+    for (int c = 0; c < 2; c++) {
+        M[0][c] = -(e[c][0] * hz - h[0] * e[c][2]) / (hz * hz);
+        M[1][c] = -(e[c][1] * hz - h[1] * e[c][2]) / (hz * hz);
+    }
+    const double det = M[0][0] * M[1][1] - M[0][1] * M[1][0];
+    if (!(fabs(det) > 0.0))
+        return;
+    const double xx = st->cov.xx + SEA_COV_REG, yy = st->cov.yy + SEA_COV_REG, xy = st->cov.xy;
+    const double cdet = fmax(xx * yy - xy * xy, SEA_COV_REG * SEA_COV_REG);
+    /* C^-1 */
+    const double ixx = yy / cdet, iyy = xx / cdet, ixy = -xy / cdet;
+    /* Q = M^T C^-1 M, its largest eigenvalue */
+    double Q[2][2];
+    for (int a = 0; a < 2; a++)
+        for (int b = 0; b < 2; b++)
+            Q[a][b] = M[0][a] * (ixx * M[0][b] + ixy * M[1][b]) +
+                      M[1][a] * (ixy * M[0][b] + iyy * M[1][b]);
+    const double tr = Q[0][0] + Q[1][1], dq = Q[0][0] * Q[1][1] - Q[0][1] * Q[1][0];
+    const double lmax = 0.5 * tr + sqrt(fmax(0.25 * tr * tr - dq, 0.0));
+    const double dx = g0[0] - st->mean.x, dy = g0[1] - st->mean.y;
+    const double d2 = ixx * dx * dx + 2.0 * ixy * dx * dy + iyy * dy * dy;
+    if (radius * radius / 8.0 * lmax * (1.0 + d2) < skip_rel)
+        return;
+    /* the Gaussian in u: mean M^-1 (m - gamma0), covariance M^-1 C M^-T */
+    const double Mi[2][2] = { { M[1][1] / det, -M[0][1] / det }, { -M[1][0] / det, M[0][0] / det } };
+    const double mu[2] = { Mi[0][0] * -dx + Mi[0][1] * -dy, Mi[1][0] * -dx + Mi[1][1] * -dy };
+    double Cu[2][2];
+    const double C[2][2] = { { xx, xy }, { xy, yy } };
+    for (int a = 0; a < 2; a++)
+        for (int b = 0; b < 2; b++) {
+            double sacc = 0.0;
+            for (int k = 0; k < 2; k++)
+                for (int l = 0; l < 2; l++)
+                    sacc += Mi[a][k] * C[k][l] * Mi[b][l];
+            Cu[a][b] = sacc;
+        }
+    const double s1 = sqrt(Cu[0][0]);
+    const double beta = Cu[0][1] / Cu[0][0];
+    const double sc = sqrt(fmax(Cu[1][1] - beta * Cu[0][1], 1e-300));
+    const double lo = fmax(-radius, mu[0] - 8.0 * s1), hi = fmin(radius, mu[0] + 8.0 * s1);
+    double mass = 0.0;
+    if (lo < hi) {
+        const double t_lo = asin(lo / radius), t_hi = asin(hi / radius);
+        const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
+        const double *x = &p->gl_x[SEA_TRI(SEA_DISC_NODES - 1)];
+        const double *w = &p->gl_w[SEA_TRI(SEA_DISC_NODES - 1)];
+        for (int i = 0; i < SEA_DISC_NODES; i++) {
+            const double t = mid + half * x[i];
+            const double u1 = radius * sin(t), du = radius * cos(t);
+            const double z1 = (u1 - mu[0]) / s1;
+            const double hh = sqrt(fmax(radius * radius - u1 * u1, 0.0));
+            const double mc = mu[1] + beta * (u1 - mu[0]);
+            const double inner = 0.5 * (erfc((-hh - mc) / (M_SQRT2 * sc)) -
+                                        erfc((hh - mc) / (M_SQRT2 * sc)));
+            mass += half * w[i] * du * exp(-0.5 * z1 * z1) / (s1 * sqrt(2.0 * M_PI)) * inner;
+        }
+    }
+    /* the point value is rho pdf g/D S J with J = |det M|; the disc's is
+     * rho g/D S Mass / Omega, Omega = pi a^2 (to a^4) */
+    const double pdf0 = slope_pdf(st, g0[0], g0[1]);
+    const double point_per = pdf0 * fabs(det); /* what out[] holds per rho g/D S */
+    mirror_geom m;
+    mirror_geom_of(st, inc, obs, &m);
+    if (m.zero)
+        return;
+    const double disc_per = mass / (M_PI * radius * radius);
+    for (size_t i = 0; i < n; i++) {
+        if (point_per > 0.0 && out[i] > 0.0)
+            out[i] *= disc_per / point_per;
+        else
+            out[i] = sea_fresnel_unpolarized(m.cos_psi0, N[i]) * m.g_over_D * m.S * disc_per;
+    }
 }

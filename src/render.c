@@ -29,6 +29,16 @@ struct sea_render {
     double *wl, *wt, *esun, *lsky;
     double *lsea;    /* blackbody radiance at the sea's temperature, per sample */
     double *pa, *pb; /* per sample, B(lambda, T) = pa / expm1(pb / T) */
+    double *lair;    /* ... at the air's ([atmosphere] air_temperature), 0 without */
+    sea_sky sky;     /* the sky's model over the samples (radiance: lsky, lair or a table's
+                        profile) */
+    /* tables ([sky] model = table, [atmosphere] table): the grids, and per
+     * sample their profiles on the grid's x (zenith or range) */
+    sea_grid *sky_grid, *atm_grid;
+    size_t sky_nx, atm_nx;
+    double *sky_x, *sky_v;             /* sky_v[k sky_nx + i] */
+    double *atm_x, *atm_tau, *atm_path; /* [k atm_nx + i] */
+    double atm_range_max;
     double complex *N;
     double wsum;
     sea_render_choices choices;
@@ -84,7 +94,15 @@ void sea_render_free(sea_render *r)
     free(r->lsea);
     free(r->pa);
     free(r->pb);
+    free(r->lair);
     free(r->N);
+    sea_grid_free(r->sky_grid);
+    sea_grid_free(r->atm_grid);
+    free(r->sky_x);
+    free(r->sky_v);
+    free(r->atm_x);
+    free(r->atm_tau);
+    free(r->atm_path);
     free(r);
 }
 
@@ -131,6 +149,7 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     free(r->lsea);
     free(r->pa);
     free(r->pb);
+    free(r->lair);
     free(r->N);
     r->wl = malloc(k * sizeof(double));
     r->wt = malloc(k * sizeof(double));
@@ -139,8 +158,10 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     r->lsea = malloc(k * sizeof(double));
     r->pa = malloc(k * sizeof(double));
     r->pb = malloc(k * sizeof(double));
+    r->lair = malloc(k * sizeof(double));
     r->N = malloc(k * sizeof(double complex));
-    if (!r->wl || !r->wt || !r->esun || !r->lsky || !r->lsea || !r->pa || !r->pb || !r->N)
+    if (!r->wl || !r->wt || !r->esun || !r->lsky || !r->lsea || !r->pa || !r->pb || !r->lair ||
+        !r->N)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu spectral samples", k);
     r->nsamp = k;
     const sea_scene *sc = &r->sc;
@@ -172,8 +193,39 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
                                              : sea_planck_radiance(r->wl[i], sc->sky_temperature);
         r->lsea[i] = sea_planck_radiance(r->wl[i], sc->temperature);
         sea_planck_coefficients(r->wl[i], &r->pa[i], &r->pb[i]);
+        r->lair[i] = isnan(sc->air_temperature)
+                         ? 0.0
+                         : sea_planck_radiance(r->wl[i], sc->air_temperature);
         r->wsum += r->wt[i];
     }
+    r->sky = (sea_sky){ sc->sky_model, sc->sky_zenith_emissivity,
+                        sc->sky_model == SEA_SKY_CLEAR ? r->lair : r->lsky, 0, NULL };
+    /* the tables' profiles at each sample's wavelength */
+    const struct {
+        const sea_grid *g;
+        size_t nx, cols;
+        double **x, **v[2];
+    } tab[2] = { { r->sky_grid, r->sky_nx, 1, &r->sky_x, { &r->sky_v, NULL } },
+                 { r->atm_grid, r->atm_nx, 2, &r->atm_x, { &r->atm_tau, &r->atm_path } } };
+    for (int t = 0; t < 2; t++) {
+        if (tab[t].g == NULL)
+            continue;
+        const size_t nx = tab[t].nx;
+        for (size_t c = 0; c < tab[t].cols; c++) {
+            free(*tab[t].v[c]);
+            *tab[t].v[c] = malloc(k * nx * sizeof(double));
+            if (*tab[t].v[c] == NULL)
+                return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the tables");
+            for (size_t i = 0; i < k; i++) {
+                sea_status st = sea_grid_profile(tab[t].g, r->wl[i], c, *tab[t].x,
+                                                 *tab[t].v[c] + i * nx, err);
+                if (st != SEA_OK)
+                    return st;
+            }
+        }
+    }
+    if (r->sky_grid != NULL)
+        r->sky = (sea_sky){ SEA_SKY_TABLE, NAN, r->sky_v, r->sky_nx, r->sky_x };
     if (!(r->wsum > 0.0))
         return sea_fail(err, SEA_ERR_DOMAIN, "the response is zero over the whole band");
     return SEA_OK;
@@ -206,7 +258,7 @@ sea_render_choices sea_render_choices_of(const sea_render *r)
  * reflectivity through *e and *rho. */
 static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
                                  sea_dir sun, int sun_up, double *L, double *e, double *rho,
-                                 sea_error *err)
+                                 double *Lk, sea_error *err)
 {
     double sl = 0.0, se = 0.0, sr = 0.0;
     /* a scaled auto rule: the same orders for every wavelength */
@@ -218,16 +270,32 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
     /* Every sample's emissivity from one set of nodes: the geometry is the
      * same at every wavelength. */
     double eps_all[SEA_SCENE_BAND_MAX], rr_all[SEA_SCENE_BAND_MAX];
-    sea_status s = sea_emissivity_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
-                                    scaled ? &rule : NULL, r->N, r->nsamp, st, obs, eps_all, err);
+    /* An isotropic sky (Eq 23) is seen in 1 - eps, with reflections >= 2
+     * as well: what the mirror rays do not meet again (sea_emissivity_multi_n).
+     * Any other sky is integrated over the facets' mirror rays (Eq 22,
+     * sea_emissivity_sky_n). */
+    const int directional = r->sc.sky_model != SEA_SKY_ISOTROPIC;
+    double ksky_all[SEA_SCENE_BAND_MAX];
+    sea_status s =
+        directional
+            ? sea_emissivity_sky_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
+                                   scaled ? &rule : NULL, r->N, r->nsamp, st, obs,
+                                   r->sc.reflections, &r->sky, eps_all, ksky_all, err)
+            : sea_emissivity_multi_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
+                                     scaled ? &rule : NULL, r->N, r->nsamp, st, obs,
+                                     r->sc.reflections, eps_all, err);
     if (s != SEA_OK)
         return s;
     if (sun_up)
-        sea_reflectivity_n(r->N, r->nsamp, st, sun, obs, rr_all);
+        sea_reflectivity_disc_n(r->optics, r->N, r->nsamp, st, sun, obs, r->sc.sun_radius,
+                                0.1 * r->sc.tolerance, rr_all);
     for (size_t i = 0; i < r->nsamp; i++) {
         const double eps = eps_all[i];
         const double rr = sun_up ? rr_all[i] : 0.0;
-        const double Li = rr * r->esun[i] + (1.0 - eps) * r->lsky[i] + eps * r->lsea[i];
+        const double sky = directional ? ksky_all[i] : (1.0 - eps) * r->lsky[i];
+        const double Li = rr * r->esun[i] + sky + eps * r->lsea[i];
+        if (Lk != NULL)
+            Lk[i] = Li;
         sl += r->wt[i] * Li;
         se += r->wt[i] * eps;
         sr += r->wt[i] * rr;
@@ -283,7 +351,7 @@ sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *s
                                    sea_dir sun, sea_facet_optics *out, sea_error *err)
 {
     double L, e, rho;
-    sea_status s = facet_radiance(r, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho, err);
+    sea_status s = facet_radiance(r, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho, NULL, err);
     if (s != SEA_OK)
         return s;
     out->emissivity = e;
@@ -358,6 +426,21 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
                           : sea_water_alloc((sea_water_table)sc->water_table, sc->salinity,
                                             &r->water, err));
     TRY(sea_optics_alloc(&r->optics, err));
+    /* the sky's and the air's tables */
+    double x_max, w_min, w_max;
+    if (sc->sky_model == SEA_SKY_TABLE) {
+        TRY(sea_sky_table_load(sc->sky_table_file, &r->sky_grid, err));
+        sea_grid_axes(r->sky_grid, &r->sky_nx, &x_max, &w_min, &w_max);
+        if ((r->sky_x = malloc(r->sky_nx * sizeof(double))) == NULL)
+            TRY(sea_fail(err, SEA_ERR_NOMEM, "out of memory for the sky table"));
+    }
+    if (sc->atmosphere_table_file[0] != '\0') {
+        TRY(sea_atmosphere_table_load(sc->atmosphere_table_file, &r->atm_grid, err));
+        sea_grid_axes(r->atm_grid, &r->atm_nx, &x_max, &w_min, &w_max);
+        r->atm_range_max = x_max;
+        if ((r->atm_x = malloc(r->atm_nx * sizeof(double))) == NULL)
+            TRY(sea_fail(err, SEA_ERR_NOMEM, "out of memory for the atmosphere table"));
+    }
 
     /* spectral samples */
     if (sc->wavelength <= 0.0 && sc->response_file[0])
@@ -383,7 +466,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
                 double L, e, rho;
                 TRY(set_samples(r, k, &resp, err));
                 TRY(facet_radiance(r, &lrs, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
-                                   err));
+                                   NULL, err));
                 if (fabs(L - prev) <= sc->tolerance * fabs(L))
                     break;
                 prev = L;
@@ -431,6 +514,12 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
         sky_L += r->wt[i] * r->lsky[i];
     const double unit = radiance_unit(r); /* per um */
     const float sky_T = (float)band_temperature(r, sky_L);
+    /* the air between the sensor and the sea: Beer-Lambert along the range
+     * met, the path radiating (1 - tau) B(T_air) */
+    double air_L = 0.0;
+    for (size_t i = 0; i < r->nsamp; i++)
+        air_L += r->wt[i] * r->lair[i];
+    const double ext = isnan(sc->air_temperature) ? 0.0 : sc->extinction;
     size_t rows_done = 0;
     int failed = 0, cancelled = 0;
     sea_error first = { { 0 } };
@@ -443,8 +532,18 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
             sea_multires_sample s;
             sea_multires_pixel(f, (int)i, (int)j, &s);
             if (!s.hit) {
-                img->radiance[q] = (float)(sky_L * unit);
-                img->temperature[q] = sky_T;
+                double Ls = sky_L;
+                float Ts = sky_T;
+                if (sc->sky_model != SEA_SKY_ISOTROPIC) { /* the sky toward the ray */
+                    double d[3];
+                    sea_camera_ray(&r->cam, (double)i + 0.5, (double)j + 0.5, d);
+                    Ls = 0.0;
+                    for (size_t k = 0; k < r->nsamp; k++)
+                        Ls += r->wt[k] * sea_sky_radiance(&r->sky, k, d[2]);
+                    Ts = (float)band_temperature(r, Ls);
+                }
+                img->radiance[q] = (float)(Ls * unit);
+                img->temperature[q] = Ts;
                 img->level[q] = 0.0f;
                 img->emissivity[q] = img->reflectivity[q] = 0.0f;
                 continue;
@@ -455,8 +554,27 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
             const sea_slope_stats ss = sea_moments_stats(&s.moments);
             double L, e, rho;
             sea_error e1;
+            double Lk[SEA_SCENE_BAND_MAX];
             sea_status s1 = facet_radiance(r, &ss, s.obs, sun, sun.theta < M_PI / 2.0, &L, &e,
-                                           &rho, &e1);
+                                           &rho, r->atm_grid != NULL ? Lk : NULL, &e1);
+            if (ext > 0.0) {
+                const double tau = exp(-ext * s.range);
+                L = tau * L + (1.0 - tau) * air_L;
+            } else if (s1 == SEA_OK && r->atm_grid != NULL) {
+                /* the table's transmittance and path radiance at the range met */
+                if (s.range > r->atm_range_max)
+                    s1 = sea_fail(&e1, SEA_ERR_DOMAIN,
+                                  "pixel (%zu, %zu) meets the sea at %.6g m, beyond the "
+                                  "[atmosphere] table's last range_m %.6g (allowed: a table that "
+                                  "reaches the farthest sea in view)",
+                                  i, j, s.range, r->atm_range_max);
+                L = 0.0;
+                for (size_t k = 0; k < r->nsamp; k++) {
+                    const double *tk = &r->atm_tau[k * r->atm_nx], *pk = &r->atm_path[k * r->atm_nx];
+                    L += r->wt[k] * (sea_profile_at(r->atm_x, tk, r->atm_nx, s.range) * Lk[k] +
+                                     sea_profile_at(r->atm_x, pk, r->atm_nx, s.range));
+                }
+            }
             if (s1 == SEA_OK && !(isfinite(L) && L > 0.0 && isfinite(rho)))
                 s1 = sea_fail(&e1, SEA_ERR_NUMERIC, "radiance %g at pixel (%zu, %zu)", L, i, j);
             if (s1 != SEA_OK) {

@@ -41,19 +41,6 @@ enum { SEA_QUOTE_MAX = 60 };
 
 /* ------------------------------------------------------------ text files */
 
-/* strtod over the whole string; NaN and values beyond double range are not
- * numbers, infinities are (the range checks decide about them). */
-static int parse_real(const char *s, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || isnan(v))
-        return -1;
-    *out = v;
-    return 0;
-}
-
 /* ------------------------------------------------------ response curves */
 
 static sea_status response_push(sea_response *r, size_t *cap, double wavelength, double value)
@@ -76,17 +63,6 @@ static sea_status response_push(sea_response *r, size_t *cap, double wavelength,
     return SEA_OK;
 }
 
-/* Trims blanks (and a CR) at both ends, in place. */
-static char *trim(char *s)
-{
-    while (*s != '\0' && isspace((unsigned char)*s))
-        s++;
-    size_t l = strlen(s);
-    while (l > 0 && isspace((unsigned char)s[l - 1]))
-        s[--l] = '\0';
-    return s;
-}
-
 sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
 {
     sea_status st;
@@ -102,7 +78,7 @@ sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
         if (next != NULL)
             *next++ = '\0';
         lineno++;
-        char *p = trim(line);
+        char *p = sea_text_trim(line);
         if (*p == '\0' || *p == '#')
             continue;
         char *comma = strchr(p, ',');
@@ -112,7 +88,7 @@ sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
             goto fail;
         }
         *comma = '\0';
-        char *field[2] = { trim(p), trim(comma + 1) };
+        char *field[2] = { sea_text_trim(p), sea_text_trim(comma + 1) };
         if (!header) {
             if (strcmp(field[0], "wavelength_um") == 0 && strcmp(field[1], "response") == 0) {
                 i_wl = 0;
@@ -129,13 +105,13 @@ sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
             continue;
         }
         double wl_um, value;
-        if (parse_real(field[i_wl], &wl_um) != 0 || !isfinite(wl_um) || wl_um <= 0.0) {
+        if (sea_text_real(field[i_wl], &wl_um) != 0 || !isfinite(wl_um) || wl_um <= 0.0) {
             st = sea_fail(err, SEA_ERR_PARSE,
                           "%s:%ld: wavelength_um: '%.*s' is not a positive number", path, lineno,
                           SEA_QUOTE_MAX, field[i_wl]);
             goto fail;
         }
-        if (parse_real(field[1 - i_wl], &value) != 0 || !isfinite(value)) {
+        if (sea_text_real(field[1 - i_wl], &value) != 0 || !isfinite(value)) {
             st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: response: '%.*s' is not a number", path,
                           lineno, SEA_QUOTE_MAX, field[1 - i_wl]);
             goto fail;
@@ -195,8 +171,11 @@ void sea_response_free(sea_response *r)
 
 /* ---------------------------------------------------------- key table */
 
-typedef enum { SEC_SEA, SEC_SUN, SEC_SKY, SEC_SENSOR, SEC_MODEL, SEC_COUNT } sea_section;
-static const char *const SEA_SECTIONS[SEC_COUNT] = { "sea", "sun", "sky", "sensor", "model" };
+typedef enum {
+    SEC_SEA, SEC_SUN, SEC_SKY, SEC_ATMOSPHERE, SEC_SENSOR, SEC_MODEL, SEC_COUNT
+} sea_section;
+static const char *const SEA_SECTIONS[SEC_COUNT] = { "sea", "sun", "sky", "atmosphere", "sensor",
+                                                     "model" };
 
 typedef enum {
     KIND_REAL,   /* a number, range [lo, hi] (see flags), times scale */
@@ -219,11 +198,13 @@ typedef enum {
     K_WIND_SPEED, K_WIND_DIRECTION, K_FETCH, K_SEA_TEMPERATURE, K_SALINITY, K_WATER, K_SEED,
     K_TIME, K_LOOP_PERIOD,
     K_SUN_ZENITH, K_SUN_AZIMUTH, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, K_SUN_SOLID_ANGLE,
-    K_SUN_TRANSMITTANCE,
-    K_SKY_RADIANCE, K_SKY_TEMPERATURE,
+    K_SUN_TRANSMITTANCE, K_SUN_ANGULAR_RADIUS,
+    K_SKY_RADIANCE, K_SKY_TEMPERATURE, K_SKY_MODEL, K_SKY_ZENITH_EMISSIVITY,
+    K_SKY_TABLE, K_AIR_TEMPERATURE, K_EXTINCTION, K_ATMOSPHERE_TABLE,
     K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
     K_WAVELENGTH, K_BAND, K_RESPONSE, K_SAMPLES,
     K_METHOD, K_N, K_FINEST, K_GRID, K_EMISSIVITY, K_EARTH, K_WINDOWS, K_TOLERANCE,
+    K_REFLECTIONS,
     K_COUNT
 } key_id;
 
@@ -233,6 +214,17 @@ static int windows_from_name(const char *name)
         return SEA_WINDOWS_VIEW;
     if (strcmp(name, "clipmap") == 0)
         return SEA_WINDOWS_CLIPMAP;
+    return -1;
+}
+
+static int sky_model_from_name(const char *name)
+{
+    if (strcmp(name, "isotropic") == 0)
+        return SEA_SKY_ISOTROPIC;
+    if (strcmp(name, "clear") == 0)
+        return SEA_SKY_CLEAR;
+    if (strcmp(name, "table") == 0)
+        return SEA_SKY_TABLE;
     return -1;
 }
 
@@ -292,11 +284,25 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                                sun_solid_angle),
     [K_SUN_TRANSMITTANCE] = REAL(SEC_SUN, "transmittance", 0.0, 1.0, 0, 1.0, "",
                                  sun_transmittance),
+    [K_SUN_ANGULAR_RADIUS] = REAL(SEC_SUN, "angular_radius", 0.0, 5.0, 0, SEA_DEG, "deg",
+                                  sun_radius),
 
     [K_SKY_RADIANCE] = REAL(SEC_SKY, "radiance", 0.0, 1e3, 0, SEA_PER_UM,
                             "W m^-2 sr^-1 um^-1", sky_radiance),
     [K_SKY_TEMPERATURE] = REAL(SEC_SKY, "temperature", 0.0, 400.0, LO_OPEN, 1.0, "K",
                                sky_temperature),
+    [K_SKY_MODEL] = CHOICE(SEC_SKY, "model", sky_model_from_name, "isotropic, clear, table",
+                           sky_model),
+    [K_SKY_TABLE] = { SEC_SKY, "table", KIND_PATH, 0, 0, 0, 1.0, "", AT(sky_table_file), NULL,
+                      NULL },
+    [K_ATMOSPHERE_TABLE] = { SEC_ATMOSPHERE, "table", KIND_PATH, 0, 0, 0, 1.0, "",
+                             AT(atmosphere_table_file), NULL, NULL },
+    [K_SKY_ZENITH_EMISSIVITY] = REAL(SEC_SKY, "zenith_emissivity", 0.0, 1.0, LO_OPEN, 1.0, "",
+                                     sky_zenith_emissivity),
+
+    [K_AIR_TEMPERATURE] = REAL(SEC_ATMOSPHERE, "air_temperature", 0.0, 400.0, LO_OPEN, 1.0, "K",
+                               air_temperature),
+    [K_EXTINCTION] = REAL(SEC_ATMOSPHERE, "extinction", 0.0, 1e3, 0, 1e-3, "1/km", extinction),
 
     [K_X] = REAL(SEC_SENSOR, "x", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_x),
     [K_Y] = REAL(SEC_SENSOR, "y", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_y),
@@ -328,6 +334,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_EARTH] = CHOICE(SEC_MODEL, "earth", earth_from_name, "flat, spherical", earth),
     [K_WINDOWS] = CHOICE(SEC_MODEL, "windows", windows_from_name, "view, clipmap", windows),
     [K_TOLERANCE] = REAL(SEC_MODEL, "tolerance", 0.0, 0.1, LO_OPEN, 1.0, "", tolerance),
+    [K_REFLECTIONS] = INT(SEC_MODEL, "reflections", 1, SEA_REFLECTIONS_MAX, 0, "", reflections),
 };
 
 #undef INF
@@ -362,8 +369,12 @@ static void allowed_text(const key_spec *k, char *buf, size_t size)
         snprintf(buf, size, "A:B in um with 0 < A < B");
         return;
     case KIND_PATH:
-        snprintf(buf, size, "the path of a readable CSV file (wavelength_um,response), "
-                            "relative to the scene file's directory");
+        snprintf(buf, size, "the path of a readable CSV file (%s), relative to the scene "
+                            "file's directory",
+                 k->offset == offsetof(sea_scene, response_file) ? "wavelength_um,response"
+                 : k->offset == offsetof(sea_scene, sky_table_file) ? "zenith_deg,wavelength_um,radiance"
+                                                   : "range_m,wavelength_um,transmittance,"
+                                                     "path_radiance");
         return;
     case KIND_SEED:
         snprintf(buf, size, "an integer in [0, 4294967295]");
@@ -532,7 +543,7 @@ static char *read_line(char *str, int num, void *stream)
             int sec = section_index(name);
             if (sec < 0) {
                 fail_line(ld, SEA_ERR_PARSE, ld->lineno,
-                          "[%.*s]: unknown section (allowed: sea, sun, sky, sensor, model)",
+                          "[%.*s]: unknown section (allowed: sea, sun, sky, atmosphere, sensor, model)",
                           SEA_QUOTE_MAX, name);
                 return NULL;
             }
@@ -572,7 +583,7 @@ static int set_value(loader *ld, key_id id, const char *value)
     switch (k->kind) {
     case KIND_REAL: {
         double v;
-        if (parse_real(value, &v) != 0)
+        if (sea_text_real(value, &v) != 0)
             return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not a number",
                             SEA_QUOTE_MAX, value);
         if (!in_range(k, v))
@@ -638,7 +649,7 @@ static int set_value(loader *ld, key_id id, const char *value)
             return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not A:B", SEA_QUOTE_MAX,
                             value);
         *colon = '\0';
-        if (parse_real(trim(buf), &a) != 0 || parse_real(trim(colon + 1), &b) != 0)
+        if (sea_text_real(sea_text_trim(buf), &a) != 0 || sea_text_real(sea_text_trim(colon + 1), &b) != 0)
             return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not A:B (two numbers)",
                             SEA_QUOTE_MAX, value);
         if (!(a > 0.0 && a < b && isfinite(b)))
@@ -649,7 +660,7 @@ static int set_value(loader *ld, key_id id, const char *value)
         return 1;
     }
     case KIND_PATH:
-        return resolve_path(ld, id, value, ld->sc.response_file);
+        return resolve_path(ld, id, value, (char *)&ld->sc + k->offset);
     }
     return fail_key(ld, SEA_ERR_PARSE, line, id, "internal error: unknown kind");
 }
@@ -748,7 +759,49 @@ static void check_scene(loader *ld)
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, SUN_RULE);
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_SOLID_ANGLE, SUN_RULE);
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_TRANSMITTANCE, SUN_RULE);
+    check_conflict(ld, K_SUN_SOLID_ANGLE, K_SUN_ANGULAR_RADIUS,
+                   "solid_angle or angular_radius, not both: each gives the other");
+    if (ld->key_line[K_SUN_ANGULAR_RADIUS] == 0) /* the disc of the solid angle */
+        ld->sc.sun_radius = acos(1.0 - sc->sun_solid_angle / (2.0 * M_PI));
+    else if (ld->key_line[K_SUN_IRRADIANCE] == 0) /* the solid angle of the disc */
+        ld->sc.sun_solid_angle = 2.0 * M_PI * (1.0 - cos(sc->sun_radius));
     check_conflict(ld, K_SKY_RADIANCE, K_SKY_TEMPERATURE, "radiance or temperature, not both");
+    if (sc->sky_model == SEA_SKY_CLEAR) {
+        static const char CLEAR_RULE[] = "model = clear takes zenith_emissivity and the "
+                                         "[atmosphere] air_temperature, not radiance or temperature";
+        check_conflict(ld, K_SKY_MODEL, K_SKY_RADIANCE, CLEAR_RULE);
+        check_conflict(ld, K_SKY_MODEL, K_SKY_TEMPERATURE, CLEAR_RULE);
+        if (ld->status == SEA_OK && ld->key_line[K_SKY_ZENITH_EMISSIVITY] == 0)
+            fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_MODEL],
+                      "[sky] model = clear: missing zenith_emissivity (allowed: (0, 1], the "
+                      "sky's emissivity toward the zenith)");
+        if (ld->status == SEA_OK && ld->key_line[K_AIR_TEMPERATURE] == 0)
+            fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_MODEL],
+                      "[sky] model = clear: missing [atmosphere] air_temperature (allowed: "
+                      "(0, 400] K, the air the clear sky radiates at)");
+    } else if (sc->sky_model == SEA_SKY_TABLE) {
+        static const char TABLE_RULE[] = "model = table takes table, not radiance or temperature";
+        check_conflict(ld, K_SKY_MODEL, K_SKY_RADIANCE, TABLE_RULE);
+        check_conflict(ld, K_SKY_MODEL, K_SKY_TEMPERATURE, TABLE_RULE);
+        if (ld->status == SEA_OK && ld->key_line[K_SKY_TABLE] == 0)
+            fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_MODEL],
+                      "[sky] model = table: missing table (allowed: a CSV file "
+                      "zenith_deg,wavelength_um,radiance)");
+    }
+    if (sc->sky_model != SEA_SKY_TABLE && ld->key_line[K_SKY_TABLE] != 0)
+        fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_TABLE],
+                  "[sky] table: needs model = table (allowed: with model = table only)");
+    if (sc->sky_model != SEA_SKY_CLEAR && ld->key_line[K_SKY_ZENITH_EMISSIVITY] != 0) {
+        fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_ZENITH_EMISSIVITY],
+                  "[sky] zenith_emissivity: needs model = clear (allowed: with model = clear "
+                  "only)");
+    }
+    check_conflict(ld, K_EXTINCTION, K_ATMOSPHERE_TABLE, "extinction or table, not both");
+    if (ld->status == SEA_OK && ld->key_line[K_EXTINCTION] != 0 &&
+        ld->key_line[K_AIR_TEMPERATURE] == 0)
+        fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_EXTINCTION],
+                  "[atmosphere] extinction: needs air_temperature (allowed: with air_temperature: "
+                  "the path radiates (1 - transmittance) B(T_air))");
     check_conflict(ld, K_WAVELENGTH, K_BAND, "wavelength or band, not both");
     if (ld->key_line[K_N] != 0 && sc->method != SEA_METHOD_VARIABLE_STEP_2N)
         check_conflict(ld, K_N, K_METHOD, "n with method = variable-step-2n only");
@@ -806,6 +859,36 @@ static void check_files(loader *ld)
                   sea_water_describe(w));
     }
     sea_water_free(w);
+    if (ld->status != SEA_OK)
+        return;
+    /* the tables cover the wavelengths */
+    const struct {
+        key_id id;
+        const char *file;
+        sea_status (*load)(const char *, sea_grid **, sea_error *);
+    } tables[] = { { K_SKY_TABLE, sc->sky_table_file, sea_sky_table_load },
+                   { K_ATMOSPHERE_TABLE, sc->atmosphere_table_file, sea_atmosphere_table_load } };
+    for (size_t t = 0; t < 2 && ld->status == SEA_OK; t++) {
+        if (tables[t].file[0] == '\0')
+            continue;
+        sea_grid *g = NULL;
+        const key_id tid = tables[t].id;
+        const char *sec = SEA_SECTIONS[SEA_KEYS[tid].section];
+        if ((st = tables[t].load(tables[t].file, &g, &e)) != SEA_OK) {
+            fail_line(ld, st, ld->key_line[tid], "[%s] table: %s", sec, e.msg);
+            return;
+        }
+        size_t nx;
+        double x_max, w_min, w_max;
+        sea_grid_axes(g, &nx, &x_max, &w_min, &w_max);
+        sea_grid_free(g);
+        if (lo < w_min || hi > w_max)
+            fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[tid],
+                      "[%s] table: %s covers %.6g-%.6g um, not the sensor's %.6g-%.6g um "
+                      "(allowed: a table over the wavelength or band)",
+                      sec, tables[t].file, w_min / SEA_UM, w_max / SEA_UM, lo / SEA_UM,
+                      hi / SEA_UM);
+    }
     if (ld->status != SEA_OK || sc->response_file[0] == '\0')
         return;
 
@@ -844,6 +927,7 @@ void sea_scene_defaults(sea_scene *sc)
     sc->sun_irradiance = -1.0;
     sc->sun_temperature = 5778.0;
     sc->sun_solid_angle = 6.8e-5;
+    sc->sun_radius = acos(1.0 - 6.8e-5 / (2.0 * M_PI)); /* 0.2666 deg */
     sc->sun_transmittance = 1.0;
     sc->sky_radiance = -1.0;
     sc->sky_temperature = 250.0;
@@ -865,6 +949,11 @@ void sea_scene_defaults(sea_scene *sc)
     sc->earth = SEA_EARTH_FLAT;
     sc->windows = SEA_WINDOWS_VIEW;
     sc->tolerance = 1e-3;
+    sc->reflections = 1;
+    sc->sky_model = SEA_SKY_ISOTROPIC;
+    sc->sky_zenith_emissivity = NAN;
+    sc->air_temperature = NAN;
+    sc->extinction = 0.0;
 }
 
 /* Applies the overrides "section.key=value" through the file's own key
@@ -890,13 +979,13 @@ static void apply_overrides(loader *ld)
         snprintf(section, sizeof section, "%.*s", (int)ls, o);
         snprintf(key, sizeof key, "%.*s", (int)lk, dot + 1);
         snprintf(value, sizeof value, "%s", eq + 1);
-        if (section_index(trim(section)) < 0) {
+        if (section_index(sea_text_trim(section)) < 0) {
             fail_line(ld, SEA_ERR_PARSE, ld->lineno,
-                      "[%.*s]: unknown section (allowed: sea, sun, sky, sensor, model)",
-                      SEA_QUOTE_MAX, trim(section));
+                      "[%.*s]: unknown section (allowed: sea, sun, sky, atmosphere, sensor, model)",
+                      SEA_QUOTE_MAX, sea_text_trim(section));
             return;
         }
-        on_key(ld, trim(section), trim(key), trim(value));
+        on_key(ld, sea_text_trim(section), sea_text_trim(key), sea_text_trim(value));
     }
 }
 

@@ -372,6 +372,74 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
                             const sea_emis_rule *rule, const double complex *N, size_t n,
                             const sea_slope_stats *st, sea_dir v, double *out, sea_error *err);
 
+/* Multiple reflections: the emissivity toward v when the mirror ray of a
+ * facet may meet the surface again, up to `reflections` hits in all
+ * (1..SEA_REFLECTIONS_MAX; 1 is the paper, exactly sea_emissivity_n).  With
+ * R >= 2 the facet average gains rho_A P E_{R-1}, P the probability that the
+ * mirror ray meets the surface (the complement of Eq 14c's bistatic Smith
+ * factor) and E_{R-1} the emissivity of the facets it meets, seen from
+ * below the horizon when the ray rises (seabake-model(7), MULTIPLE
+ * REFLECTIONS).  The sky then sees 1 - out[i].  The facets the sensor sees
+ * take the nodes reflections = 1 takes (method or rule; the auto rule for
+ * SEA_EMIS_FULL), the facets met again the auto rule with halved orders.
+ * Same errors as sea_emissivity_n, and SEA_ERR_DOMAIN for reflections out
+ * of range; reads p. */
+enum { SEA_REFLECTIONS_MAX = 3 };
+sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
+                                  const sea_emis_rule *rule, const double complex *N, size_t n,
+                                  const sea_slope_stats *st, sea_dir v, int reflections,
+                                  double *out, sea_error *err);
+
+/* The sky's radiance as a function of the zenith angle (Eq 22 instead of
+ * the isotropic Eq 23).  isotropic: radiance[k] everywhere; clear:
+ * L(theta) = [1 - (1 - eps_z)^(1 / cos theta)] radiance[k], radiance[k] the
+ * air's blackbody radiance B(lambda_k, T_air), and B(T_air) at and below
+ * the horizon.  Indexed as the N[] of the calls below. */
+typedef enum { SEA_SKY_ISOTROPIC = 0, SEA_SKY_CLEAR = 1, SEA_SKY_TABLE = 2 } sea_sky_model;
+typedef struct {
+    int model;                /* sea_sky_model */
+    double zenith_emissivity; /* clear: eps_z, (0, 1] */
+    const double *radiance;   /* per index: the sky's (isotropic) or B(T_air) (clear);
+                                 table: the profile, n_zenith values per index */
+    size_t n_zenith;          /* table: its zenith angles, radians, increasing from 0 to */
+    const double *zenith;     /* pi/2 (at and below the horizon: the last value) */
+} sea_sky;
+/* L_sky of index k toward a direction of zenith cosine cos_zenith.  Pure. */
+double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith);
+/* The emissivity toward v (as sea_emissivity_multi_n, out eps[i]) and the
+ * sky's radiance reflected toward v, sky_out[i] = E_w[rho L_sky(r)] over
+ * the facets seen, r each facet's mirror ray (the sky at the horizon where
+ * r falls), with reflections >= 2 the share of r that meets the sea again
+ * followed to the facets it meets.  Under a uniform sky of radiance L,
+ * eps[i] L_sea + sky_out[i] adds up to L when L_sea = L, at every number of
+ * reflections (the isothermal closure).  SEA_ERR_DOMAIN for a sky model
+ * or eps_z out of range, and as sea_emissivity_multi_n; reads p. */
+sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
+                                const sea_emis_rule *rule, const double complex *N, size_t n,
+                                const sea_slope_stats *st, sea_dir v, int reflections,
+                                const sea_sky *sky, double *eps, double *sky_out, sea_error *err);
+
+/* Tables on a grid of (x, wavelength) read from CSV files (gridtable.c):
+ * a header naming the columns in any order, then every pair of the grid
+ * once.  Sky: zenith_deg (from 0 to 90), wavelength_um, radiance
+ * (W m^-2 sr^-1 um^-1).  Atmosphere: range_m (from 0), wavelength_um,
+ * transmittance ([0, 1]), path_radiance (W m^-2 sr^-1 um^-1), as MODTRAN or
+ * libRadtran give them.  Errors name the file, line, column and range. */
+typedef struct sea_grid sea_grid;
+sea_status sea_sky_table_load(const char *path, sea_grid **out, sea_error *err);
+sea_status sea_atmosphere_table_load(const char *path, sea_grid **out, sea_error *err);
+void sea_grid_free(sea_grid *g);
+/* Its number of x values, the last x (SI: radians or m) and wavelengths (m). */
+void sea_grid_axes(const sea_grid *g, size_t *nx, double *x_max, double *w_min, double *w_max);
+/* Value column `column` (0: radiance or transmittance, 1: path radiance;
+ * SI) interpolated linearly at wavelength (m), on the table's x (copied
+ * into x[nx], out[nx]).  SEA_ERR_DOMAIN outside the wavelengths. */
+sea_status sea_grid_profile(const sea_grid *g, double wavelength, size_t column, double *x,
+                            double *out, sea_error *err);
+/* Linear interpolation of (x[i], v[i]), x increasing, n >= 2; the end
+ * values beyond the ends.  Pure. */
+double sea_profile_at(const double *x, const double *v, size_t n, double at);
+
 /* ------------------------------------ effective reflectivity (Eq 13-14, 20) */
 
 /* Effective reflectivity rho~(inc; obs) of Eq 13 with the bistatic Smith
@@ -382,6 +450,17 @@ double sea_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc
  * with the geometry (mirror facet, density, shadowing) computed once.  Pure. */
 void sea_reflectivity_n(const double complex *N, size_t n, const sea_slope_stats *st,
                         sea_dir inc, sea_dir obs, double *out);
+/* The sun as a disc of angular radius `radius` (rad): out[i] = the mean of
+ * rho~(w_i; obs) over the disc's directions around inc, so that E_sun out[i]
+ * is the glint of a sun of irradiance E_sun and that radius: a calm sea's
+ * glint then has the width and the peak radiance rho L_sun of a mirror
+ * image of the sun.  Where the slope density is nearly linear over the
+ * disc's image in slope space (relative effect below skip_rel) it is the
+ * point value of sea_reflectivity_n, bit for bit; radius 0 likewise.
+ * Reads p (its Gauss-Legendre nodes). */
+void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_t n,
+                             const sea_slope_stats *st, sea_dir inc, sea_dir obs, double radius,
+                             double skip_rel, double *out);
 /* BRDF f = rho~ / cos(theta_inc) (Eq 20), sr^-1.  Pure. */
 double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
 
@@ -655,11 +734,23 @@ typedef struct {
                                  surface, normal to the beam; < 0 when not given */
     double sun_temperature;   /* temperature, K (0, 10000]; 5778 (used without irradiance) */
     double sun_solid_angle;   /* solid_angle, sr (0, 0.01]; 6.8e-5 */
+    double sun_radius;        /* angular_radius, deg [0, 5] -> rad; the disc of solid_angle,
+                                 acos(1 - solid_angle / 2 pi): 0.2666 deg by default; 0 is a
+                                 point (the paper) */
     double sun_transmittance; /* transmittance, [0, 1]; 1 */
     /* [sky] */
     double sky_radiance;      /* radiance, W m^-2 sr^-1 um^-1 [0, 1e3] -> per m; < 0 when
                                  not given */
     double sky_temperature;   /* temperature, K (0, 400]; 250 (used without radiance) */
+    int sky_model;            /* model = isotropic | clear | table (sea_sky_model); isotropic */
+    double sky_zenith_emissivity; /* zenith_emissivity, (0, 1], clear only; NAN */
+    char sky_table_file[SEA_SCENE_PATH_MAX]; /* table = CSV (zenith_deg,wavelength_um,
+                                                radiance), model = table only; "" */
+    /* [atmosphere] (absent: none) */
+    double air_temperature;   /* air_temperature, K (0, 400]; NAN (no atmosphere) */
+    double extinction;        /* extinction, 1/km [0, 1e3] -> 1/m; 0 */
+    char atmosphere_table_file[SEA_SCENE_PATH_MAX]; /* table = CSV (range_m,wavelength_um,
+                                  transmittance,path_radiance), not with extinction; "" */
     /* [sensor] */
     double sensor_x, sensor_y; /* x, y, m, finite; 0 */
     double altitude;           /* altitude, m, (0, 1e6], required */
@@ -690,6 +781,7 @@ typedef struct {
     sea_earth earth;           /* earth = flat | spherical; flat */
     sea_windows windows;       /* windows = view | clipmap; view */
     double tolerance;          /* tolerance, relative, (0, 0.1]; 1e-3 */
+    int reflections;           /* reflections, surface hits, [1, SEA_REFLECTIONS_MAX]; 1 */
 } sea_scene;
 
 /* Defaults of every optional key; the required ones are marked unset

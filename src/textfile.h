@@ -14,4 +14,11 @@
 SEA_INTERNAL sea_status sea_read_text(const char *path, long max_bytes, const char *kind,
                                       char **out, sea_error *err);
 
+/* Trims blanks (and a CR) at both ends, in place. */
+SEA_INTERNAL char *sea_text_trim(char *s);
+/* strtod over the whole string into *out: 0; -1 for no number, trailing
+ * text, NaN or a value beyond double range (infinities are numbers: the
+ * range checks decide about them). */
+SEA_INTERNAL int sea_text_real(const char *s, double *out);
+
 #endif /* SEABAKE_TEXTFILE_H */

@@ -1097,6 +1097,33 @@ check_match render.explain_samples "$SB_ERR" "1 spectral sample, at 4 um"
 check_no_match render.explain_no_fallback "$SB_ERR" "fallback"
 check_match render.explain_emissivity "$SB_ERR" "emissivity: fast \(not scaled by the tolerance\)"
 check_match render.explain_waves "$SB_ERR" "waves: [0-9]+ sinusoids, 8 bins per octave x 32 directions \(the same at every tolerance\)$"
+check_match render.explain_reflections "$SB_ERR" "reflections: 1 \(the paper"
+# --reflections overrides [model] reflections: said by --explain, written in
+# the EXR's header, and out of range refused before any work.
+sb_run render "$RSCENE" -o "$RDIR/refl2.exr" --reflections 2 --explain --quiet --png none
+check_rc render.reflections_rc 0
+check_match render.explain_reflections2 "$SB_ERR" "reflections: 2 \(a facet's mirror ray may meet the sea again"
+for bad in 0 4 2.5 x ''; do
+    sb_run render "$RSCENE" -o "$RDIR/refl_bad.exr" --reflections "$bad"
+    check_error "render.reflections_bad_$bad" 2 "--reflections"
+    check_eq "render.reflections_bad_nofile_$bad" "$(ls "$RDIR"/refl_bad* 2>/dev/null)" ""
+done
+sb_run emissivity --wavelength 4 --wind 10 --theta 80 --reflections 2
+check_rc emissivity.reflections_rc 0
+e1=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 | tail -1 | cut -d, -f9)
+e2=$(printf '%s\n' "$SB_OUT" | tail -1 | cut -d, -f9)
+# 10 m/s, 80 deg, 4 um: a second hit adds 0.031 (seabake-model(7))
+check_eq emissivity.reflections_adds "$(awk -v a="$e1" -v b="$e2" 'BEGIN { print (b > a + 0.02 && b < 1) ? "more" : a " -> " b }')" more
+sb_run emissivity --wavelength 4 --wind 10 --theta 80 --reflections 4
+check_error emissivity.reflections_range 2 "--reflections: 4 is outside \[1, 3\]"
+sb_run energy --wavelength 4 --wind 10 --theta 80 --reflections 2
+check_error energy.no_reflections 2 "unknown option '--reflections'"
+# examples/horizon.ini (clear sky, air, two reflections), shrunk: the sky
+# at the horizon reads the air's 288 K, the sea between it and 290 K.
+sb_run render "$top_srcdir/examples/horizon.ini" -o "$RDIR/horizon.exr" --set sensor.width=48 \
+    --set sensor.height=27 --png none
+check_rc render.horizon_rc 0
+check_match render.horizon_range "$SB_ERR" "brightness temperature 28[78]\.[0-9]+ to 289\.[0-9]+ K"
 # ... and the fallbacks of LIMITS AND FALLBACKS a scene takes.
 sed -e 's/^wind_speed *=.*/wind_speed = 1/' -e 's/^zenith *=.*/zenith = 100/' \
     "$RSCENE" > "$RDIR/fallback.ini"

@@ -109,6 +109,7 @@ static void test_full_file(void)
     CU_ASSERT(sc.earth == SEA_EARTH_SPHERICAL);
     CU_ASSERT(sc.windows == SEA_WINDOWS_CLIPMAP);
     CU_ASSERT(sc.tolerance == 1e-4);
+    CU_ASSERT(sc.reflections == 2);
 }
 
 /* Spectral quantities: W m^-2 um^-1 -> W m^-2 m^-1 and per sr likewise. */
@@ -167,6 +168,7 @@ static void test_defaults(void)
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_AUTO && sc.earth == SEA_EARTH_FLAT);
     CU_ASSERT(sc.windows == SEA_WINDOWS_VIEW);
     CU_ASSERT(sc.tolerance == 1e-3);
+    CU_ASSERT(sc.reflections == 1);
     /* Every optional field of the loaded scene is the default's. */
     def.wind_speed = sc.wind_speed;
     def.altitude = sc.altitude;
@@ -219,9 +221,10 @@ typedef struct {
 static const error_case CASES[] = {
     /* syntax and names: SEA_ERR_PARSE */
     { BASE "[seas]\n", SEA_ERR_PARSE, 9, "[seas]: unknown section",
-      "(allowed: sea, sun, sky, sensor, model)" },
+      "(allowed: sea, sun, sky, atmosphere, sensor, model)" },
     { BASE "[sun]\nzenit = 40\n", SEA_ERR_PARSE, 10, "[sun] zenit: unknown key",
-      "(allowed: zenith, azimuth, irradiance, temperature, solid_angle, transmittance)" },
+      "(allowed: zenith, azimuth, irradiance, temperature, solid_angle, transmittance, "
+      "angular_radius)" },
     { BASE "altitude = 600\n", SEA_ERR_PARSE, 9, "[sensor] altitude: duplicate key",
       "first given on line 4" },
     { "wind_speed = 10\n" BASE, SEA_ERR_PARSE, 1, "wind_speed: key outside any section",
@@ -297,6 +300,38 @@ static const error_case CASES[] = {
       "(allowed: an even integer in [16, 4096] facets)" },
     { BASE "[model]\ntolerance = 0\n", SEA_ERR_DOMAIN, 10, "[model] tolerance",
       "(allowed: (0, 0.1])" },
+    { BASE "[sky]\nmodel = clear\n[atmosphere]\nair_temperature = 288\n", SEA_ERR_DOMAIN, 10,
+      "[sky] model = clear: missing zenith_emissivity", "(0, 1]" },
+    { BASE "[sky]\nmodel = clear\nzenith_emissivity = 0.7\n", SEA_ERR_DOMAIN, 10,
+      "[sky] model = clear: missing [atmosphere] air_temperature", "(0, 400] K" },
+    { BASE "[sky]\ntemperature = 250\nmodel = clear\nzenith_emissivity = 0.7\n[atmosphere]\n"
+      "air_temperature = 288\n", SEA_ERR_DOMAIN, 11, "[sky] model: conflicts with temperature",
+      "model = clear takes zenith_emissivity" },
+    { BASE "[sky]\nzenith_emissivity = 0.7\n", SEA_ERR_DOMAIN, 10,
+      "[sky] zenith_emissivity: needs model = clear", "with model = clear only" },
+    { BASE "[sky]\nmodel = clear\nzenith_emissivity = 0\n", SEA_ERR_DOMAIN, 11,
+      "[sky] zenith_emissivity", "(0, 1]" },
+    { BASE "[sky]\nmodel = cloudy\n", SEA_ERR_PARSE, 10, "[sky] model", "isotropic, clear" },
+    { BASE "[atmosphere]\nextinction = 0.1\n", SEA_ERR_DOMAIN, 10,
+      "[atmosphere] extinction: needs air_temperature", "with air_temperature" },
+    { BASE "[atmosphere]\nair_temperature = 288\nextinction = -1\n", SEA_ERR_DOMAIN, 11,
+      "[atmosphere] extinction", "[0, 1000] 1/km" },
+    { BASE "[sky]\nmodel = table\n", SEA_ERR_DOMAIN, 10, "[sky] model = table: missing table",
+      "zenith_deg,wavelength_um,radiance" },
+    { BASE "[sky]\ntable = sky.csv\n", SEA_ERR_DOMAIN, 10, "[sky] table: needs model = table",
+      "with model = table only" },
+    { BASE "[atmosphere]\nair_temperature = 288\nextinction = 0.1\ntable = a.csv\n",
+      SEA_ERR_DOMAIN, 12, "[atmosphere] table: conflicts with extinction",
+      "extinction or table, not both" },
+    { BASE "[sky]\nmodel = table\ntable = nowhere.csv\n", SEA_ERR_IO, 11, "[sky] table: ",
+      "/nowhere.csv: cannot open" },
+    { BASE "[sun]\nsolid_angle = 1e-4\nangular_radius = 0.3\n", SEA_ERR_DOMAIN, 11,
+      "[sun] angular_radius: conflicts with solid_angle", "each gives the other" },
+    { BASE "[sun]\nangular_radius = 6\n", SEA_ERR_DOMAIN, 10, "[sun] angular_radius",
+      "[0, 5] deg" },
+    { BASE "[model]\nreflections = 4\n", SEA_ERR_DOMAIN, 10, "[model] reflections: 4 is out of range",
+      "(allowed: an integer in [1, 3])" },
+    { BASE "[model]\nreflections = 2.5\n", SEA_ERR_PARSE, 10, "[model] reflections", "[1, 3]" },
     { BASE "[model]\nfinest = 1001\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
     /* a denormal underflows strtod: refused as no number, with the range */
     { BASE "[model]\nfinest = 4.9e-324\n", SEA_ERR_PARSE, 10, "[model] finest", "[0.001, 1000] m" },

@@ -433,9 +433,14 @@ sea_status sea_cli_opt_number(const sea_cli_args *args, const char *name,
 /* The range of [model] tolerance in scene.c. */
 static const sea_cli_range SEA_CLI_RANGE_SCENE_TOL = {0.0, 0.1, true, false, ""};
 
-sea_status sea_cli_opt_tolerance(const sea_cli_args *args, double *out, sea_error *err)
+sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_error *err)
 {
-    return sea_cli_opt_number(args, "tolerance", &SEA_CLI_RANGE_SCENE_TOL, NAN, out, err);
+    sea_status st =
+        sea_cli_opt_number(args, "tolerance", &SEA_CLI_RANGE_SCENE_TOL, NAN, &out->tolerance, err);
+    if (st == SEA_OK)
+        st = sea_cli_opt_integer(args, "reflections", 1, SEA_REFLECTIONS_MAX, 0,
+                                 &out->reflections, err);
+    return st;
 }
 
 sea_status sea_cli_scene_arg(const sea_cli_args *args, const char **path, sea_error *err)
@@ -449,10 +454,12 @@ sea_status sea_cli_scene_arg(const sea_cli_args *args, const char **path, sea_er
     return SEA_OK;
 }
 
-void sea_cli_apply_tolerance(double tolerance, sea_scene *sc)
+void sea_cli_apply_model(const sea_cli_model *m, sea_scene *sc)
 {
-    if (!isnan(tolerance))
-        sc->tolerance = tolerance;
+    if (!isnan(m->tolerance))
+        sc->tolerance = m->tolerance;
+    if (m->reflections > 0)
+        sc->reflections = (int)m->reflections;
 }
 
 sea_status sea_cli_opt_list(const sea_cli_args *args, const char *name, const sea_cli_range *range,

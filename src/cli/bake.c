@@ -151,6 +151,8 @@ static const char BAKE_HELP[] =
     "                        -- DIR/manifest.json [--save FILE.blend] [--render OUT.exr]\n"
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance, as in seabake render\n"
+    "  --reflections N     surface hits, 1 to 3: overrides the scene's [model]\n"
+    "                      reflections, as in seabake render\n"
     "  --set SECTION.KEY=VALUE\n"
     "                      overrides a key of the scene file (as in seabake\n"
     "                      render); repeatable\n"
@@ -205,12 +207,12 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     s->blender = sea_cli_given(args, "blender");
     s->explain = sea_cli_given(args, "explain");
     s->quiet = sea_cli_given(args, "quiet");
-    double tolerance;
-    if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
+    sea_cli_model model;
+    if ((st = sea_cli_opt_model(args, &model, err)) != SEA_OK)
         return st;
     if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
-    sea_cli_apply_tolerance(tolerance, &s->sc);
+    sea_cli_apply_model(&model, &s->sc);
     if ((s->dir = strndup(out, len)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     return SEA_OK;
@@ -504,6 +506,7 @@ static cJSON *scene_json(const bake_setup *s)
     cJSON_AddStringToObject(mod, "windows",
                             sc->windows == SEA_WINDOWS_CLIPMAP ? "clipmap" : "view");
     cJSON_AddNumberToObject(mod, "tolerance", sc->tolerance);
+    cJSON_AddNumberToObject(mod, "reflections", sc->reflections);
     return o;
 }
 
@@ -1024,6 +1027,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"blender", SEA_CLI_OPT_FLAG},
     {"explain", SEA_CLI_OPT_FLAG},
     {"tolerance", 0},
+    {"reflections", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},
     {"quiet", SEA_CLI_OPT_FLAG}};
 

@@ -152,14 +152,19 @@ bool sea_cli_given(const sea_cli_args *args, const char *name);
 /* SEA_ERR_DOMAIN "missing --name<why>" unless option name was given. */
 sea_status sea_cli_require(const sea_cli_args *args, const char *name, const char *why,
                            sea_error *err);
-/* --tolerance T of render and bake: the scene's [model] tolerance, with its
- * range (0, 0.1]; *out is NAN when the option is absent.  Parsed before the
- * scene (a typing mistake is reported first), applied after it by
- * sea_cli_apply_tolerance. */
-sea_status sea_cli_opt_tolerance(const sea_cli_args *args, double *out, sea_error *err);
+/* The [model] keys that render and bake take on the command line:
+ * --tolerance T, range (0, 0.1] (NAN when absent), and --reflections N,
+ * 1 to SEA_REFLECTIONS_MAX (0 when absent).  Parsed before the scene (a
+ * typing mistake is reported first), applied after it by
+ * sea_cli_apply_model. */
+typedef struct {
+    double tolerance;
+    long reflections;
+} sea_cli_model;
+sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_error *err);
 /* The positional SCENE.ini of render and bake: present and not empty. */
 sea_status sea_cli_scene_arg(const sea_cli_args *args, const char **path, sea_error *err);
-void sea_cli_apply_tolerance(double tolerance, sea_scene *sc);
+void sea_cli_apply_model(const sea_cli_model *m, sea_scene *sc);
 /* The option's number checked against range, or def when it is absent. */
 sea_status sea_cli_opt_number(const sea_cli_args *args, const char *name,
                               const sea_cli_range *range, double def, double *out, sea_error *err);

@@ -30,6 +30,10 @@ static const char SEA_CLI_HELP_EMISSIVITY[] =
     "Directions:\n"
     SEA_CLI_HELP_GRID
     SEA_CLI_HELP_EMISSIVITY_RULE
+    "  --reflections N     surface hits, 1 to 3 (default 1, the paper): with 2\n"
+    "                      or 3 a facet's mirror ray may meet the sea again and\n"
+    "                      bring its emission (then --emissivity sets the first\n"
+    "                      hit's rule only when N = 1)\n"
     SEA_CLI_HELP_WATER
     SEA_CLI_HELP_SLOPE_STATS
     "\n" SEA_CLI_HELP_LIST "\n"
@@ -56,7 +60,7 @@ static const char SEA_CLI_HELP_ENERGY[] =
 /* ---------------------------------------------------- emissivity, energy */
 
 static const sea_cli_option SEA_CLI_EMISSIVITY_OPTIONS[] = {
-    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}};
+    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"reflections", 0}};
 static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
     SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}};
 
@@ -65,8 +69,8 @@ static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
 typedef enum { SEA_CLI_EMISSIVITY, SEA_CLI_ENERGY } sea_cli_quantity;
 
 static sea_status direction_row(FILE *out, sea_cli_quantity what, const sea_optics *optics,
-                                sea_emis_method method, const sea_cli_sea *sea, double t, double f,
-                                sea_error *err)
+                                sea_emis_method method, int reflections, const sea_cli_sea *sea,
+                                double t, double f, sea_error *err)
 {
     sea_dir v = sea_dir_fold(sea_cli_radians(t), sea_cli_radians(f));
     sea_error lib = {{0}};
@@ -76,7 +80,8 @@ static sea_status direction_row(FILE *out, sea_cli_quantity what, const sea_opti
     switch (what) {
     case SEA_CLI_EMISSIVITY:
         name = "emissivity";
-        st = sea_emissivity(optics, method, sea->N, &sea->stats, v, &e.emissivity, &lib);
+        st = sea_emissivity_multi_n(optics, method, NULL, &sea->N, 1, &sea->stats, v, reflections,
+                                    &e.emissivity, &lib);
         break;
     case SEA_CLI_ENERGY:
     default:
@@ -103,10 +108,13 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
     sea_cli_list theta = {NULL, 0}, phi = {NULL, 0};
     sea_optics *optics = NULL;
     sea_emis_method method = SEA_EMIS_AUTO;
+    long reflections = 1;
     sea_cli_sea sea;
     sea_status st = sea_cli_direction_grid(args, &theta, &phi, err);
     if (st == SEA_OK)
         st = sea_cli_opt_emissivity(args, &method, err);
+    if (st == SEA_OK)
+        st = sea_cli_opt_integer(args, "reflections", 1, SEA_REFLECTIONS_MAX, 1, &reflections, err);
     if (st == SEA_OK)
         st = sea_cli_sea_inputs(args, &sea, err);
     if (st == SEA_OK)
@@ -121,7 +129,8 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
     for (size_t i = 0; i < theta.n && st == SEA_OK; ++i)
         for (size_t j = 0; j < phi.n && st == SEA_OK; ++j)
             st =
-                direction_row(out, what, optics, method, &sea, theta.values[i], phi.values[j], err);
+                direction_row(out, what, optics, method, (int)reflections, &sea, theta.values[i],
+                              phi.values[j], err);
 done:
     sea_optics_free(optics);
     sea_cli_list_free(&theta);

@@ -98,6 +98,41 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     else
         fprintf(stderr, "%s: emissivity: %s (not scaled by the tolerance)\n", what,
                 sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+    if (sc->sky_model == SEA_SKY_CLEAR)
+        fprintf(stderr,
+                "%s: sky: clear, L(theta) = [1 - (1 - %g)^(1/cos theta)] B(%g K), reflected over "
+                "each facet's mirror rays (Eq 22)\n",
+                what, sc->sky_zenith_emissivity, sc->air_temperature);
+    else if (sc->sky_model == SEA_SKY_TABLE)
+        fprintf(stderr,
+                "%s: sky: the table %s (radiance by zenith angle and wavelength, linear in "
+                "both), reflected over each facet's mirror rays (Eq 22)\n",
+                what, sc->sky_table_file);
+    else
+        fprintf(stderr, "%s: sky: isotropic (Eq 23: the sea reflects it in 1 - emissivity)\n",
+                what);
+    if (sc->atmosphere_table_file[0] != '\0')
+        fprintf(stderr,
+                "%s: atmosphere: the table %s: a sea pixel at range d is tau(d) L + "
+                "path_radiance(d), linear in range and wavelength\n",
+                what, sc->atmosphere_table_file);
+    else if (!isnan(sc->air_temperature))
+        fprintf(stderr,
+                "%s: atmosphere: air at %g K, extinction %g/km: a sea pixel at range d is "
+                "tau L + (1 - tau) B(T_air), tau = exp(-extinction d)%s\n",
+                what, sc->air_temperature, sc->extinction * 1e3,
+                sc->extinction > 0.0 ? "" : " (no extinction: tau = 1)");
+    if (sc->reflections == 1)
+        fprintf(stderr,
+                "%s: reflections: 1 (the paper: a facet's mirror ray brings the sky; at 80-85 "
+                "deg the emissivity is 0.02-0.035 below ray-traced truth, seabake-model(7))\n",
+                what);
+    else
+        fprintf(stderr,
+                "%s: reflections: %d (a facet's mirror ray may meet the sea again; the auto "
+                "rule at every hit, its orders halved after the first; seabake-model(7) gives "
+                "the accuracy and the cost)\n",
+                what, sc->reflections);
     if (ch.wave_count == 0)
         fprintf(stderr, "%s: waves: none (every level is low-resolution)\n", what);
     else if (ch.directions > 0)

@@ -95,6 +95,9 @@ static const char RENDER_HELP[] =
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance (low-resolution levels, spectral samples,\n"
     "                      emissivity orders, wave directions, sub-facets skipped)\n"
+    "  --reflections N     surface hits, 1 to 3: overrides the scene's [model]\n"
+    "                      reflections (1, the paper: a mirror ray brings the\n"
+    "                      sky; 2, 3: it may meet the sea again first)\n"
     "  --threads N         OpenMP threads, 1 to 4 x the online CPUs (at most 1024);\n"
     "                      default: the OpenMP default\n"
     "  --quiet             no progress bar and no summary line\n"
@@ -239,15 +242,15 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
     s->quiet = sea_cli_given(args, "quiet");
     s->explain = sea_cli_given(args, "explain");
     s->progress = !s->quiet && isatty(STDERR_FILENO);
-    double tolerance;
-    if ((st = sea_cli_opt_tolerance(args, &tolerance, err)) != SEA_OK)
+    sea_cli_model model;
+    if ((st = sea_cli_opt_model(args, &model, err)) != SEA_OK)
         return st;
 
     /* The scene is read last: a typing mistake on the command line is
      * reported first. */
     if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
-    sea_cli_apply_tolerance(tolerance, &s->sc);
+    sea_cli_apply_model(&model, &s->sc);
 
     if (out != NULL) {
         s->out_stem = strndup(out, strlen(out) - strlen(".exr"));
@@ -686,6 +689,7 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"png-range", 0},
     {"threads", 0},
     {"tolerance", 0},
+    {"reflections", 0},
     {"quiet", SEA_CLI_OPT_FLAG},
     {"explain", SEA_CLI_OPT_FLAG}};
 

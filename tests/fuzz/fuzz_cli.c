@@ -120,11 +120,12 @@ static void use_args(const sea_cli_args *args)
     fuzz_check_error(st, &err);
     if (st == SEA_OK)
         FUZZ_ASSERT(rate > 0.0 && isfinite(rate) && a <= b);
-    double tol;
-    st = sea_cli_opt_tolerance(args, &tol, &err);
+    sea_cli_model model;
+    st = sea_cli_opt_model(args, &model, &err);
     fuzz_check_error(st, &err);
     if (st == SEA_OK)
-        FUZZ_ASSERT(isnan(tol) || (tol > 0.0 && tol <= 0.1));
+        FUZZ_ASSERT((isnan(model.tolerance) || (model.tolerance > 0.0 && model.tolerance <= 0.1)) &&
+                    model.reflections >= 0 && model.reflections <= SEA_REFLECTIONS_MAX);
     const char *scene;
     fuzz_check_error(sea_cli_scene_arg(args, &scene, &err), &err);
     sea_emis_method em;
