@@ -17,15 +17,22 @@
 
 #include "seabake.h"
 
+static void level_free(sea_bake_level *bl)
+{
+    free(bl->moments);
+    free(bl->optics);
+    free(bl->view);
+    bl->moments = NULL;
+    bl->optics = NULL;
+    bl->view = NULL;
+}
+
 void sea_bake_free(sea_bake *b)
 {
     if (b == NULL)
         return;
-    for (size_t l = 0; l < b->n_levels; l++) {
-        free(b->levels[l].moments);
-        free(b->levels[l].optics);
-        free(b->levels[l].view);
-    }
+    for (size_t l = 0; l < b->n_levels; l++)
+        level_free(&b->levels[l]);
     memset(b, 0, sizeof *b);
 }
 
@@ -109,27 +116,38 @@ static unsigned char *view_mask(const sea_camera *cam, const sea_clip_level *lv,
             if (!sea_camera_project(cam, q, &u, &v) || !(u >= 0.0 && u <= cam->width) ||
                 !(v >= 0.0 && v <= cam->height))
                 continue;
-            sea_pixel_geom g;
-            sea_camera_pixel(cam, u, v, &g);
-            seen[R * vx + i] = (unsigned char)g.hit;
+            seen[R * vx + i] = (unsigned char)sea_camera_hits(cam, u, v);
+        }
+    }
+    /* within VIEW_MARGIN of a seen texel (the square around it): along the
+     * rows into mask, then along the columns back into seen */
+#pragma omp parallel for schedule(static)
+    for (size_t R = 0; R < vy; R++) {
+        const unsigned char *in = seen + R * vx;
+        unsigned char *out = mask + R * vx;
+        for (size_t i = 0; i < vx; i++) {
+            const size_t i0 = i >= VIEW_MARGIN ? i - VIEW_MARGIN : 0;
+            const size_t i1 = i + VIEW_MARGIN < vx ? i + VIEW_MARGIN : vx - 1;
+            unsigned char any = 0;
+            for (size_t ii = i0; ii <= i1 && !any; ii++)
+                any = in[ii];
+            out[i] = any;
         }
     }
 #pragma omp parallel for schedule(static)
     for (size_t R = 0; R < vy; R++) {
         const size_t r0 = R >= VIEW_MARGIN ? R - VIEW_MARGIN : 0;
         const size_t r1 = R + VIEW_MARGIN < vy ? R + VIEW_MARGIN : vy - 1;
-        for (size_t i = 0; i < vx; i++) {
-            const size_t i0 = i >= VIEW_MARGIN ? i - VIEW_MARGIN : 0;
-            const size_t i1 = i + VIEW_MARGIN < vx ? i + VIEW_MARGIN : vx - 1;
-            unsigned char any = 0;
-            for (size_t rr = r0; rr <= r1 && !any; rr++)
-                for (size_t ii = i0; ii <= i1 && !any; ii++)
-                    any = seen[rr * vx + ii];
-            mask[R * vx + i] = any;
+        unsigned char *out = seen + R * vx;
+        memset(out, 0, vx);
+        for (size_t rr = r0; rr <= r1; rr++) {
+            const unsigned char *in = mask + rr * vx;
+            for (size_t i = 0; i < vx; i++)
+                out[i] |= in[i];
         }
     }
-    free(seen);
-    return mask;
+    free(mask);
+    return seen;
 }
 
 /* Progress over a frame: work done and to do (texel evaluations), and
@@ -254,6 +272,13 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
 sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
                           sea_progress_fn progress, void *ctx, sea_error *err)
 {
+    return sea_bake_frame_each(r, t, view_k, out, progress, ctx, NULL, NULL, err);
+}
+
+sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_bake *out,
+                               sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
+                               void *each_ctx, sea_error *err)
+{
     memset(out, 0, sizeof *out);
     if (!isfinite(t))
         return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
@@ -309,13 +334,13 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
         bl->lr_obs = lr_obs;
         bl->lr_sun = lr_sun;
         bl->view_k = (size_t)view_k;
-        if (!lv[l].low_res)
-            st = level_moments(f, bl, err);
     }
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
         if (lv[l].low_res)
             continue;
+        if ((st = level_moments(f, bl, err)) != SEA_OK)
+            break;
         double hole[4];
         const int has_hole = l > 0 && !lv[l - 1].low_res;
         if (has_hole) {
@@ -337,6 +362,10 @@ sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *o
             st = level_optics(r, f, bl, 1, mask, &bp, err);
         PROGRESS((double)(lv[l].nx * lv[l].ny * bl->view_k * bl->view_k));
         free(mask);
+        if (st == SEA_OK && each != NULL) {
+            st = each(each_ctx, out, l, err);
+            level_free(bl);
+        }
     }
 #undef PROGRESS
     sea_multires_frame_free(f);

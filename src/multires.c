@@ -1577,13 +1577,14 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
     surface s;
     surface_init(&s, f, out->blend);
     const int nu = p->nu, nv = p->nv, ku = p->ku, kv = p->kv, many = nu * nv > 1;
-    const double cphi = cos(out->obs.phi), sphi = sin(out->obs.phi);
     /* one local frame for the pixel, at its mean-surface point: its rays
      * and the points they meet are within a footprint (and the waves'
      * heights) of it, where the vertical of the sphere turns by 1e-5 rad at
      * most */
     double qm[3];
     out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
+    /* the view azimuth of the 1/D weights below */
+    const double cphi = cos(out->obs.phi), sphi = sin(out->obs.phi);
     sea_moments acc = { 0 };
     double wsum = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
     for (int b = 0; b < nv; b++)

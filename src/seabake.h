@@ -680,6 +680,9 @@ typedef struct {
 
 /* Fills g.  Pure. */
 void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g);
+/* sea_camera_pixel's g.hit alone (the ray through (u, v) meets the sea),
+ * without the rest of its work.  Pure. */
+int sea_camera_hits(const sea_camera *c, double u, double v);
 /* Unit direction (world) of the ray through image point (u, v). */
 void sea_camera_ray(const sea_camera *c, double u, double v, double d[3]);
 /* A world direction (unit vector) in the local frame of sea point g:
@@ -1131,6 +1134,21 @@ typedef struct {
 sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
                           sea_progress_fn progress, void *ctx, sea_error *err);
 void sea_bake_free(sea_bake *b);
+
+/* What sea_bake_frame_each calls when level l of b is complete: b holds
+ * every level's header (level, view_k, lr_*) and level l's maps (the maps
+ * of the levels before it are already freed).  A status other than SEA_OK
+ * (with err filled) stops the bake and is returned. */
+typedef sea_status (*sea_bake_level_fn)(void *ctx, const sea_bake *b, size_t l, sea_error *err);
+
+/* sea_bake_frame one level at a time, the same maps: each high-resolution
+ * level is computed, handed to each (called on the calling thread, never
+ * concurrently), and freed before the next is computed, so that the maps of
+ * only one level are held at once.  On success *out holds the headers (no
+ * maps; sea_bake_free() is harmless); on failure nothing to free. */
+sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_bake *out,
+                               sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
+                               void *each_ctx, sea_error *err);
 
 /* Tangent-space normal of the mean slope (+x east, +y north, +z up):
  * n = (-mx, -my, 1) / sqrt(mx^2 + my^2 + 1).  Pure. */

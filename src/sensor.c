@@ -136,6 +136,13 @@ static int intersect(const sea_camera *c, const double d[3], double q[3], double
     return 1;
 }
 
+int sea_camera_hits(const sea_camera *c, double u, double v)
+{
+    double d[3], q[3], n[3], x, y, t;
+    sea_camera_ray(c, u, v, d);
+    return intersect(c, d, q, n, &x, &y, &t);
+}
+
 sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3])
 {
     const double *n = g->normal;

@@ -166,7 +166,10 @@ base_of() {
 opts_of() {
     case $1 in
     spectrum) OPTS="N:wind N:fetch N:wind-dir L:facet" ;;
-    emissivity | energy)
+    emissivity)
+        OPTS="N:wavelength N:wind N:fetch N:wind-dir N:facet N:salinity L:theta L:phi T2:mean
+              T2:index T3:cov I:reflections" ;;
+    energy)
         OPTS="N:wavelength N:wind N:fetch N:wind-dir N:facet N:salinity L:theta L:phi T2:mean
               T2:index T3:cov" ;;
     reflectivity)
@@ -179,8 +182,8 @@ opts_of() {
         OPTS="N:theta N:phi T2:inc L:wind N:fetch N:wind-dir I:seed I:n I:facets N:tolerance
               N:wavelength N:salinity" ;;
     bench) OPTS="I:threads" ;;
-    render) OPTS="N:frame-rate I:png-depth I:threads N:tolerance" ;;
-    bake) OPTS="N:frame-rate I:emission-texels N:tolerance" ;;
+    render) OPTS="N:frame-rate I:png-depth I:threads N:tolerance I:reflections" ;;
+    bake) OPTS="N:frame-rate I:emission-texels N:tolerance I:reflections" ;;
     esac
     [ -z "$QUICK" ] || OPTS=${OPTS%% *}
 }

@@ -427,6 +427,96 @@ static void test_errors_and_earth(void)
     sea_render_free(rs);
 }
 
+/* sea_bake_frame_each: each high-resolution level once, finest first, with
+ * the maps of sea_bake_frame bit for bit and only that level's maps held;
+ * the headers stay; a failure of the callback stops the bake with its
+ * status and message. */
+typedef struct {
+    const sea_bake *all;
+    size_t calls, last, diff, held;
+    int fail_at;
+} each_ctx;
+
+static sea_status each_level(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    each_ctx *c = ctx;
+    const sea_bake_level *bl = &b->levels[l], *ref = &c->all->levels[l];
+    CU_ASSERT(c->calls == 0 || l > c->last);
+    CU_ASSERT(!bl->level.low_res);
+    c->last = l;
+    c->calls++;
+    for (size_t k = 0; k < b->n_levels; k++)
+        c->held += k != l && (b->levels[k].moments || b->levels[k].optics || b->levels[k].view);
+    const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+    if (bl->moments == NULL || bl->optics == NULL || bl->view == NULL ||
+        memcmp(bl->moments, ref->moments, n * sizeof *bl->moments) != 0 ||
+        memcmp(bl->optics, ref->optics, n * sizeof *bl->optics) != 0 ||
+        memcmp(bl->view, ref->view, nv * sizeof *bl->view) != 0)
+        c->diff++;
+    if (c->fail_at >= 0 && (int)c->calls > c->fail_at)
+        return sea_fail(err, SEA_ERR_IO, "stopped by the callback at level %zu", l);
+    return SEA_OK;
+}
+
+static void test_each_level(void)
+{
+    const sea_scene sc = bake_scene();
+    sea_render *r = prepare(&sc);
+    sea_bake all, b;
+    sea_error err;
+    CU_ASSERT_EQUAL_FATAL(sea_bake_frame(r, 0.4, 3, &all, NULL, NULL, &err), SEA_OK);
+    each_ctx c = {&all, 0, 0, 0, 0, -1};
+    CU_ASSERT_EQUAL_FATAL(sea_bake_frame_each(r, 0.4, 3, &b, NULL, NULL, each_level, &c, &err),
+                          SEA_OK);
+    CU_ASSERT_EQUAL(c.calls, count_hr(&all));
+    CU_ASSERT_EQUAL(c.diff, 0);
+    CU_ASSERT_EQUAL(c.held, 0);
+    CU_ASSERT_EQUAL(b.n_levels, all.n_levels);
+    for (size_t l = 0; l < b.n_levels; l++) {
+        CU_ASSERT(memcmp(&b.levels[l].level, &all.levels[l].level, sizeof b.levels[l].level) == 0);
+        CU_ASSERT(memcmp(&b.levels[l].lr_optics, &all.levels[l].lr_optics,
+                         sizeof b.levels[l].lr_optics) == 0);
+        CU_ASSERT_PTR_NULL(b.levels[l].moments);
+        CU_ASSERT_PTR_NULL(b.levels[l].view);
+    }
+    sea_bake_free(&b);
+    /* the callback's failure */
+    each_ctx stop = {&all, 0, 0, 0, 0, 1};
+    CU_ASSERT_EQUAL(sea_bake_frame_each(r, 0.4, 3, &b, NULL, NULL, each_level, &stop, &err),
+                    SEA_ERR_IO);
+    CU_ASSERT(strstr(err.msg, "stopped by the callback") != NULL);
+    CU_ASSERT_EQUAL(stop.calls, 2);
+    CU_ASSERT_EQUAL(b.n_levels, 0);
+    sea_bake_free(&all);
+    sea_render_free(r);
+}
+
+/* The view mask's test: sea_camera_hits is sea_camera_pixel's hit, on
+ * both earths, over an image that holds the horizon (and beyond it). */
+static void test_camera_hits(void)
+{
+    sea_scene sc = bake_scene();
+    sc.look_zenith = 88.0 * DEG;
+    size_t hits = 0, total = 0, diff = 0;
+    for (int e = 0; e < 2; e++) {
+        sc.earth = e ? SEA_EARTH_SPHERICAL : SEA_EARTH_FLAT;
+        sea_render *r = prepare(&sc);
+        const sea_camera *cam = sea_render_camera(r);
+        for (double v = -3.25; v <= cam->height + 3.0; v += 0.37)
+            for (double u = -3.5; u <= cam->width + 3.0; u += 0.53) {
+                sea_pixel_geom g;
+                sea_camera_pixel(cam, u, v, &g);
+                const int h = sea_camera_hits(cam, u, v);
+                diff += h != g.hit;
+                hits += h != 0;
+                total++;
+            }
+        sea_render_free(r);
+    }
+    CU_ASSERT_EQUAL(diff, 0);
+    CU_ASSERT(hits > total / 10 && hits < total - total / 10);
+}
+
 int test_bake_register(void)
 {
     CU_pSuite s = CU_add_suite("bake", NULL, NULL);
@@ -438,5 +528,7 @@ int test_bake_register(void)
            !CU_add_test(s, "roughness convention", test_roughness_convention) ||
            !CU_add_test(s, "view maps reproduce seabake render", test_view_matches_render) ||
            !CU_add_test(s, "cancelled by the progress function", test_cancel) ||
+           !CU_add_test(s, "one level at a time", test_each_level) ||
+           !CU_add_test(s, "the view mask's hit test", test_camera_hits) ||
            !CU_add_test(s, "errors, spherical earth", test_errors_and_earth);
 }

@@ -18,6 +18,7 @@
  * temporary directory is removed and DIR is exactly as it was. */
 #define _XOPEN_SOURCE 700
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -28,6 +29,9 @@
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "cli.h"
 #include "config.h"
@@ -307,8 +311,6 @@ static const char *quantity_unit(const sea_scene *sc, bake_quantity k)
     return BAKE_Q[k].unit;
 }
 
-/* Every file of one level and frame into tmp; the manifest entry of the
- * frame (file names) into files. */
 /* The preview of group g (its channels in ch) to path. */
 static sea_status write_preview(const char *path, size_t g, size_t width, size_t height,
                                 const sea_exr_channel *ch, const bake_previews *pv,
@@ -344,72 +346,122 @@ static sea_status write_preview(const char *path, size_t g, size_t width, size_t
                                &pv->tone[g], 8, text, 3, err);
 }
 
-static sea_status write_level(const bake_setup *s, const char *tmp, const sea_bake_level *bl,
-                              long frame, double t, double scale, float *buf[GROUP_CH_MAX],
-                              const bake_previews *pv, cJSON *files, sea_error *err)
+/* Fills the channels of group g of level bl: out[c] for each channel c
+ * that is not a repeat of the one before (the emission group's one channel
+ * of K x K texels a facet); the values of texel_value, computed once a
+ * texel (the normal and the roughness give their three channels at once). */
+static void fill_group(const sea_bake_level *bl, size_t g, double scale,
+                       float *const out[GROUP_CH_MAX])
 {
-    const sea_clip_level *lv = &bl->level;
+    const bake_quantity q0 = BAKE_GROUPS[g].q[0];
+    const size_t n = bl->level.nx * bl->level.ny;
+    if (q0 == Q_EMISSION) {
+        const size_t nv = n * bl->view_k * bl->view_k;
+        for (size_t q = 0; q < nv; q++)
+            out[0][q] = (float)(bl->view[q] * scale);
+    } else if (q0 == Q_NX) {
+        for (size_t q = 0; q < n; q++) {
+            double nn[3];
+            sea_bake_normal(&bl->moments[q], nn);
+            for (int c = 0; c < 3; c++)
+                out[c][q] = (float)(0.5 * (nn[c] + 1.0));
+        }
+    } else if (q0 == Q_ROUGHNESS) {
+        for (size_t q = 0; q < n; q++) {
+            double r[3];
+            sea_bake_roughness(&bl->moments[q], &r[0], &r[1], &r[2]);
+            for (int c = 0; c < 3; c++)
+                out[c][q] = (float)r[c];
+        }
+    } else {
+        for (size_t c = 0; c < BAKE_GROUPS[g].n; c++) {
+            const bake_quantity k = BAKE_GROUPS[g].q[c];
+            if (k == Q_ZERO) {
+                memset(out[c], 0, n * sizeof *out[c]);
+                continue;
+            }
+            for (size_t q = 0; q < n; q++)
+                out[c][q] = (float)texel_value(bl, q, k, scale);
+        }
+    }
+}
+
+/* The files of group g of level lv at one frame into tmp, from its channel
+ * data (data[c], c < the group's channels; a repeated quantity reads the
+ * channel before): the EXR map when exr, the PNG preview when png. */
+static sea_status write_group(const bake_setup *s, const char *tmp, const sea_clip_level *lv,
+                              size_t view_k, size_t g, long frame, double t, double scale,
+                              float *const data[GROUP_CH_MAX], const bake_previews *pv, bool exr,
+                              bool png, sea_error *err)
+{
     char level_s[16], frame_s[32], time_s[32], facet_s[32], scale_s[32];
     snprintf(level_s, sizeof level_s, "%d", lv->level);
     snprintf(frame_s, sizeof frame_s, "%ld", frame);
     snprintf(time_s, sizeof time_s, "%.17g", t);
     snprintf(facet_s, sizeof facet_s, "%.17g", lv->facet);
     snprintf(scale_s, sizeof scale_s, "%.17g", scale);
+    /* the emission map has K x K texels per facet */
+    const size_t vk = BAKE_GROUPS[g].q[0] == Q_EMISSION ? view_k : 1;
+    const size_t width = vk * lv->nx, height = vk * lv->ny;
+    char channels[256] = "";
+    size_t used = 0;
+    sea_exr_channel ch[GROUP_CH_MAX];
+    for (size_t c = 0; c < BAKE_GROUPS[g].n; c++) {
+        const bake_quantity k = BAKE_GROUPS[g].q[c];
+        ch[c].name = CHANNEL_NAMES[c];
+        /* the same quantity again (emission's RGB) */
+        ch[c].data = c > 0 && k == BAKE_GROUPS[g].q[c - 1] ? ch[c - 1].data : data[c];
+        int w = snprintf(channels + used, sizeof channels - used, "%s%s=%s", c ? "," : "",
+                         CHANNEL_NAMES[c], BAKE_Q[k].name);
+        if (w > 0 && (size_t)w < sizeof channels - used)
+            used += (size_t)w;
+    }
+    const sea_exr_attr attrs[] = {{"seabake:quantity", BAKE_GROUPS[g].name},
+                                  {"seabake:channels", channels},
+                                  {"seabake:level", level_s},
+                                  {"seabake:facet_m", facet_s},
+                                  {"seabake:time_s", time_s},
+                                  {"seabake:frame", frame_s},
+                                  {"seabake:emission_scale", scale_s}};
+    const size_t n_attrs = strcmp(BAKE_GROUPS[g].name, "emission") == 0 ? 7 : 6;
+    char *exr_name = map_name(BAKE_GROUPS[g].name, lv->level, s->framed, frame, ".exr");
+    char *png_name = map_name(BAKE_GROUPS[g].name, lv->level, s->framed, frame, ".png");
+    char *exr_path = exr_name ? sea_cli_path_join(tmp, exr_name) : NULL;
+    char *png_path = png_name ? sea_cli_path_join(tmp, png_name) : NULL;
     sea_status st = SEA_OK;
-    for (size_t g = 0; g < BAKE_N_GROUPS && st == SEA_OK; g++) {
-        /* the emission map has K x K texels per facet */
-        const size_t vk = BAKE_GROUPS[g].q[0] == Q_EMISSION ? bl->view_k : 1;
-        const size_t width = vk * lv->nx, height = vk * lv->ny, n = width * height;
-        char channels[256] = "";
-        size_t used = 0;
-        sea_exr_channel ch[GROUP_CH_MAX];
-        for (size_t c = 0; c < BAKE_GROUPS[g].n; c++) {
-            const bake_quantity k = BAKE_GROUPS[g].q[c];
-            ch[c].name = CHANNEL_NAMES[c];
-            if (c > 0 && k == BAKE_GROUPS[g].q[c - 1]) {
-                ch[c].data = ch[c - 1].data; /* the same quantity again (emission's RGB) */
-            } else {
-                for (size_t q = 0; q < n; q++)
-                    buf[c][q] = (float)texel_value(bl, q, k, scale);
-                ch[c].data = buf[c];
-            }
-            int w = snprintf(channels + used, sizeof channels - used, "%s%s=%s", c ? "," : "",
-                             CHANNEL_NAMES[c], BAKE_Q[k].name);
-            if (w > 0 && (size_t)w < sizeof channels - used)
-                used += (size_t)w;
-        }
-        const sea_exr_attr attrs[] = {{"seabake:quantity", BAKE_GROUPS[g].name},
-                                      {"seabake:channels", channels},
-                                      {"seabake:level", level_s},
-                                      {"seabake:facet_m", facet_s},
-                                      {"seabake:time_s", time_s},
-                                      {"seabake:frame", frame_s},
-                                      {"seabake:emission_scale", scale_s}};
-        const size_t n_attrs = strcmp(BAKE_GROUPS[g].name, "emission") == 0 ? 7 : 6;
-        char *exr_name = map_name(BAKE_GROUPS[g].name, lv->level, s->framed, frame, ".exr");
-        char *png_name = map_name(BAKE_GROUPS[g].name, lv->level, s->framed, frame, ".png");
-        char *exr_path = exr_name ? sea_cli_path_join(tmp, exr_name) : NULL;
-        char *png_path = png_name ? sea_cli_path_join(tmp, png_name) : NULL;
-        if (exr_path == NULL || png_path == NULL) {
-            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-        } else {
+    if (exr_path == NULL || png_path == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    } else {
+        if (exr)
             st = sea_exr_write(exr_path, (int)width, (int)height, ch, BAKE_GROUPS[g].n, attrs,
                                n_attrs, &s->exr, err);
-            if (st == SEA_OK)
-                st = write_preview(png_path, g, width, height, ch, pv, err);
-            if (st == SEA_OK) {
-                cJSON *f = cJSON_AddObjectToObject(files, BAKE_GROUPS[g].name);
-                if (f == NULL || !cJSON_AddStringToObject(f, "exr", exr_name) ||
-                    !cJSON_AddStringToObject(f, "png", png_name))
-                    st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-            }
-        }
+        if (st == SEA_OK && png)
+            st = write_preview(png_path, g, width, height, ch, pv, err);
+    }
+    free(exr_name);
+    free(png_name);
+    free(exr_path);
+    free(png_path);
+    return st;
+}
+
+/* The manifest entry of a level at one frame: its files' names. */
+static sea_status files_json(const bake_setup *s, int level, long frame, cJSON *files,
+                             sea_error *err)
+{
+    for (size_t g = 0; g < BAKE_N_GROUPS; g++) {
+        char *exr_name = map_name(BAKE_GROUPS[g].name, level, s->framed, frame, ".exr");
+        char *png_name = map_name(BAKE_GROUPS[g].name, level, s->framed, frame, ".png");
+        cJSON *f = exr_name && png_name ? cJSON_AddObjectToObject(files, BAKE_GROUPS[g].name)
+                                        : NULL;
+        const bool ok = f != NULL && cJSON_AddStringToObject(f, "exr", exr_name) &&
+                        cJSON_AddStringToObject(f, "png", png_name);
         free(exr_name);
         free(png_name);
-        free(exr_path);
-        free(png_path);
+        if (!ok)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     }
-    return st;
+    return SEA_OK;
 }
 
 /* ------------------------------------------------------------- manifest */
@@ -707,21 +759,11 @@ static sea_status write_manifest(const char *tmp, cJSON *m, sea_error *err)
 
 /* ------------------------------------------------------------------ run */
 
-/* The emission scale: a power of ten putting the largest radiance (HR
- * texels and the LR constant) at or below BAKE_EMISSION_TARGET. */
-static double emission_scale(const sea_bake *b)
+/* The emission scale: a power of ten putting the largest radiance top (of
+ * the HR texels, their view texels and the LR constant) at or below
+ * BAKE_EMISSION_TARGET. */
+static double emission_scale(double top)
 {
-    double top = 0.0;
-    for (size_t l = 0; l < b->n_levels; l++) {
-        const sea_bake_level *bl = &b->levels[l];
-        top = fmax(top, bl->lr_optics.radiance);
-        if (bl->level.low_res)
-            continue;
-        for (size_t q = 0; q < bl->level.nx * bl->level.ny; q++)
-            top = fmax(top, bl->optics[q].radiance);
-        for (size_t q = 0; q < bl->level.nx * bl->level.ny * bl->view_k * bl->view_k; q++)
-            top = fmax(top, bl->view[q]);
-    }
     if (!(top > 0.0) || !isfinite(top))
         return 1.0;
     return pow(10.0, floor(log10(BAKE_EMISSION_TARGET / top)));
@@ -808,21 +850,212 @@ static int bake_progress_compute(void *ctx, double fraction)
     return sea_cli_progress_if(&p->bar, p->on, COMPUTE_SHARE * fraction);
 }
 
-/* Every group's preview mapping, from the first frame (see bake_previews). */
-static sea_status previews_setup(const sea_bake *b, double scale, bake_previews *pv,
-                                 sea_error *err)
+/* ------------------------------------------------------------ streaming
+ *
+ * The library hands over one level at a time (sea_bake_frame_each) and
+ * frees it once written, so that only one level's maps are held.  Within a
+ * level the groups' files are written in parallel, each thread with its
+ * own buffers.  The first frame sets what every frame shares: the
+ * emission scale (from its largest radiance) and the tone curves of the
+ * grey previews (from its texels of every level, bake_previews), so its
+ * emission maps and those previews wait for the whole frame: their data
+ * (the emission texels' radiance as double, the previewed channel of
+ * moments, moments2 and optics as the float they are written as) go to a
+ * spill file of the level in the temporary directory, read back and
+ * removed at the end of the frame.  The files are those of holding every
+ * level, byte for byte. */
+
+/* The groups whose preview needs the first frame's tone curve. */
+static bool toned_group(size_t g)
 {
+    const bake_quantity k = BAKE_GROUPS[g].q[BAKE_GROUPS[g].preview];
+    return k != Q_NX && k != Q_ROUGHNESS;
+}
+
+/* Spill file of a level: the previewed channel of each toned group but
+ * emission (n floats each, in group order), then the n K^2 view radiances
+ * (doubles). */
+enum { SPILL_CHANNELS = 3 };
+static const size_t SPILL_GROUP[SPILL_CHANNELS] = {0, 1, 2};
+
+static char *spill_path(const char *tmp, int level)
+{
+    char name[64];
+    snprintf(name, sizeof name, ".spill_%d", level);
+    return sea_cli_path_join(tmp, name);
+}
+
+static sea_status spill_io(int fd, bool out, void *data, size_t bytes, size_t offset,
+                           sea_error *err)
+{
+    unsigned char *p = data;
+    while (bytes > 0) {
+        const ssize_t k = out ? pwrite(fd, p, bytes, (off_t)offset)
+                              : pread(fd, p, bytes, (off_t)offset);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0)
+            return sea_fail(err, SEA_ERR_IO, "cannot %s a spill file: %s",
+                            out ? "write" : "read", k < 0 ? strerror(errno) : "short file");
+        p += k;
+        bytes -= (size_t)k;
+        offset += (size_t)k;
+    }
+    return SEA_OK;
+}
+
+/* What the level callback needs. */
+typedef struct {
+    const bake_setup *s;
+    const char *tmp;
+    long frame;
+    double t;
+    bool defer;          /* the first frame: see above */
+    double scale;        /* when not deferring */
+    const bake_previews *pv;
+    size_t threads;      /* writers at once */
+    size_t nmax;         /* texels of the largest level */
+    float *pool;         /* threads x GROUP_CH_MAX x nmax */
+    float *emission;     /* K^2 nmax */
+    double top;          /* deferring: the largest radiance so far */
+    double seconds;      /* spent writing */
+    size_t texels;
+} bake_writer;
+
+/* Runs the jobs (group indices) of a level in parallel, the first failure
+ * in job order returned; job(w, ctx, g, buffers, err). */
+typedef sea_status (*group_job)(bake_writer *w, const void *ctx, size_t g,
+                                float *const buf[GROUP_CH_MAX], sea_error *err);
+
+static sea_status run_jobs(bake_writer *w, const void *ctx, const size_t *jobs, size_t n,
+                           group_job job, sea_error *err)
+{
+    sea_status st[BAKE_N_GROUPS + 1];
+    sea_error e[BAKE_N_GROUPS + 1];
+#pragma omp parallel for schedule(dynamic, 1) num_threads((int)w->threads) if (w->threads > 1)
+    for (size_t i = 0; i < n; i++) {
+        size_t id = 0;
+#ifdef _OPENMP
+        id = (size_t)omp_get_thread_num();
+#endif
+        float *buf[GROUP_CH_MAX];
+        for (size_t c = 0; c < GROUP_CH_MAX; c++)
+            buf[c] = w->pool + (id * GROUP_CH_MAX + c) * w->nmax;
+        st[i] = job(w, ctx, jobs[i], buf, &e[i]);
+    }
+    for (size_t i = 0; i < n; i++)
+        if (st[i] != SEA_OK) {
+            if (err != NULL)
+                *err = e[i];
+            return st[i];
+        }
+    return SEA_OK;
+}
+
+/* A level's group g now: its maps, and its preview unless deferred (then
+ * the previewed channel to the spill file). */
+typedef struct {
+    const sea_bake_level *bl;
+    int spill;
+} level_job_ctx;
+
+static sea_status level_job(bake_writer *w, const void *ctx, size_t g,
+                            float *const buf[GROUP_CH_MAX], sea_error *err)
+{
+    const level_job_ctx *c = ctx;
+    const sea_bake_level *bl = c->bl;
+    const size_t n = bl->level.nx * bl->level.ny;
+    const bool emission = BAKE_GROUPS[g].q[0] == Q_EMISSION;
+    float *const *data = buf;
+    float *const one[GROUP_CH_MAX] = {w->emission, NULL, NULL, NULL};
+    if (emission)
+        data = one; /* filled before the jobs */
+    else
+        fill_group(bl, g, w->scale, buf);
+    if (w->defer && toned_group(g)) {
+        for (size_t k = 0; k < SPILL_CHANNELS; k++)
+            if (SPILL_GROUP[k] == g)
+                return spill_io(c->spill, true, buf[BAKE_GROUPS[g].preview], n * sizeof(float),
+                                k * n * sizeof(float), err) == SEA_OK
+                           ? write_group(w->s, w->tmp, &bl->level, bl->view_k, g, w->frame, w->t,
+                                         w->scale, data, w->pv, true, false, err)
+                           : SEA_ERR_IO;
+    }
+    return write_group(w->s, w->tmp, &bl->level, bl->view_k, g, w->frame, w->t, w->scale, data,
+                       w->pv, true, true, err);
+}
+
+/* sea_bake_level_fn: writes level l of b (see above). */
+static sea_status level_ready(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    bake_writer *w = ctx;
+    if (sea_cli_interrupted() != 0)
+        return bake_interrupted(err);
+    const double t0 = sea_cli_seconds();
+    const sea_bake_level *bl = &b->levels[l];
+    const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+    sea_status st = SEA_OK;
+    level_job_ctx c = {bl, -1};
+    size_t jobs[BAKE_N_GROUPS], nj = 0;
+    if (w->defer) {
+        double top = w->top;
+        for (size_t q = 0; q < n; q++)
+            top = fmax(top, bl->optics[q].radiance);
+        for (size_t q = 0; q < nv; q++)
+            top = fmax(top, bl->view[q]);
+        w->top = top;
+        char *path = spill_path(w->tmp, bl->level.level);
+        if (path == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        c.spill = open(path, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+        if (c.spill < 0)
+            st = sea_fail(err, SEA_ERR_IO, "cannot create '%s': %s", path, strerror(errno));
+        free(path);
+        if (st == SEA_OK)
+            st = spill_io(c.spill, true, bl->view, nv * sizeof(double),
+                          SPILL_CHANNELS * n * sizeof(float), err);
+    } else {
+        const double scale = w->scale;
+#pragma omp parallel for schedule(static)
+        for (size_t q = 0; q < nv; q++)
+            w->emission[q] = (float)(bl->view[q] * scale);
+        jobs[nj++] = BAKE_N_GROUPS - 1; /* the largest first */
+    }
+    for (size_t g = 0; g < BAKE_N_GROUPS; g++)
+        if (BAKE_GROUPS[g].q[0] != Q_EMISSION)
+            jobs[nj++] = g;
+    if (st == SEA_OK)
+        st = run_jobs(w, &c, jobs, nj, level_job, err);
+    if (c.spill >= 0 && close(c.spill) != 0 && st == SEA_OK)
+        st = sea_fail(err, SEA_ERR_IO, "cannot write a spill file: %s", strerror(errno));
+    w->texels += n;
+    w->seconds += sea_cli_seconds() - t0;
+    return st;
+}
+
+/* Every group's preview mapping, from the first frame's spill files (see
+ * bake_previews): at most BAKE_PREVIEW_SAMPLES texels of every
+ * high-resolution level, evenly strided. */
+static sea_status previews_setup(const sea_bake *b, const char *tmp, double scale,
+                                 bake_previews *pv, sea_error *err)
+{
+    enum { CHUNK = 1 << 16 };
     float *v = malloc(BAKE_PREVIEW_SAMPLES * sizeof *v);
-    if (v == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the preview ranges");
-    for (size_t g = 0; g < BAKE_N_GROUPS; g++) {
+    double *chunk = malloc(CHUNK * sizeof *chunk);
+    sea_status st = SEA_OK;
+    if (v == NULL || chunk == NULL)
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the preview ranges");
+    for (size_t g = 0; g < BAKE_N_GROUPS && st == SEA_OK; g++) {
         const bake_quantity k = BAKE_GROUPS[g].q[BAKE_GROUPS[g].preview];
         sea_png_tone *t = &pv->tone[g];
         snprintf(pv->range[g], sizeof pv->range[g], "absolute");
         snprintf(pv->text[g], sizeof pv->text[g], "see seabake(1), BAKE");
         sea_png_tone_linear(0.0, 1.0, t, NULL);
-        if (k == Q_NX || k == Q_ROUGHNESS)
+        if (!toned_group(g))
             continue; /* RGB on absolute scales */
+        size_t spilled = 0;
+        while (spilled < SPILL_CHANNELS && SPILL_GROUP[spilled] != g)
+            spilled++;
         size_t total = 0, m = 0;
         for (size_t l = 0; l < b->n_levels; l++)
             if (!b->levels[l].level.low_res)
@@ -830,17 +1063,41 @@ static sea_status previews_setup(const sea_bake *b, double scale, bake_previews 
                          (k == Q_EMISSION ? b->levels[l].view_k * b->levels[l].view_k : 1);
         const size_t stride = total / BAKE_PREVIEW_SAMPLES + 1;
         size_t at = 0; /* index into the levels' texels, one after another */
-        for (size_t l = 0; l < b->n_levels; l++) {
+        for (size_t l = 0; l < b->n_levels && st == SEA_OK; l++) {
             const sea_bake_level *bl = &b->levels[l];
             if (bl->level.low_res)
                 continue;
-            const size_t n = bl->level.nx * bl->level.ny *
-                             (k == Q_EMISSION ? bl->view_k * bl->view_k : 1);
-            size_t q = (stride - at % stride) % stride;
-            for (; q < n && m < BAKE_PREVIEW_SAMPLES; q += stride)
-                v[m++] = (float)texel_value(bl, q, k, scale);
+            const size_t nf = bl->level.nx * bl->level.ny;
+            const size_t n = nf * (k == Q_EMISSION ? bl->view_k * bl->view_k : 1);
+            char *path = spill_path(tmp, bl->level.level);
+            const int fd = path ? open(path, O_RDONLY | O_CLOEXEC) : -1;
+            if (fd < 0)
+                st = sea_fail(err, SEA_ERR_IO, "cannot open a spill file: %s", strerror(errno));
+            free(path);
+            size_t q = (stride - at % stride) % stride, c0 = 0, c1 = 0; /* chunk [c0, c1) */
+            for (; q < n && m < BAKE_PREVIEW_SAMPLES && st == SEA_OK; q += stride) {
+                if (q >= c1) {
+                    c0 = q;
+                    c1 = q + CHUNK < n ? q + CHUNK : n;
+                    if (k == Q_EMISSION)
+                        st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(double),
+                                      SPILL_CHANNELS * nf * sizeof(float) + c0 * sizeof(double),
+                                      err);
+                    else
+                        st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(float),
+                                      (spilled * nf + c0) * sizeof(float), err);
+                }
+                if (k == Q_EMISSION)
+                    v[m++] = (float)(chunk[q - c0] * scale);
+                else
+                    v[m++] = ((const float *)chunk)[q - c0];
+            }
+            if (fd >= 0)
+                close(fd);
             at += n;
         }
+        if (st != SEA_OK)
+            break;
         if (k == Q_RADIANCE || k == Q_EMISSION) {
             sea_png_tone_auto(v, m, t);
         } else {
@@ -863,7 +1120,82 @@ static sea_status previews_setup(const sea_bake *b, double scale, bake_previews 
                      BAKE_Q[k].name, t->lo, t->hi);
     }
     free(v);
-    return SEA_OK;
+    free(chunk);
+    return st;
+}
+
+/* The deferred files of one level of the first frame, from its spill file. */
+typedef struct {
+    const sea_clip_level *lv;
+    size_t view_k;
+    float *const *spilled; /* SPILL_CHANNELS channels of n floats */
+} spill_job_ctx;
+
+static sea_status spill_job(bake_writer *w, const void *ctx, size_t g,
+                            float *const buf[GROUP_CH_MAX], sea_error *err)
+{
+    (void)buf;
+    const spill_job_ctx *c = ctx;
+    float *data[GROUP_CH_MAX] = {NULL, NULL, NULL, NULL};
+    if (BAKE_GROUPS[g].q[0] == Q_EMISSION) {
+        data[0] = w->emission;
+        return write_group(w->s, w->tmp, c->lv, c->view_k, g, w->frame, w->t, w->scale, data,
+                           w->pv, true, true, err);
+    }
+    for (size_t k = 0; k < SPILL_CHANNELS; k++)
+        if (SPILL_GROUP[k] == g)
+            data[BAKE_GROUPS[g].preview] = c->spilled[k];
+    return write_group(w->s, w->tmp, c->lv, c->view_k, g, w->frame, w->t, w->scale, data, w->pv,
+                       false, true, err);
+}
+
+static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *err)
+{
+    enum { CHUNK = 1 << 16 };
+    double *chunk = malloc(CHUNK * sizeof *chunk);
+    sea_status st = chunk ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    for (size_t l = 0; l < b->n_levels && st == SEA_OK; l++) {
+        const sea_bake_level *bl = &b->levels[l];
+        if (bl->level.low_res)
+            continue;
+        if (sea_cli_interrupted() != 0) {
+            st = bake_interrupted(err);
+            break;
+        }
+        const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+        char *path = spill_path(w->tmp, bl->level.level);
+        const int fd = path ? open(path, O_RDONLY | O_CLOEXEC) : -1;
+        if (fd < 0)
+            st = sea_fail(err, SEA_ERR_IO, "cannot open a spill file: %s", strerror(errno));
+        /* the spilled channels in the last thread's buffers */
+        float *spilled[SPILL_CHANNELS];
+        for (size_t k = 0; k < SPILL_CHANNELS; k++) {
+            spilled[k] = w->pool + ((w->threads - 1) * GROUP_CH_MAX + k) * w->nmax;
+            if (st == SEA_OK)
+                st = spill_io(fd, false, spilled[k], n * sizeof(float), k * n * sizeof(float),
+                              err);
+        }
+        for (size_t c0 = 0; c0 < nv && st == SEA_OK; c0 += CHUNK) {
+            const size_t c1 = c0 + CHUNK < nv ? c0 + CHUNK : nv;
+            st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(double),
+                          SPILL_CHANNELS * n * sizeof(float) + c0 * sizeof(double), err);
+            for (size_t q = c0; q < c1 && st == SEA_OK; q++)
+                w->emission[q] = (float)(chunk[q - c0] * w->scale);
+        }
+        if (fd >= 0)
+            close(fd);
+        if (path != NULL)
+            unlink(path);
+        free(path);
+        const spill_job_ctx c = {&bl->level, bl->view_k, spilled};
+        size_t jobs[1 + SPILL_CHANNELS] = {BAKE_N_GROUPS - 1};
+        for (size_t k = 0; k < SPILL_CHANNELS; k++)
+            jobs[1 + k] = SPILL_GROUP[k];
+        if (st == SEA_OK)
+            st = run_jobs(w, &c, jobs, 1 + SPILL_CHANNELS, spill_job, err);
+    }
+    free(chunk);
+    return st;
 }
 
 static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
@@ -875,21 +1207,29 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     for (size_t l = 0; l < nlev; l++)
         if (!lv[l].low_res && lv[l].nx * lv[l].ny > nmax)
             nmax = lv[l].nx * lv[l].ny;
-    /* buf[0] also holds the emission map's K x K texels per facet */
+    size_t threads = 1;
+#ifdef _OPENMP
+    threads = (size_t)omp_get_max_threads();
+#endif
+    if (threads > BAKE_N_GROUPS - 1)
+        threads = BAKE_N_GROUPS - 1;
+    if (threads < 1)
+        threads = 1;
     const size_t k2 = (size_t)(s->view_k * s->view_k);
-    sea_status st = sea_check_size(nmax, (k2 + GROUP_CH_MAX - 1) * sizeof(float), "map buffers",
-                                   err);
+    bake_writer w = {s, tmp, 0, 0.0, true, 1.0, NULL, threads, nmax, NULL, NULL, 0.0, 0.0, 0};
+    /* each writer's GROUP_CH_MAX channels, and the emission map's K x K
+     * texels per facet */
+    sea_status st = sea_check_size(nmax, (threads * GROUP_CH_MAX + k2) * sizeof(float),
+                                   "map buffers", err);
     if (st != SEA_OK)
         return st;
-    float *buf[GROUP_CH_MAX] = {NULL};
-    for (size_t c = 0; c < GROUP_CH_MAX; c++) {
-        const size_t n = c == 0 ? k2 * nmax : nmax;
-        if ((buf[c] = malloc(n * sizeof(float))) == NULL)
-            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu texels", n);
-    }
+    w.pool = malloc(threads * GROUP_CH_MAX * nmax * sizeof(float));
+    w.emission = malloc(k2 * nmax * sizeof(float));
+    if (w.pool == NULL || w.emission == NULL)
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the map buffers");
     cJSON *manifest = NULL;
-    double scale = 1.0;
     bake_previews pv;
+    w.pv = &pv;
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
     memset(stats, 0, sizeof *stats);
     bake_progress prog = {{"bake", 0, (size_t)(last - first + 1), -1},
@@ -898,9 +1238,16 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
         sea_bake b;
         prog.bar.index = (size_t)(f - first);
+        w.frame = f;
+        w.t = t;
+        w.defer = f == first;
+        w.top = 0.0;
+        const double written = w.seconds;
         double t0 = sea_cli_seconds();
-        st = sea_bake_frame(r, t, (int)s->view_k, &b, bake_progress_compute, &prog, err);
-        stats->compute += sea_cli_seconds() - t0;
+        st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
+                                 level_ready, &w, err);
+        stats->compute += sea_cli_seconds() - t0 - (w.seconds - written);
+        stats->write += w.seconds - written;
         if (sea_cli_interrupted() != 0) {
             if (st == SEA_OK)
                 sea_bake_free(&b);
@@ -910,12 +1257,16 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             break;
         t0 = sea_cli_seconds();
         if (manifest == NULL) {
-            scale = emission_scale(&b);
-            manifest = manifest_json(s, r, &b, scale);
+            for (size_t l = 0; l < b.n_levels; l++)
+                w.top = fmax(w.top, b.levels[l].lr_optics.radiance);
+            w.scale = emission_scale(w.top);
+            manifest = manifest_json(s, r, &b, w.scale);
             if (manifest == NULL)
                 st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
             else
-                st = previews_setup(&b, scale, &pv, err);
+                st = previews_setup(&b, tmp, w.scale, &pv, err);
+            if (st == SEA_OK)
+                st = write_spilled(&w, &b, err);
         }
         if (st == SEA_OK) {
             cJSON *fr = cJSON_CreateObject();
@@ -933,22 +1284,16 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             cJSON *files = cJSON_AddObjectToObject(entry, "files");
             cJSON_AddItemToArray(cJSON_GetObjectItem(cJSON_GetArrayItem(levels, (int)l), "frames"),
                                  entry);
-            st = sea_cli_interrupted() != 0
-                     ? bake_interrupted(err)
-                     : write_level(s, tmp, &b.levels[l], f, t, scale, buf, &pv, files, err);
-            stats->texels += b.levels[l].level.nx * b.levels[l].level.ny;
-            if (prog.on)
-                sea_cli_progress_bar(&prog.bar, COMPUTE_SHARE + (1.0 - COMPUTE_SHARE) *
-                                                                    (double)(l + 1) /
-                                                                    (double)b.n_levels);
+            st = files_json(s, b.levels[l].level.level, f, files, err);
         }
         if (st == SEA_OK && s->pov && f == first)
-            st = write_pov(s, r, &b, tmp, scale, err);
+            st = write_pov(s, r, &b, tmp, w.scale, err);
         sea_bake_free(&b);
         stats->write += sea_cli_seconds() - t0;
         if (prog.on && st == SEA_OK)
             sea_cli_progress_bar(&prog.bar, 1.0);
     }
+    stats->texels = w.texels;
     if (st == SEA_OK && s->blender)
         st = write_text(tmp, SEA_BLENDER_SCRIPT, sea_blender_import_text, err);
     sea_cli_progress_end(&prog.bar);
@@ -957,8 +1302,8 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         st = write_manifest(tmp, manifest, err);
     stats->write += sea_cli_seconds() - t0;
     cJSON_Delete(manifest);
-    for (size_t c = 0; c < GROUP_CH_MAX; c++)
-        free(buf[c]);
+    free(w.pool);
+    free(w.emission);
     return st;
 }
 
