@@ -83,6 +83,12 @@ static int encode(FILE *f, const png_job *job, png_err_ctx *ctx)
     }
     if (job->n_text)
         png_set_text(png, info, text, (int)job->n_text);
+    /* A preview is written once and looked at: deflate's fastest level and
+     * one filter (Sub) instead of zlib's default level 6 and libpng's
+     * per-row choice among five.  On a bake's 36 previews (512 x 512 facets,
+     * six levels): 1.9 -> 0.36 s of CPU, 5.9 -> 7.1 MB. */
+    png_set_compression_level(png, 1);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
     png_write_info(png, info);
     const double top = bits == 16 ? 65535.0 : 255.0;
     for (int y = 0; y < height; y++) {

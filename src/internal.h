@@ -10,4 +10,13 @@
 
 #define SEA_INTERNAL __attribute__((visibility("hidden")))
 
+/* planck.c: the black body L(lambda, T) = a / expm1(b / T), a and b of lambda. */
+SEA_INTERNAL void sea_planck_coefficients(double wavelength, double *a, double *b);
+
+/* optics.c: whether the plan's emissivity runs its AVX2 loops (returns the
+ * setting in force: on only where the processor has AVX2), so that the
+ * tests compare them with the portable loops. */
+struct sea_optics;
+SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
+
 #endif /* SEABAKE_INTERNAL_H */

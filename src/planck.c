@@ -4,6 +4,7 @@
 #include <math.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 /* SI 2019 exact constants. */
 static const double SEA_H = 6.62607015e-34;  /* Planck, J s */
@@ -32,4 +33,14 @@ double sea_planck_brightness_temperature(double wavelength, double radiance)
     const double c1 = 2.0 * SEA_H * SEA_C * SEA_C;
     const double c2 = SEA_H * SEA_C / SEA_KB;
     return c2 / wavelength / log1p(c1 / (pow(wavelength, 5) * radiance));
+}
+
+/* L = a / expm1(b / T) with a = c1 / lambda^5 and b = c2 / lambda: what does
+ * not depend on the temperature, for a caller that evaluates many. */
+void sea_planck_coefficients(double wavelength, double *a, double *b)
+{
+    const double c1 = 2.0 * SEA_H * SEA_C * SEA_C;
+    const double c2 = SEA_H * SEA_C / SEA_KB;
+    *a = c1 / pow(wavelength, 5);
+    *b = c2 / wavelength;
 }

@@ -14,6 +14,7 @@
 #include <gsl/gsl_integration.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 /* Largest automatic number of spectral samples. */
 enum { SAMPLES_AUTO_MAX = 64 };
@@ -27,6 +28,7 @@ struct sea_render {
     size_t nsamp;
     double *wl, *wt, *esun, *lsky;
     double *lsea;    /* blackbody radiance at the sea's temperature, per sample */
+    double *pa, *pb; /* per sample, B(lambda, T) = pa / expm1(pb / T) */
     double *lair;    /* ... at the air's ([atmosphere] air_temperature), 0 without */
     sea_sky sky;     /* the sky's model over the samples (radiance: lsky, lair or a table's
                         profile) */
@@ -90,6 +92,8 @@ void sea_render_free(sea_render *r)
     free(r->esun);
     free(r->lsky);
     free(r->lsea);
+    free(r->pa);
+    free(r->pb);
     free(r->lair);
     free(r->N);
     sea_grid_free(r->sky_grid);
@@ -143,6 +147,8 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     free(r->esun);
     free(r->lsky);
     free(r->lsea);
+    free(r->pa);
+    free(r->pb);
     free(r->lair);
     free(r->N);
     r->wl = malloc(k * sizeof(double));
@@ -150,9 +156,12 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     r->esun = malloc(k * sizeof(double));
     r->lsky = malloc(k * sizeof(double));
     r->lsea = malloc(k * sizeof(double));
+    r->pa = malloc(k * sizeof(double));
+    r->pb = malloc(k * sizeof(double));
     r->lair = malloc(k * sizeof(double));
     r->N = malloc(k * sizeof(double complex));
-    if (!r->wl || !r->wt || !r->esun || !r->lsky || !r->lsea || !r->lair || !r->N)
+    if (!r->wl || !r->wt || !r->esun || !r->lsky || !r->lsea || !r->pa || !r->pb || !r->lair ||
+        !r->N)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu spectral samples", k);
     r->nsamp = k;
     const sea_scene *sc = &r->sc;
@@ -183,6 +192,7 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
         r->lsky[i] = sc->sky_radiance >= 0.0 ? sc->sky_radiance
                                              : sea_planck_radiance(r->wl[i], sc->sky_temperature);
         r->lsea[i] = sea_planck_radiance(r->wl[i], sc->temperature);
+        sea_planck_coefficients(r->wl[i], &r->pa[i], &r->pb[i]);
         r->lair[i] = isnan(sc->air_temperature)
                          ? 0.0
                          : sea_planck_radiance(r->wl[i], sc->air_temperature);
@@ -297,7 +307,10 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
 }
 
 /* Brightness temperature of a (band) radiance: the T whose blackbody gives
- * the same weighted sum, by safeguarded Newton iterations on ln T. */
+ * the same weighted sum, by safeguarded Newton iterations on ln T.  Each
+ * iteration takes one expm1 and one division per sample (B = a / E,
+ * E = expm1(x), x = b / T, dB/dT = B x (1 + 1/E) / T), the wavelength's
+ * powers found once. */
 static double band_temperature(const sea_render *r, double L)
 {
     if (r->nsamp == 1)
@@ -308,9 +321,11 @@ static double band_temperature(const sea_render *r, double L)
         T = 300.0;
     for (int it = 0; it < 100; it++) {
         double f = -L, df = 0.0;
+        const double inv_T = 1.0 / T;
         for (size_t i = 0; i < r->nsamp; i++) {
-            f += r->wt[i] * sea_planck_radiance(r->wl[i], T);
-            df += r->wt[i] * sea_planck_radiance_dT(r->wl[i], T);
+            const double x = r->pb[i] * inv_T, inv_E = 1.0 / expm1(x), B = r->pa[i] * inv_E;
+            f += r->wt[i] * B;
+            df += r->wt[i] * (B * x * (1.0 + inv_E) * inv_T);
         }
         if (f > 0.0)
             hi = T;

@@ -5,6 +5,7 @@
 #include <gsl/gsl_rng.h>
 
 #include "unit.h"
+#include "internal.h"
 
 static sea_optics *P;
 static double complex N4, N10; /* sea water at 4 and 10 um, salinity 35 (Hale & Querry) */
@@ -514,6 +515,49 @@ static void test_emissivity_n(void)
     gsl_rng_free(rng);
 }
 
+/* The AVX2 loops of the emissivity (where the processor has them) give the
+ * portable loops' values to the bit: one index and a band of 16 (four a
+ * lane), over random stats, directions and rules. */
+static void test_emissivity_simd(void)
+{
+    sea_optics *q = NULL;
+    CU_ASSERT_FATAL(sea_optics_alloc(&q, NULL) == SEA_OK);
+    if (!sea_optics_set_simd(q, 1)) {
+        sea_optics_free(q);
+        return; /* no AVX2 here: the portable loops are all there is */
+    }
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 11);
+    double complex N[16];
+    for (int i = 0; i < 16; i++)
+        N[i] = (1.2 + 0.02 * i) + (0.005 + 0.02 * i) * I;
+    N[3] = N4, N[9] = N10;
+    double simd[16], portable[16];
+    int mismatches = 0;
+    sea_error err = { "" };
+    for (int c = 0; c < 400; c++) {
+        const double sx = c % 9 == 0 ? 0.0 : 0.6 * gsl_rng_uniform(rng);
+        const double sy = 0.6 * gsl_rng_uniform(rng);
+        const double rho = 1.6 * gsl_rng_uniform(rng) - 0.8;
+        sea_slope_stats st = { { 1.2 * gsl_rng_uniform(rng) - 0.6, 1.2 * gsl_rng_uniform(rng) - 0.6 },
+                               { sx * sx, sy * sy, rho * sx * sy } };
+        sea_dir v = { 89.9 * DEG * gsl_rng_uniform(rng), 2 * M_PI * gsl_rng_uniform(rng) };
+        const sea_emis_rule rule = { 1 + (int)(60 * gsl_rng_uniform(rng)),
+                                     (int)(17 * gsl_rng_uniform(rng)) };
+        const sea_emis_rule *r = c % 2 ? &rule : NULL;
+        const size_t n = c % 3 == 0 ? 1 : 16;
+        for (int on = 1; on >= 0; on--) {
+            sea_optics_set_simd(q, on);
+            CU_ASSERT_FATAL(sea_emissivity_n(q, SEA_EMIS_AUTO, r, N, n, &st, v,
+                                             on ? simd : portable, &err) == SEA_OK);
+        }
+        mismatches += memcmp(simd, portable, n * sizeof simd[0]) != 0;
+    }
+    CU_ASSERT_EQUAL(mismatches, 0);
+    gsl_rng_free(rng);
+    sea_optics_free(q);
+}
+
 static void test_errors(void)
 {
     sea_slope_stats bad = { { 0, 0 }, { 0.01, 0.01, 0.02 } };
@@ -615,6 +659,7 @@ int test_optics_register(void)
            !CU_add_test(s, "energy at low resolution (Fig. 4)", test_energy_low_resolution) ||
            !CU_add_test(s, "property sweep", test_property_sweep) ||
            !CU_add_test(s, "many indices at once (emissivity, reflectivity), to the bit", test_emissivity_n) ||
+           !CU_add_test(s, "AVX2 emissivity loops = portable ones, to the bit", test_emissivity_simd) ||
            !CU_add_test(s, "sun disc", test_sun_disc) ||
            !CU_add_test(s, "error paths", test_errors);
 }
