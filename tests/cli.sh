@@ -1124,6 +1124,13 @@ sb_run render "$top_srcdir/examples/horizon.ini" -o "$RDIR/horizon.exr" --set se
     --set sensor.height=27 --png none
 check_rc render.horizon_rc 0
 check_match render.horizon_range "$SB_ERR" "brightness temperature 28[78]\.[0-9]+ to 289\.[0-9]+ K"
+# The exports have one sky radiance: a clear sky or an atmosphere with
+# --pov or --blender is refused before any work; the maps alone bake.
+for ex in pov blender; do
+    sb_run bake "$top_srcdir/examples/horizon.ini" -o "$RDIR/hz_$ex" --$ex --quiet
+    check_error "bake.horizon_no_$ex" 2 "--$ex: the exported scene has an isotropic sky and no atmosphere"
+    check_eq "bake.horizon_no_${ex}_nothing" "$(ls -d "$RDIR"/hz_* 2>/dev/null)" ""
+done
 # ... and the fallbacks of LIMITS AND FALLBACKS a scene takes.
 sed -e 's/^wind_speed *=.*/wind_speed = 1/' -e 's/^zenith *=.*/zenith = 100/' \
     "$RSCENE" > "$RDIR/fallback.ini"

@@ -217,6 +217,19 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
     sea_cli_apply_model(&model, &s->sc);
+    /* The exports' sky is one radiance (POV-Ray's background, Blender's
+     * world): a sky that changes with the zenith angle, or an atmosphere
+     * along the camera's rays, would show wrong there. */
+    if ((s->pov || s->blender) &&
+        (s->sc.sky_model != SEA_SKY_ISOTROPIC || !isnan(s->sc.air_temperature) ||
+         s->sc.atmosphere_table_file[0] != '\0'))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--%s: the exported scene has an isotropic sky and no atmosphere; %s "
+                        "(allowed: --pov and --blender with [sky] model = isotropic and no "
+                        "[atmosphere]; the maps alone are baked with any sky)",
+                        s->pov ? "pov" : "blender",
+                        s->sc.sky_model != SEA_SKY_ISOTROPIC ? "this scene's [sky] model is not"
+                                                             : "this scene has an [atmosphere]");
     if ((s->dir = strndup(out, len)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     return SEA_OK;
