@@ -693,6 +693,28 @@ __attribute__((target("avx2"))) static void row_nodes_avx2(double num, double on
     }
 }
 
+/* 1 - the reflectance of four coefficient rows c0..c3 (a0 a1 a2 a3 each,
+ * one row a lane after the transpose) at the offsets tt: fresnel_eval's
+ * cubic a0 + t (a1 + t (a2 + t a3)) clamped to [0, 1], the same operations
+ * in the same order, four lanes at once. */
+__attribute__((target("avx2"))) static inline __m256d one_minus_cubic4(__m256d c0, __m256d c1,
+                                                                       __m256d c2, __m256d c3,
+                                                                       __m256d tt)
+{
+    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    const __m256d l01 = _mm256_unpacklo_pd(c0, c1), h01 = _mm256_unpackhi_pd(c0, c1);
+    const __m256d l23 = _mm256_unpacklo_pd(c2, c3), h23 = _mm256_unpackhi_pd(c2, c3);
+    const __m256d a0 = _mm256_permute2f128_pd(l01, l23, 0x20);
+    const __m256d a1 = _mm256_permute2f128_pd(h01, h23, 0x20);
+    const __m256d a2 = _mm256_permute2f128_pd(l01, l23, 0x31);
+    const __m256d a3 = _mm256_permute2f128_pd(h01, h23, 0x31);
+    __m256d v = _mm256_add_pd(a2, _mm256_mul_pd(tt, a3));
+    v = _mm256_add_pd(a1, _mm256_mul_pd(tt, v));
+    v = _mm256_add_pd(a0, _mm256_mul_pd(tt, v));
+    v = _mm256_min_pd(_mm256_max_pd(v, zero), one);
+    return _mm256_sub_pd(one, v);
+}
+
 /* The sum over the row's n nodes of w_j (1 - rho) from table tb, four
  * nodes at a time (fresnel_eval's operations; each node's four
  * coefficients are one load, transposed), added in the order of j.  Reads
@@ -703,26 +725,14 @@ __attribute__((target("avx2"))) static double row_sum_avx2(const fresnel_table *
                                                            const double *w, int n)
 {
     double acc = 0.0;
-    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
     for (int j = 0; j < n; j += 4) {
         const int r = n - j;
         const __m256d c0 = _mm256_loadu_pd(tb->a[k[j]]);
         const __m256d c1 = _mm256_loadu_pd(tb->a[r > 1 ? k[j + 1] : 0]);
         const __m256d c2 = _mm256_loadu_pd(tb->a[r > 2 ? k[j + 2] : 0]);
         const __m256d c3 = _mm256_loadu_pd(tb->a[r > 3 ? k[j + 3] : 0]);
-        /* rows (a0 a1 a2 a3) of the four nodes -> a_m of the four nodes */
-        const __m256d l01 = _mm256_unpacklo_pd(c0, c1), h01 = _mm256_unpackhi_pd(c0, c1);
-        const __m256d l23 = _mm256_unpacklo_pd(c2, c3), h23 = _mm256_unpackhi_pd(c2, c3);
-        const __m256d a0 = _mm256_permute2f128_pd(l01, l23, 0x20);
-        const __m256d a1 = _mm256_permute2f128_pd(h01, h23, 0x20);
-        const __m256d a2 = _mm256_permute2f128_pd(l01, l23, 0x31);
-        const __m256d a3 = _mm256_permute2f128_pd(h01, h23, 0x31);
-        const __m256d tt = _mm256_loadu_pd(t + j);
-        __m256d v = _mm256_add_pd(a2, _mm256_mul_pd(tt, a3));
-        v = _mm256_add_pd(a1, _mm256_mul_pd(tt, v));
-        v = _mm256_add_pd(a0, _mm256_mul_pd(tt, v));
-        v = _mm256_min_pd(_mm256_max_pd(v, zero), one);
-        v = _mm256_mul_pd(_mm256_loadu_pd(w + j), _mm256_sub_pd(one, v));
+        const __m256d v = _mm256_mul_pd(_mm256_loadu_pd(w + j),
+                                        one_minus_cubic4(c0, c1, c2, c3, _mm256_loadu_pd(t + j)));
         const __m128d lo = _mm256_castpd256_pd128(v), hi = _mm256_extractf128_pd(v, 1);
         acc += _mm_cvtsd_f64(lo);
         if (r > 1)
@@ -744,24 +754,14 @@ __attribute__((target("avx2"))) static void row_sum4_avx2(const fresnel_table *c
                                                           const int *k, const double *t,
                                                           const double *w, int n, double out[4])
 {
-    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-    __m256d acc = zero;
+    __m256d acc = _mm256_setzero_pd();
     for (int j = 0; j < n; j++) {
         const int kj = k[j];
         const __m256d c0 = _mm256_loadu_pd(tb[0]->a[kj]), c1 = _mm256_loadu_pd(tb[1]->a[kj]);
         const __m256d c2 = _mm256_loadu_pd(tb[2]->a[kj]), c3 = _mm256_loadu_pd(tb[3]->a[kj]);
-        const __m256d l01 = _mm256_unpacklo_pd(c0, c1), h01 = _mm256_unpackhi_pd(c0, c1);
-        const __m256d l23 = _mm256_unpacklo_pd(c2, c3), h23 = _mm256_unpackhi_pd(c2, c3);
-        const __m256d a0 = _mm256_permute2f128_pd(l01, l23, 0x20);
-        const __m256d a1 = _mm256_permute2f128_pd(h01, h23, 0x20);
-        const __m256d a2 = _mm256_permute2f128_pd(l01, l23, 0x31);
-        const __m256d a3 = _mm256_permute2f128_pd(h01, h23, 0x31);
-        const __m256d tt = _mm256_set1_pd(t[j]);
-        __m256d v = _mm256_add_pd(a2, _mm256_mul_pd(tt, a3));
-        v = _mm256_add_pd(a1, _mm256_mul_pd(tt, v));
-        v = _mm256_add_pd(a0, _mm256_mul_pd(tt, v));
-        v = _mm256_min_pd(_mm256_max_pd(v, zero), one);
-        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(w[j]), _mm256_sub_pd(one, v)));
+        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(w[j]),
+                                               one_minus_cubic4(c0, c1, c2, c3,
+                                                                _mm256_set1_pd(t[j]))));
     }
     _mm256_storeu_pd(out, acc);
 }
