@@ -117,14 +117,8 @@ static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **
     size_t n = 0, cap = 0;
     int header = 0;
     long lineno = 0;
-    for (char *line = text, *next; line != NULL; line = next) {
-        next = strchr(line, '\n');
-        if (next != NULL)
-            *next++ = '\0';
-        lineno++;
-        char *p = sea_text_trim(line);
-        if (*p == '\0' || *p == '#')
-            continue;
+    char *cursor = text;
+    for (char *p; (p = sea_text_next_line(&cursor, &lineno)) != NULL;) {
         char *field[SEA_GRID_COLS_MAX + 1];
         size_t nf = 0;
         for (char *f = p;; nf++) {

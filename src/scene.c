@@ -73,14 +73,8 @@ sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
     memset(r, 0, sizeof *r);
     if ((st = sea_read_text(path, SEA_RESPONSE_BYTES_MAX, "text file", &text, err)) != SEA_OK)
         return st;
-    for (char *line = text, *next; line != NULL; line = next) {
-        next = strchr(line, '\n');
-        if (next != NULL)
-            *next++ = '\0';
-        lineno++;
-        char *p = sea_text_trim(line);
-        if (*p == '\0' || *p == '#')
-            continue;
+    char *cursor = text;
+    for (char *p; (p = sea_text_next_line(&cursor, &lineno)) != NULL;) {
         char *comma = strchr(p, ',');
         if (comma == NULL || strchr(comma + 1, ',') != NULL) {
             st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: need exactly two comma-separated fields",
@@ -247,7 +241,8 @@ typedef struct {
     const char *unit;  /* as the user writes the value, for messages */
     size_t offset;     /* of the double or int in sea_scene */
     int (*from_name)(const char *name); /* KIND_CHOICE */
-    const char *names;                  /* KIND_CHOICE: the allowed names */
+    const char *names;                  /* KIND_CHOICE: the allowed names; KIND_PATH: the
+                                           CSV file's columns */
 } key_spec;
 
 #define INF INFINITY
@@ -256,6 +251,8 @@ typedef struct {
     { sec, name, KIND_REAL, lo, hi, flags, scale, unit, AT(field), NULL, NULL }
 #define INT(sec, name, lo, hi, flags, unit, field)                                            \
     { sec, name, KIND_INT, lo, hi, flags, 1.0, unit, AT(field), NULL, NULL }
+#define CSV(sec, name, columns, field)                                                        \
+    { sec, name, KIND_PATH, 0, 0, 0, 1.0, "", AT(field), NULL, columns }
 #define CHOICE(sec, name, fn, names, field)                                                   \
     { sec, name, KIND_CHOICE, 0, 0, 0, 1.0, "", AT(field), fn, names }
 
@@ -293,10 +290,10 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                                sky_temperature),
     [K_SKY_MODEL] = CHOICE(SEC_SKY, "model", sky_model_from_name, "isotropic, clear, table",
                            sky_model),
-    [K_SKY_TABLE] = { SEC_SKY, "table", KIND_PATH, 0, 0, 0, 1.0, "", AT(sky_table_file), NULL,
-                      NULL },
-    [K_ATMOSPHERE_TABLE] = { SEC_ATMOSPHERE, "table", KIND_PATH, 0, 0, 0, 1.0, "",
-                             AT(atmosphere_table_file), NULL, NULL },
+    [K_SKY_TABLE] = CSV(SEC_SKY, "table", "zenith_deg,wavelength_um,radiance", sky_table_file),
+    [K_ATMOSPHERE_TABLE] = CSV(SEC_ATMOSPHERE, "table",
+                               "range_m,wavelength_um,transmittance,path_radiance",
+                               atmosphere_table_file),
     [K_SKY_ZENITH_EMISSIVITY] = REAL(SEC_SKY, "zenith_emissivity", 0.0, 1.0, LO_OPEN, 1.0, "",
                                      sky_zenith_emissivity),
 
@@ -320,8 +317,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                           wavelength),
     [K_BAND] = { SEC_SENSOR, "band", KIND_BAND, 0, 0, 0, SEA_UM, "um", AT(band_min), NULL,
                  NULL },
-    [K_RESPONSE] = { SEC_SENSOR, "response", KIND_PATH, 0, 0, 0, 1.0, "", AT(response_file),
-                     NULL, NULL },
+    [K_RESPONSE] = CSV(SEC_SENSOR, "response", "wavelength_um,response", response_file),
     [K_SAMPLES] = INT(SEC_SENSOR, "samples", 1, SEA_SCENE_BAND_MAX, 0, "", band_samples),
 
     [K_METHOD] = CHOICE(SEC_MODEL, "method", sea_facet_method_from_name,
@@ -342,6 +338,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
 #undef REAL
 #undef INT
 #undef CHOICE
+#undef CSV
 
 /* "1e+06" reads worse than "1000000" in a range. */
 static void format_bound(char *buf, size_t size, double v)
@@ -371,10 +368,7 @@ static void allowed_text(const key_spec *k, char *buf, size_t size)
     case KIND_PATH:
         snprintf(buf, size, "the path of a readable CSV file (%s), relative to the scene "
                             "file's directory",
-                 k->offset == offsetof(sea_scene, response_file) ? "wavelength_um,response"
-                 : k->offset == offsetof(sea_scene, sky_table_file) ? "zenith_deg,wavelength_um,radiance"
-                                                   : "range_m,wavelength_um,transmittance,"
-                                                     "path_radiance");
+                 k->names);
         return;
     case KIND_SEED:
         snprintf(buf, size, "an integer in [0, 4294967295]");
@@ -766,11 +760,15 @@ static void check_scene(loader *ld)
     else if (ld->key_line[K_SUN_IRRADIANCE] == 0) /* the solid angle of the disc */
         ld->sc.sun_solid_angle = 2.0 * M_PI * (1.0 - cos(sc->sun_radius));
     check_conflict(ld, K_SKY_RADIANCE, K_SKY_TEMPERATURE, "radiance or temperature, not both");
+    if (sc->sky_model != SEA_SKY_ISOTROPIC) { /* radiance, temperature: the isotropic sky's */
+        const char *rule = sc->sky_model == SEA_SKY_CLEAR
+                               ? "model = clear takes zenith_emissivity and the [atmosphere] "
+                                 "air_temperature, not radiance or temperature"
+                               : "model = table takes table, not radiance or temperature";
+        check_conflict(ld, K_SKY_MODEL, K_SKY_RADIANCE, rule);
+        check_conflict(ld, K_SKY_MODEL, K_SKY_TEMPERATURE, rule);
+    }
     if (sc->sky_model == SEA_SKY_CLEAR) {
-        static const char CLEAR_RULE[] = "model = clear takes zenith_emissivity and the "
-                                         "[atmosphere] air_temperature, not radiance or temperature";
-        check_conflict(ld, K_SKY_MODEL, K_SKY_RADIANCE, CLEAR_RULE);
-        check_conflict(ld, K_SKY_MODEL, K_SKY_TEMPERATURE, CLEAR_RULE);
         if (ld->status == SEA_OK && ld->key_line[K_SKY_ZENITH_EMISSIVITY] == 0)
             fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_MODEL],
                       "[sky] model = clear: missing zenith_emissivity (allowed: (0, 1], the "
@@ -780,9 +778,6 @@ static void check_scene(loader *ld)
                       "[sky] model = clear: missing [atmosphere] air_temperature (allowed: "
                       "(0, 400] K, the air the clear sky radiates at)");
     } else if (sc->sky_model == SEA_SKY_TABLE) {
-        static const char TABLE_RULE[] = "model = table takes table, not radiance or temperature";
-        check_conflict(ld, K_SKY_MODEL, K_SKY_RADIANCE, TABLE_RULE);
-        check_conflict(ld, K_SKY_MODEL, K_SKY_TEMPERATURE, TABLE_RULE);
         if (ld->status == SEA_OK && ld->key_line[K_SKY_TABLE] == 0)
             fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SKY_MODEL],
                       "[sky] model = table: missing table (allowed: a CSV file "

@@ -62,6 +62,22 @@ done:
     return st;
 }
 
+char *sea_text_next_line(char **cursor, long *lineno)
+{
+    while (*cursor != NULL) {
+        char *line = *cursor;
+        char *next = strchr(line, '\n');
+        if (next != NULL)
+            *next++ = '\0';
+        *cursor = next;
+        ++*lineno;
+        char *p = sea_text_trim(line);
+        if (*p != '\0' && *p != '#')
+            return p;
+    }
+    return NULL;
+}
+
 char *sea_text_trim(char *s)
 {
     while (*s != '\0' && isspace((unsigned char)*s))

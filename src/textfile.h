@@ -14,6 +14,11 @@
 SEA_INTERNAL sea_status sea_read_text(const char *path, long max_bytes, const char *kind,
                                       char **out, sea_error *err);
 
+/* The next line of a text being read in place (*cursor: where the rest
+ * starts, NULL at the end; *lineno counts every line, the one returned
+ * included) that holds something: trimmed, neither empty nor a '#'
+ * comment; NULL when none is left.  The line's end is overwritten. */
+SEA_INTERNAL char *sea_text_next_line(char **cursor, long *lineno);
 /* Trims blanks (and a CR) at both ends, in place. */
 SEA_INTERNAL char *sea_text_trim(char *s);
 /* strtod over the whole string into *out: 0; -1 for no number, trailing
