@@ -430,7 +430,8 @@ static void test_property_sweep(void)
                 if (sig[s] > 0)
                     st.cov = (sea_cov2){ sig[s] * sig[s], sig[s] * sig[s], 0 };
                 for (int t = 0; t < 6; t++)
-                    for (double ph = 0.0; ph < 6.28; ph += M_PI / 3) {
+                    /* six azimuths; two (0 and pi) under valgrind */
+                    for (double ph = 0.0; ph < 6.28; ph += UNIT_QUICK ? M_PI : M_PI / 3) {
                         sea_dir v = { ths[t], ph };
                         for (int m = 0; m < 2; m++) {
                             double e = emis((sea_emis_method)m, &st, v.theta, v.phi);
@@ -441,7 +442,8 @@ static void test_property_sweep(void)
                         double r = sea_reflectivity(N4, &st, inc, v), f = sea_brdf(N4, &st, v, inc);
                         n++;
                         bad += !(isfinite(r) && r >= 0.0 && isfinite(f) && f >= 0.0);
-                        if (t % 2 == 0 && ph < 3.2) {
+                        /* the energy integral: 0, 60, 88 deg; 88 only under valgrind */
+                        if ((UNIT_QUICK ? t == 4 : t % 2 == 0) && ph < 3.2) {
                             sea_energy en;
                             CU_ASSERT(sea_energy_balance(P, SEA_EMIS_AUTO, N4, &st, v, &en, NULL) == SEA_OK);
                             n++;
