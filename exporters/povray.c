@@ -18,7 +18,7 @@
 
 #include "povray.h"
 
-enum { POV_FILES = 3, POV_TMP_ATTEMPTS = 100 };
+enum { POV_FILES = 4, POV_TMP_ATTEMPTS = 100 };
 
 /* Each coarser level sits this many finest facets below the next finer one,
  * so that where two windows overlap (clipmap windows need not be nested)
@@ -130,6 +130,35 @@ static int valid_map_name(const char *s)
     return 1;
 }
 
+static sea_status check_options(const sea_pov_options *o, sea_error *err)
+{
+    if (o->framed && !(o->first >= 0 && o->first <= o->last && o->last <= 999999))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "POV-Ray export: frames %ld to %ld (allowed: 0 <= first <= last <= 999999)",
+                        o->first, o->last);
+    if (o->framed && !(o->frame_digits >= 1 && o->frame_digits <= 9))
+        return sea_fail(err, SEA_ERR_DOMAIN, "POV-Ray export: %d frame digits (allowed: 1 to 9)",
+                        o->frame_digits);
+    if (o->framed && !(isfinite(o->time0) && isfinite(o->rate) && o->rate > 0.0))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "POV-Ray export: time %g s, rate %g Hz (allowed: finite, rate > 0)",
+                        o->time0, o->rate);
+    if (o->n_samples > 0 && (o->wavelength == NULL || o->weight == NULL ||
+                             !(isfinite(o->unit) && o->unit > 0.0)))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "POV-Ray export: spectral samples without arrays or with unit %g "
+                        "(allowed: > 0)",
+                        o->unit);
+    for (size_t i = 0; i < o->n_samples; i++)
+        if (!(isfinite(o->wavelength[i]) && o->wavelength[i] > 0.0 &&
+              finite_in(o->weight[i], 0.0, HUGE_VAL)))
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "POV-Ray export: spectral sample %zu: wavelength %g m, weight %g "
+                            "(allowed: wavelength > 0, weight >= 0, finite)",
+                            i, o->wavelength[i], o->weight[i]);
+    return SEA_OK;
+}
+
 static sea_status check_args(const char *dir, const sea_camera *cam, const sea_pov_level *lv,
                              size_t n, double sky_scaled, double scale, sea_error *err)
 {
@@ -203,27 +232,87 @@ static int clip_hole(const sea_pov_level *l, double *hx0, double *hy0, double *h
     return 1;
 }
 
-static void write_scene(FILE *f, const sea_camera *cam, const sea_pov_level *lv, size_t n,
-                        double sky_scaled, double scale)
+/* The map of a level: its file name, or with frames the expression that
+ * names the current frame's file. */
+static void put_map(FILE *f, const sea_pov_level *l, const sea_pov_options *o)
 {
-    fputs("// scene.pov - a sea exported by seabake for POV-Ray 3.7.\n"
-          "// Render it in this directory:  povray scene.ini  (writes scene.exr).\n"
+    if (o->framed)
+        fprintf(f, "concat(\"%s\", str(Seabake_Frame, -%d, 0), \".exr\")", l->emission_file,
+                o->frame_digits);
+    else
+        fprintf(f, "\"%s\"", l->emission_file);
+}
+
+/* sea.inc: this bake's sea, for scene.pov or a scene of the user's own. */
+static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *lv, size_t n,
+                          double sky_scaled, double scale, const sea_pov_options *o)
+{
+    fputs("// sea.inc - a sea exported by seabake for POV-Ray 3.7: the sea alone, to\n"
+          "// #include in a scene (scene.pov is one; see its end for your own objects).\n"
           "//\n"
           "// World (x east, y north, z up, metres) is POV <x, z, y>: the sea is the plane\n"
-          "// y = 0.  Every pixel value is a radiance (the units of `seabake render`'s\n"
-          "// radiance: W m^-2 sr^-1 um^-1 at one wavelength, W m^-2 sr^-1 in a band)\n",
+          "// y = 0.  Every value is a radiance (the units of `seabake render`'s radiance:\n"
+          "// W m^-2 sr^-1 um^-1 at one wavelength, W m^-2 sr^-1 in a band)\n",
           f);
     fprintf(f,
             "// multiplied by Seabake_Radiance_Scale = %.17g; divide the rendered image by\n"
             "// it to get radiances back.  The scale keeps values inside the half-float\n"
-            "// range that POV-Ray uses for EXR maps and +FE output (about 3.3 digits).\n\n",
-            scale);
-    fputs("#version 3.7;\n"
-          "global_settings { assumed_gamma 1.0 max_trace_level 5 }\n"
-          "#include \"seabake.inc\"\n\n",
-          f);
+            "// range that POV-Ray uses for EXR maps and +FE output (about 3.3 digits).\n"
+            "// A scene that includes this file needs global_settings { assumed_gamma 1.0 },\n"
+            "// so that POV-Ray passes the values through unchanged.\n"
+            "//\n"
+            "// Declares: Seabake_Radiance_Scale, Seabake_Sky_Radiance (scaled),\n"
+            "// Seabake_Camera (the sensor), Seabake_Sea (the rings)%s%s.\n\n",
+            scale, o->framed ? ", Seabake_Frame and\n// Seabake_Time (s)" : "",
+            o->n_samples > 0 ? ", Seabake_Blackbody(T)" : "");
+    fputs("#include \"seabake.inc\"\n\n", f);
     fprintf(f, "#declare Seabake_Radiance_Scale = %.17g;\n", scale);
     fprintf(f, "#declare Seabake_Sky_Radiance = %.9g;\n\n", sky_scaled);
+
+    if (o->framed) {
+        fprintf(f,
+                "// Frames %ld to %ld were baked, frame f at time %.17g + f / %.17g s.  The\n"
+                "// maps are POV-Ray's frame_number's: render them all with scene.ini, one\n"
+                "// with +SF f +EF f (a subset of scene.ini's frames; +KFI f +KFF f works\n"
+                "// too, except for frame 1, which POV-Ray takes as no animation).  Without\n"
+                "// an animation (clock_on = 0) the first frame is shown.\n",
+                o->first, o->last, o->time0, o->rate);
+        fprintf(f, "#declare Seabake_First_Frame = %ld;\n#declare Seabake_Last_Frame = %ld;\n",
+                o->first, o->last);
+        fputs("#if (clock_on)\n"
+              "  #declare Seabake_Frame = frame_number;\n"
+              "#else\n"
+              "  #declare Seabake_Frame = Seabake_First_Frame;\n"
+              "#end\n"
+              "#if (Seabake_Frame < Seabake_First_Frame | Seabake_Frame > Seabake_Last_Frame)\n"
+              "  #error concat(\"sea.inc: frame \", str(Seabake_Frame, 0, 0), \" was not baked "
+              "(frames \",\n"
+              "                str(Seabake_First_Frame, 0, 0), \" to \", "
+              "str(Seabake_Last_Frame, 0, 0), \")\")\n"
+              "#end\n",
+              f);
+        fprintf(f, "#declare Seabake_Time = %.17g + Seabake_Frame / %.17g;\n\n", o->time0,
+                o->rate);
+    }
+
+    if (o->n_samples > 0) {
+        fprintf(f,
+                "// Seabake_Blackbody(T): the scaled radiance of a blackbody at T kelvin in\n"
+                "// the maps' units, as seabake computes its sky: %g x the sum over the\n"
+                "// %zu spectral samples of weight x Planck(wavelength, T) (wavelengths in m,\n"
+                "// weights in m: quadrature weight x response).  Give an object a\n"
+                "// temperature:  Seabake_Emission_Constant(Seabake_Blackbody(300))\n",
+                o->unit, o->n_samples);
+        fprintf(f, "#declare Seabake_Spectral_Unit = %.17g;\n", o->unit);
+        fprintf(f, "#declare Seabake_Samples = %zu;\n", o->n_samples);
+        fprintf(f, "#declare Seabake_Wavelength = array[%zu] {\n", o->n_samples);
+        for (size_t i = 0; i < o->n_samples; i++)
+            fprintf(f, "  %.17g%s\n", o->wavelength[i], i + 1 < o->n_samples ? "," : "");
+        fprintf(f, "}\n#declare Seabake_Weight = array[%zu] {\n", o->n_samples);
+        for (size_t i = 0; i < o->n_samples; i++)
+            fprintf(f, "  %.17g%s\n", o->weight[i], i + 1 < o->n_samples ? "," : "");
+        fputs("}\n\n", f);
+    }
 
     fputs("// The sensor: a pinhole of focal length (width/2)/tan(hfov/2) pixels.  The\n"
           "// vectors are given explicitly (no look_at), so any look angle and roll map\n"
@@ -236,7 +325,7 @@ static void write_scene(FILE *f, const sea_camera *cam, const sea_pov_level *lv,
               "// coordinates (azimuthal equidistant from the nadir), so views near the\n"
               "// horizon are approximate.\n",
               f);
-    fputs("camera {\n  perspective\n  location ", f);
+    fputs("#declare Seabake_Camera = camera {\n  perspective\n  location ", f);
     put_vec(f, cam->pos, 1.0);
     fputs("\n  direction ", f);
     put_vec(f, cam->fwd, cam->focal);
@@ -245,10 +334,6 @@ static void write_scene(FILE *f, const sea_camera *cam, const sea_pov_level *lv,
     fputs("\n  up ", f);
     put_vec(f, cam->up, (double)cam->height);
     fputs("\n}\n\n", f);
-
-    fputs("// The sky: the scaled sky radiance, for every ray that meets no ring.\n"
-          "Seabake_Sky(Seabake_Sky_Radiance)\n\n",
-          f);
 
     fprintf(f, "// The sea: one ring per clipmap level, each the level's rectangle minus the\n"
           "// next finer level's.  Each coarser level sits %g finest facets lower, so\n"
@@ -274,14 +359,16 @@ static void write_scene(FILE *f, const sea_camera *cam, const sea_pov_level *lv,
             fprintf(f, ",\n//   minus the finer level: [%.17g, %.17g] x [%.17g, %.17g]", hx0, hx1,
                     hy0, hy1);
         fputs("\n", f);
-        if (l->emission_file != NULL)
-            fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Map(\"%s\")\n", k,
-                    l->emission_file);
-        else
+        if (l->emission_file != NULL) {
+            fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Map(", k);
+            put_map(f, l, o);
+            fputs(")\n", f);
+        } else {
             fprintf(f,
                     "// low resolution: every facet has the same statistics\n"
                     "#declare Seabake_Texture_%zu = Seabake_Emission_Constant(%.9g)\n",
                     k, l->constant);
+        }
         /* rank: how many levels are finer than this one */
         size_t rank = 0;
         for (size_t m = 0; m < n; m++)
@@ -300,19 +387,44 @@ static void write_scene(FILE *f, const sea_camera *cam, const sea_pov_level *lv,
     for (size_t k = 0; k < n; k++)
         if (shown[k])
             fprintf(f, "  object { Seabake_Level_%zu }\n", k);
-    fputs("}\nobject { Seabake_Sea }\n\n", f);
-
-    fputs("// ---------------------------------------------------------------------------\n"
-          "// Add your own objects below (ships, buoys, coasts) in world metres mapped\n"
-          "// as <east, up, north>.  The sea emits its radiance and reflects nothing;\n"
-          "// give an infrared object a scaled radiance of its own, e.g.\n"
-          "//   sphere { <0, 2, 30>, 2\n"
-          "//     Seabake_Emission_Constant(300 * Seabake_Radiance_Scale) }\n"
-          "// A visible-light object needs a light_source as well.\n",
-          f);
+    fputs("}\n", f);
 }
 
-static void write_ini(FILE *f, const sea_camera *cam)
+static void write_scene(FILE *f, const sea_pov_options *o)
+{
+    fputs("// scene.pov - a sea exported by seabake for POV-Ray 3.7: the sensor's view.\n"
+          "// Render it in this directory:  povray scene.ini  (writes scene.exr", f);
+    fputs(o->framed ? ", one image\n// per frame: scene<frame>.exr).\n" : ").\n", f);
+    fputs("// The sea, the camera and the radiance scale are in sea.inc.\n\n"
+          "#version 3.7;\n"
+          "global_settings { assumed_gamma 1.0 max_trace_level 5 }\n"
+          "#include \"sea.inc\"\n\n"
+          "camera { Seabake_Camera }\n"
+          "// The sky: the scaled sky radiance, for every ray that meets no object.\n"
+          "Seabake_Sky(Seabake_Sky_Radiance)\n"
+          "object { Seabake_Sea }\n\n",
+          f);
+    fputs("// ---------------------------------------------------------------------------\n"
+          "// Add your own objects below (ships, buoys, coasts) in world metres mapped\n"
+          "// as <east, up, north>, or write a scene of your own that includes sea.inc.\n"
+          "// The sea emits its radiance and reflects nothing; give an infrared object a\n",
+          f);
+    if (o->n_samples > 0)
+        fputs("// temperature (kelvin) or a radiance of its own, e.g.\n"
+              "//   sphere { <0, 2, 30>, 2\n"
+              "//     Seabake_Emission_Constant(Seabake_Blackbody(300)) }\n",
+              f);
+    else
+        fputs("// scaled radiance of its own, e.g.\n"
+              "//   sphere { <0, 2, 30>, 2\n"
+              "//     Seabake_Emission_Constant(300 * Seabake_Radiance_Scale) }\n",
+              f);
+    if (o->framed)
+        fputs("// Seabake_Time is the frame's time in seconds, for objects that move.\n", f);
+    fputs("// A visible-light object needs a light_source as well.\n", f);
+}
+
+static void write_ini(FILE *f, const sea_camera *cam, const sea_pov_options *o)
 {
     fputs("; scene.ini - POV-Ray 3.7 options for scene.pov, written by seabake.\n"
           "; Run in this directory:  povray scene.ini\n"
@@ -328,23 +440,36 @@ static void write_ini(FILE *f, const sea_camera *cam)
           "Display=off\n"
           "Verbose=off\n",
           f);
+    if (o->framed)
+        fprintf(f,
+                "; Frames %ld to %ld: POV-Ray writes scene<frame>.exr; +SF F +EF F renders\n"
+                "; frame F alone.\n"
+                "Initial_Frame=%ld\nFinal_Frame=%ld\n",
+                o->first, o->last, o->first, o->last);
 }
 
 sea_status sea_pov_write(const char *dir, const sea_camera *cam, const sea_pov_level *levels,
-                         size_t n, double sky_scaled, double scale, sea_error *err)
+                         size_t n, double sky_scaled, double scale, const sea_pov_options *opt,
+                         sea_error *err)
 {
+    static const sea_pov_options still = { 0 };
+    const sea_pov_options *o = opt != NULL ? opt : &still;
     sea_status st = check_args(dir, cam, levels, n, sky_scaled, scale, err);
+    if (st == SEA_OK)
+        st = check_options(o, err);
     if (st != SEA_OK)
         return st;
-    static const char *const names[POV_FILES] = { "seabake.inc", "scene.pov", "scene.ini" };
+    static const char *const names[POV_FILES] = { "seabake.inc", "sea.inc", "scene.pov",
+                                                  "scene.ini" };
     pov_file pf[POV_FILES];
     memset(pf, 0, sizeof pf);
     for (int i = 0; i < POV_FILES; i++)
         if ((st = pov_open(&pf[i], dir, names[i], err)) != SEA_OK)
             goto fail;
     fputs(sea_pov_include_text, pf[0].f);
-    write_scene(pf[1].f, cam, levels, n, sky_scaled, scale);
-    write_ini(pf[2].f, cam);
+    write_sea_inc(pf[1].f, cam, levels, n, sky_scaled, scale, o);
+    write_scene(pf[2].f, o);
+    write_ini(pf[3].f, cam, o);
     for (int i = 0; i < POV_FILES; i++) {
         int e = pov_close(&pf[i]);
         if (e != 0) {

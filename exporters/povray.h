@@ -1,6 +1,6 @@
 /* povray.h - POV-Ray 3.7 scenes of a baked sea (issue 5; seabake(1), bake).
  *
- * A scene is a directory holding scene.pov, scene.ini, seabake.inc (the
+ * A scene is a directory holding scene.pov, sea.inc, scene.ini, seabake.inc (the
  * macros of exporters/povray/seabake.inc) and the level maps the caller
  * wrote there.  Rendered with `povray scene.ini` run in that directory, it
  * gives an EXR image (+FE, half floats) whose pixels are the sensor's
@@ -35,10 +35,43 @@ typedef struct {
     double constant;      /* scaled radiance of a low-resolution level (used when emission_file is NULL) */
 } sea_pov_level;
 
+/* What an exported scene holds beyond its geometry (NULL: a still, and no
+ * blackbody macro).
+ *
+ * Frames (framed != 0): the maps of frames first..last (0 <= first <= last
+ * <= 999999), frame f at time time0 + f / rate s (rate > 0, finite); each
+ * level's emission_file is then the part of the name before the frame
+ * number, which follows zero-padded to frame_digits (1..9) digits, then
+ * ".exr" (emission_3_ -> emission_3_0007.exr).  sea.inc picks the maps of
+ * POV-Ray's frame_number (the first frame when POV-Ray runs no animation);
+ * scene.ini renders every frame.
+ *
+ * Spectral samples (n_samples >= 1): Seabake_Blackbody(T) in sea.inc gives
+ * unit * sum_i weight[i] B(wavelength[i], T) * scale, the scaled radiance of
+ * a blackbody at T kelvin in the maps' units (wavelength in m, > 0; weight
+ * finite, >= 0; unit > 0: 1e-6 for a single wavelength's per-um
+ * radiance, 1 for a band's). */
+typedef struct {
+    int framed;
+    long first, last;
+    int frame_digits;
+    double time0, rate;
+    size_t n_samples;
+    const double *wavelength, *weight;
+    double unit;
+} sea_pov_options;
+
 /* Largest value POV-Ray can read from or write to a half-float EXR. */
 #define SEA_POV_HALF_MAX 65504.0
 
-/* Writes dir/scene.pov, dir/scene.ini and dir/seabake.inc.
+/* Writes dir/sea.inc, dir/scene.pov, dir/scene.ini and dir/seabake.inc.
+ *
+ * sea.inc is the sea alone, for a scene of the user's own: it includes
+ * seabake.inc and declares Seabake_Radiance_Scale, Seabake_Sky_Radiance,
+ * Seabake_Camera (the sensor), Seabake_Sea (the rings), with frames
+ * Seabake_Frame and Seabake_Time, and with spectral samples
+ * Seabake_Blackbody(T).  scene.pov includes it and adds the camera, the
+ * sky and the sea.
  *
  * cam: the sensor (sea_camera_init).  levels[0..n-1], n >= 1, in any
  * order (finest first reads best), facet > 0: each is a ring, its rectangle (w, h > 0,
@@ -57,15 +90,17 @@ typedef struct {
  * written to scene.pov as Seabake_Radiance_Scale.
  *
  * scene.ini: Width, Height, Antialias=off, Output_File_Type=E,
- * Output_File_Name=scene.exr, Input_File_Name=scene.pov.
+ * Output_File_Name=scene.exr, Input_File_Name=scene.pov; with frames,
+ * Initial_Frame and Final_Frame (POV-Ray then numbers the images:
+ * scene0.exr ... or scene00.exr ..., as many digits as the last frame).
  *
- * The three files are written to temporary names and renamed only when all
+ * The four files are written to temporary names and renamed only when all
  * are written; on failure none of them is created or changed.  Returns
  * SEA_ERR_DOMAIN for invalid arguments (naming the level), SEA_ERR_IO
  * naming the file and the system error, SEA_ERR_NOMEM. */
 SEA_INTERNAL sea_status sea_pov_write(const char *dir, const sea_camera *cam,
                                       const sea_pov_level *levels, size_t n, double sky_scaled,
-                                      double scale, sea_error *err);
+                                      double scale, const sea_pov_options *opt, sea_error *err);
 
 /* The text of exporters/povray/seabake.inc, NUL-terminated (defined in the generated
  * povray_inc.c). */

@@ -1515,10 +1515,10 @@ sb_run bake "$RSCENE" -o "$BDIR/out" --frame-rate 10
 check_error bake.rate_alone 2 "--frame-rate applies only with --frames"
 sb_run bake "$RSCENE" -o "$BDIR/pov" --pov
 check_rc bake.pov.rc 0
-for f in scene.pov scene.ini seabake.inc; do
+for f in scene.pov sea.inc scene.ini seabake.inc; do
     check "bake.pov.$f" test -s "$BDIR/pov/$f"
 done
-check_match bake.pov.camera "$(cat "$BDIR/pov/scene.pov")" 'camera'
+check_match bake.pov.camera "$(cat "$BDIR/pov/sea.inc")" 'camera'
 # --blender adds the import script (the installed copy, byte for byte) and
 # the manifest's "blender" object; without it neither is there.
 sb_run bake "$RSCENE" -o "$BDIR/blender" --blender --quiet

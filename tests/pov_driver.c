@@ -2,7 +2,7 @@
  * exports a scene with sea_pov_write and checks POV-Ray's render of it
  * against seabake's own.
  *
- *   pov_driver export SCENE.ini DIR   writes DIR/scene.pov, scene.ini,
+ *   pov_driver export SCENE.ini DIR   writes DIR/scene.pov, sea.inc, scene.ini,
  *                                     seabake.inc, level_<l>.exr, render.exr
  *   pov_driver check SCENE.ini DIR    compares DIR/scene.exr (POV-Ray) with
  *                                     seabake's render; prints the numbers
@@ -215,7 +215,7 @@ static int do_export(const char *dir, setup *s)
             return die(path, &e);
     }
     /* Outside every ring (none here) and in the sky: the sky radiance. */
-    if (sea_pov_write(dir, &s->cam, pl, s->n_levels, SKY_FACTOR * s->sky * s->scale, s->scale,
+    if (sea_pov_write(dir, &s->cam, pl, s->n_levels, SKY_FACTOR * s->sky * s->scale, s->scale, NULL,
                       &e) != SEA_OK)
         return die(dir, &e);
     printf("exported %zu levels, constant %.6g x scale %.6g, %d markers\n", s->n_levels, s->L,

@@ -3,7 +3,7 @@
 #
 #   blender -b --factory-startup --python seabake_import.py -- DIR/manifest.json
 #           [--frame F] [--material emission|visible] [--save FILE.blend]
-#           [--render OUT.exr]
+#           [--render OUT.exr] [--render-frames OUT_####.exr]
 #
 # What it builds, mirroring the POV-Ray export (scene.pov):
 #   - one mesh per clipmap level, a flat ring at sea level: the level's
@@ -19,8 +19,15 @@
 #     used by default) and "Visible" (Principled BSDF with the normal map and
 #     the GGX roughness, anisotropy and rotation of the roughness map, for
 #     visible-light renders with your own lights).
-#   - every map of the chosen frame loaded as a Non-Color image (4-channel
-#     maps CHANNEL_PACKED), kept in the .blend even when not wired.
+#   - every map loaded as a Non-Color image (4-channel maps CHANNEL_PACKED),
+#     kept in the .blend even when not wired.  A bake of several frames
+#     (--frames A:B) is loaded as image sequences: the scene's frame range
+#     is A..B at the bake's frame rate, and each frame shows its own maps
+#     (frame_set(f), or Blender's animation render).
+#   - --material visible: a Sun lamp in the direction of the manifest's
+#     [sun] with its angular diameter (none when the sun is below the
+#     horizon), a light-blue sky and SAMPLES_VISIBLE samples with bounces,
+#     so that a visible-light render is lit and not noisy.
 #   - the sensor's camera, the sky as a constant World background and Cycles
 #     settings that reproduce the emission exactly (view transform Standard,
 #     no pixel filter, no bounces, 32-bit EXR output).
@@ -51,6 +58,15 @@ LR_REACH = 1000.0
 # Emission is all there is, and every camera ray ends on an emitter or the
 # World: a few samples only average the (tiny) pixel footprint.
 SAMPLES = 4
+# The visible material is a glossy BSDF lit by the sun and the sky: samples
+# and bounces for a render without visible noise at the sensor's size.
+SAMPLES_VISIBLE = 64
+BOUNCES_VISIBLE = 4
+# The sun lamp's strength (W m^-2, Blender's unit) and the sky's colour for
+# --material visible: a daylight exposure for Blender's Standard view, not
+# a radiometric value (seabake's radiometry is the infrared emission).
+SUN_STRENGTH = 4.0
+SKY_VISIBLE = (0.35, 0.5, 0.75)
 
 
 class ImportError_(Exception):
@@ -80,6 +96,17 @@ def load_manifest(path):
         if key not in m:
             fail("%s: no \"%s\" in the manifest" % (path, key))
     return m
+
+
+def frame_range(m, path):
+    """The baked frames (first, last), consecutive as bake --frames writes
+    them; (first, first) for one frame."""
+    nums = [fr.get("frame") for fr in m["frames"]]
+    if not nums or not all(isinstance(n, int) for n in nums):
+        fail("%s: \"frames\" holds no frame numbers" % path)
+    if nums != list(range(nums[0], nums[0] + len(nums))):
+        fail("%s: frames %s are not consecutive" % (path, nums))
+    return nums[0], nums[-1]
 
 
 def frame_entry(level, frame, path):
@@ -121,6 +148,9 @@ def load_map(directory, name, n_channels):
     img.alpha_mode = "CHANNEL_PACKED" if n_channels == 4 else "STRAIGHT"
     # Kept in a saved .blend even when no material uses it.
     img.use_fake_user = True
+    if SEQUENCE is not None:
+        # name_<frame>.exr, one file per frame: Blender reads the number.
+        img.source = "SEQUENCE"
     return img
 
 
@@ -185,10 +215,25 @@ def new_material(name):
     return mat, nt, out
 
 
+# The frames of image sequences, (first, count), set by build() for a bake
+# of several frames; None for one frame.
+SEQUENCE = None
+
+
 def image_node(nt, img, interpolation, location):
     node = nt.nodes.new("ShaderNodeTexImage")
     node.image = img
     node.interpolation = interpolation
+    if SEQUENCE is not None and img.source == "SEQUENCE":
+        # Scene frame f reads file number (f - frame_start) + 1 + offset: the
+        # files are numbered by frame, so offset = first - 1 gives file f.
+        first, count = SEQUENCE
+        iu = node.image_user
+        iu.frame_start = first
+        iu.frame_offset = first - 1
+        iu.frame_duration = count
+        iu.use_cyclic = False
+        iu.use_auto_refresh = True
     # Edges clamp (as POV-Ray's maps): REPEAT would blend the opposite edge
     # into the outermost half texel.
     node.extension = "EXTEND"
@@ -337,23 +382,58 @@ def make_camera(scene, cam):
     return obj
 
 
-def make_world(scene, value):
+def make_world(scene, value, colour=(1.0, 1.0, 1.0)):
     world = bpy.data.worlds.new("seabake_sky")
     world.use_nodes = True
     bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (value, value, value, 1.0)
+    bg.inputs["Color"].default_value = (value * colour[0], value * colour[1], value * colour[2],
+                                        1.0)
     bg.inputs["Strength"].default_value = 1.0
     scene.world = world
 
 
-def render_settings(scene):
+def make_sun(scene, sun):
+    """A Sun lamp toward the manifest's sun (zenith, azimuth counter-clockwise
+    from east, as seabake's [sun]) with its angular diameter; None when the
+    sun is below the horizon."""
+    zen = math.radians(float(sun["zenith_deg"]))
+    if zen >= math.pi / 2:
+        return None
+    az = math.radians(float(sun["azimuth_deg"]))
+    s = (math.sin(zen) * math.cos(az), math.sin(zen) * math.sin(az), math.cos(zen))
+    # A Sun lamp shines along its local -Z: local Z is the direction toward
+    # the sun, X horizontal.
+    x = (-math.sin(az), math.cos(az), 0.0)
+    y = (s[1] * x[2] - s[2] * x[1], s[2] * x[0] - s[0] * x[2], s[0] * x[1] - s[1] * x[0])
+    data = bpy.data.lights.new("seabake_sun", type="SUN")
+    data.energy = SUN_STRENGTH
+    omega = float(sun.get("solid_angle_sr", 6.8e-5))
+    data.angle = 2.0 * math.acos(max(-1.0, 1.0 - omega / (2.0 * math.pi)))
+    obj = bpy.data.objects.new("seabake_sun", data)
+    obj.matrix_world = Matrix(((x[0], y[0], s[0], 0.0), (x[1], y[1], s[1], 0.0),
+                               (x[2], y[2], s[2], 1000.0), (0.0, 0.0, 0.0, 1.0)))
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def set_frames(scene, m, first, last):
+    """The scene's frame range and rate: the bake's."""
+    scene.frame_start = first
+    scene.frame_end = last
+    rate = float(m.get("frame_rate_hz") or 25.0)
+    fps = max(1, min(120, int(round(rate))))
+    scene.render.fps = fps
+    scene.render.fps_base = fps / rate
+
+
+def render_settings(scene, material="emission"):
     scene.render.engine = "CYCLES"
     cy = scene.cycles
     cy.device = "CPU"
-    cy.samples = SAMPLES
+    cy.samples = SAMPLES if material == "emission" else SAMPLES_VISIBLE
     cy.use_adaptive_sampling = False
     cy.use_denoising = False
-    cy.max_bounces = 0
+    cy.max_bounces = 0 if material == "emission" else BOUNCES_VISIBLE
     # The default pixel filter (1.5 px) blends neighbours: a tiny one gives
     # the value at the pixel centre, as seabake render samples it.
     cy.filter_width = 0.01
@@ -378,7 +458,12 @@ def render_settings(scene):
 # --------------------------------------------------------------------- main
 
 def build(manifest_path, frame, material):
+    global SEQUENCE
     m = load_manifest(manifest_path)
+    first, last = frame_range(m, manifest_path)
+    if frame is not None and not first <= frame <= last:
+        fail("%s: frame %d was not baked (frames %d to %d)" % (manifest_path, frame, first, last))
+    SEQUENCE = (first, last - first + 1) if last > first else None
     directory = os.path.dirname(os.path.abspath(manifest_path))
     scale = float(m["emission_scale"])
     cam = m["camera"]
@@ -392,17 +477,22 @@ def build(manifest_path, frame, material):
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj, do_unlink=True)
     scene = bpy.context.scene
-    if frame is not None:
-        scene.frame_current = frame
-    render_settings(scene)
+    set_frames(scene, m, first, last)
+    render_settings(scene, material)
     make_camera(scene, cam)
-    make_world(scene, sky)
+    sun = None
+    if material == "visible":
+        make_world(scene, 1.0, SKY_VISIBLE)
+        sun = make_sun(scene, m.get("scene", {}).get("sun", {"zenith_deg": 90.0}))
+    else:
+        make_world(scene, sky)
 
     levels = m["levels"]
     finest = min(float(lv["facet_m"]) for lv in levels)
     far = LR_REACH * float(cam["position_m"][2])
     coll = bpy.data.collections.new("seabake_sea")
     scene.collection.children.link(coll)
+    rings = 0
     for lv in levels:
         idx = lv["index"]
         if lv["low_res"]:
@@ -425,7 +515,8 @@ def build(manifest_path, frame, material):
             vis = visible_material("seabake_visible_%d" % idx,
                                    constants=lr_constants(lv["moments"]))
         else:
-            files = frame_entry(lv, frame, manifest_path)["files"]
+            # A sequence is loaded from its first frame's files.
+            files = frame_entry(lv, None if SEQUENCE else frame, manifest_path)["files"]
             imgs = {}
             for group, names in files.items():
                 n_ch = len(lv.get("maps", {}).get(group, [])) or 3
@@ -442,6 +533,18 @@ def build(manifest_path, frame, material):
         mesh.materials.append(em if material == "emission" else vis)
         obj = bpy.data.objects.new("seabake_level_%d" % idx, mesh)
         coll.objects.link(obj)
+        rings += 1
+    scene.frame_set(first if frame is None else frame)
+    print("seabake_import: %d ring%s of %d levels, %s, material %s%s, emission scale %g"
+          % (rings, "" if rings == 1 else "s", len(levels),
+             "frame %d" % first if last == first else
+             "frames %d to %d at %g Hz (now %d)" % (first, last, float(m["frame_rate_hz"]),
+                                                    scene.frame_current),
+             material,
+             "" if material == "emission" else
+             (", sun at %.1f deg from zenith" % float(m["scene"]["sun"]["zenith_deg"])
+              if sun is not None else ", sun below the horizon: no lamp"),
+             scale))
     return m
 
 
@@ -451,13 +554,36 @@ def parse_args(argv):
         description="Builds a Blender scene from a seabake bake (manifest.json).")
     p.add_argument("manifest", help="DIR/manifest.json written by seabake bake --blender")
     p.add_argument("--frame", type=int, default=None,
-                   help="the baked frame to use (default: the first)")
+                   help="the baked frame to show (default: the first)")
     p.add_argument("--material", choices=("emission", "visible"), default="emission",
                    help="the active material of the sea (default: emission)")
     p.add_argument("--save", metavar="FILE.blend", help="save the scene")
     p.add_argument("--render", metavar="OUT.exr",
                    help="render the current frame with Cycles to a 32-bit EXR")
-    return p.parse_args(argv)
+    p.add_argument("--render-frames", metavar="OUT_#.exr",
+                   help="render every baked frame (frame_set, then Cycles), the frame "
+                        "number written over the run of '#' (zero-padded to its length)")
+    args = p.parse_args(argv)
+    if args.render_frames is not None and "#" not in args.render_frames:
+        p.error("--render-frames: %r has no '#' for the frame number" % args.render_frames)
+    return args
+
+
+def frame_file(pattern, frame):
+    """pattern with its last run of '#' replaced by the zero-padded frame."""
+    end = pattern.rindex("#") + 1
+    start = end
+    while start > 0 and pattern[start - 1] == "#":
+        start -= 1
+    return pattern[:start] + "%0*d" % (end - start, frame) + pattern[end:]
+
+
+def render_still(scene, path):
+    """The current frame, rendered by Cycles to path (a 32-bit EXR)."""
+    scene.render.filepath = os.path.abspath(path)
+    bpy.ops.render.render(write_still=True)
+    if not os.path.isfile(scene.render.filepath):
+        fail("%s: the render was not written" % path)
 
 
 def main():
@@ -469,10 +595,13 @@ def main():
         if args.save:
             bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.save))
         if args.render:
-            scene.render.filepath = os.path.abspath(args.render)
-            bpy.ops.render.render(write_still=True)
-            if not os.path.isfile(scene.render.filepath):
-                fail("%s: the render was not written" % args.render)
+            render_still(scene, args.render)
+        if args.render_frames:
+            current = scene.frame_current
+            for f in range(scene.frame_start, scene.frame_end + 1):
+                scene.frame_set(f)
+                render_still(scene, frame_file(args.render_frames, f))
+            scene.frame_set(current)
     except ImportError_ as e:
         print("seabake_import: error: %s" % e, file=sys.stderr)
         sys.exit(1)

@@ -149,10 +149,13 @@ static const char BAKE_HELP[] =
     "                      at the scene's time, no number\n"
     "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
     "  --emission-texels K emission texels per facet side, odd, 1 to 7 (default 3)\n"
-    "  --pov               also a POV-Ray scene: DIR/scene.pov, scene.ini, seabake.inc\n"
+    "  --pov               also a POV-Ray scene: DIR/scene.pov, sea.inc (the sea, to\n"
+    "                      include in a scene of your own), scene.ini, seabake.inc;\n"
+    "                      with --frames, scene.ini renders every frame\n"
     "  --blender           also the Blender import: DIR/seabake_import.py, run as\n"
     "                      blender -b --factory-startup --python DIR/seabake_import.py\n"
     "                        -- DIR/manifest.json [--save FILE.blend] [--render OUT.exr]\n"
+    "                      (frames as image sequences; --render-frames OUT_####.exr)\n"
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance, as in seabake render\n"
     "  --reflections N     surface hits, 1 to 3: overrides the scene's [model]\n"
@@ -684,7 +687,8 @@ static cJSON *blender_json(const sea_render *r, double scale)
     cJSON_AddStringToObject(o, "command",
                             "blender -b --factory-startup --python " SEA_BLENDER_SCRIPT
                             " -- manifest.json [--frame F] [--material emission|visible] "
-                            "[--save FILE.blend] [--render OUT.exr]");
+                            "[--save FILE.blend] [--render OUT.exr] "
+                            "[--render-frames OUT_####.exr]");
     cJSON *written = cJSON_AddArrayToObject(o, "written");
     cJSON_AddItemToArray(written, cJSON_CreateString(SEA_BLENDER_SCRIPT));
     /* As the POV-Ray scene's sky: band-weighted, in the maps' units. */
@@ -782,9 +786,11 @@ static double emission_scale(double top)
     return pow(10.0, floor(log10(BAKE_EMISSION_TARGET / top)));
 }
 
-/* The POV-Ray scene of the first frame: one ring per level (finest first),
- * each with its emission map and the next finer level cut out; the
- * low-resolution level as a constant ring reaching 1000 altitudes away. */
+/* The POV-Ray scene: one ring per level (finest first), each with its
+ * emission map (with --frames, the map of POV-Ray's frame_number) and the
+ * next finer level cut out; the low-resolution level as a constant ring
+ * reaching 1000 altitudes away; the scene's spectral samples for
+ * Seabake_Blackbody. */
 static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_bake *b,
                             const char *tmp, double scale, sea_error *err)
 {
@@ -810,7 +816,9 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
             p->y0 = (double)bl->level.j0 * bl->level.facet;
             p->w = (double)bl->level.nx * bl->level.facet;
             p->h = (double)bl->level.ny * bl->level.facet;
-            names[n] = map_name("emission", bl->level.level, s->framed, s->frame_a, ".exr");
+            /* with frames, the name up to the frame number */
+            names[n] = s->framed ? map_name("emission", bl->level.level, false, 0, "_")
+                                 : map_name("emission", bl->level.level, false, 0, ".exr");
             if (names[n] == NULL)
                 st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
             p->emission_file = names[n];
@@ -824,8 +832,21 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
         }
         n++;
     }
+    const double *wl, *wt;
+    sea_pov_options o = {s->framed,
+                         s->frame_a,
+                         s->frame_b,
+                         SEA_CLI_FRAME_DIGITS,
+                         s->sc.time,
+                         s->rate,
+                         sea_render_samples(r, &wl, &wt),
+                         NULL,
+                         NULL,
+                         s->sc.wavelength > 0.0 ? 1e-6 : 1.0};
+    o.wavelength = wl;
+    o.weight = wt;
     if (st == SEA_OK)
-        st = sea_pov_write(tmp, cam, pl, n, sky_radiance(r) * scale, scale, err);
+        st = sea_pov_write(tmp, cam, pl, n, sky_radiance(r) * scale, scale, &o, err);
     for (size_t l = 0; l < n; l++)
         free(names[l]);
     return st;
