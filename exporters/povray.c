@@ -149,6 +149,29 @@ static sea_status check_options(const sea_pov_options *o, sea_error *err)
                         "POV-Ray export: spectral samples without arrays or with unit %g "
                         "(allowed: > 0)",
                         o->unit);
+    if (o->horizon != NULL) {
+        const sea_bake_horizon *hz = o->horizon;
+        if (hz->n_arc < 2 || hz->n_az < 2 || hz->arc == NULL || hz->az == NULL ||
+            hz->radiance == NULL)
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "POV-Ray export: horizon grid of %zu x %zu nodes (need 2 x 2)",
+                            hz->n_arc, hz->n_az);
+        if (!valid_map_name(o->horizon_file))
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "POV-Ray export: horizon map name \"%s\" must be a relative path "
+                            "without '\"', '\\' or control characters",
+                            o->horizon_file ? o->horizon_file : "(null)");
+        for (size_t i = 0; i < hz->n_arc; i++)
+            if (!(isfinite(hz->arc[i]) && hz->arc[i] >= 0.0 && (i == 0 || hz->arc[i] > hz->arc[i - 1])))
+                return sea_fail(err, SEA_ERR_DOMAIN,
+                                "POV-Ray export: horizon arc %zu = %g m (allowed: finite, "
+                                "increasing from >= 0)",
+                                i, hz->arc[i]);
+        for (size_t j = 0; j < hz->n_az; j++)
+            if (!isfinite(hz->az[j]))
+                return sea_fail(err, SEA_ERR_DOMAIN, "POV-Ray export: horizon azimuth %zu = %g",
+                                j, hz->az[j]);
+    }
     for (size_t i = 0; i < o->n_samples; i++)
         if (!(isfinite(o->wavelength[i]) && o->wavelength[i] > 0.0 &&
               finite_in(o->weight[i], 0.0, HUGE_VAL)))
@@ -160,12 +183,14 @@ static sea_status check_options(const sea_pov_options *o, sea_error *err)
 }
 
 static sea_status check_args(const char *dir, const sea_camera *cam, const sea_pov_level *lv,
-                             size_t n, double sky_scaled, double scale, sea_error *err)
+                             size_t n, double sky_scaled, double scale, int horizon,
+                             sea_error *err)
 {
     if (dir == NULL || cam == NULL || (lv == NULL && n > 0))
         return sea_fail(err, SEA_ERR_DOMAIN, "POV-Ray export: NULL directory, camera or levels");
-    if (n == 0)
-        return sea_fail(err, SEA_ERR_DOMAIN, "POV-Ray export: no level (need at least 1)");
+    if (n == 0 && !horizon)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "POV-Ray export: no level and no horizon (need at least one)");
     if (cam->width < 1 || cam->height < 1 || !(isfinite(cam->focal) && cam->focal > 0.0))
         return sea_fail(err, SEA_ERR_DOMAIN, "POV-Ray export: camera not initialised");
     if (!(isfinite(scale) && scale > 0.0))
@@ -241,6 +266,52 @@ static void put_map(FILE *f, const sea_pov_level *l, const sea_pov_options *o)
                 o->frame_digits);
     else
         fprintf(f, "\"%s\"", l->emission_file);
+}
+
+/* The horizon mesh: node (i, j) of the grid at its sea point (on the
+ * sphere for a spherical Earth), uv at texel centre (j, i) of the map, whose
+ * bottom row is the nadir; two triangles per grid cell (one where the
+ * first ring is the nadir point itself), lowered by `drop` (< 0) below the
+ * rings. */
+static void write_horizon(FILE *f, const sea_camera *cam, const sea_bake_horizon *hz,
+                          const char *file, double drop)
+{
+    const size_t na = hz->n_arc, nz = hz->n_az, nv = na * nz;
+    size_t nf = 0;
+    for (size_t i = 0; i + 1 < na; i++)
+        nf += (hz->arc[i] > 0.0 ? 2 : 1) * (nz - 1);
+    fprintf(f,
+            "\n// The low-resolution sea to the horizon: %zu rings (%.9g to %.9g m from the\n"
+            "// nadir) x %zu azimuths, each node at its point of the %s sea, textured\n"
+            "// with the radiance seabake render gives a low-resolution pixel there\n"
+            "// (linear between nodes within %.2g relative), below every ring.\n",
+            na, hz->arc[0], hz->arc[na - 1], nz,
+            cam->earth == SEA_EARTH_FLAT ? "flat" : "spherical", hz->max_err);
+    fprintf(f, "#declare Seabake_Horizon = mesh2 {\n  vertex_vectors {\n    %zu", nv);
+    for (size_t i = 0; i < na; i++)
+        for (size_t j = 0; j < nz; j++) {
+            double q[3], n[3];
+            sea_camera_sea_point(cam, hz->x0 + hz->arc[i] * cos(hz->az[j]),
+                                 hz->y0 + hz->arc[i] * sin(hz->az[j]), q, n);
+            fprintf(f, ",\n    <%.10g, %.10g, %.10g>", q[0], q[2], q[1]);
+        }
+    fprintf(f, "\n  }\n  uv_vectors {\n    %zu", nv);
+    for (size_t i = 0; i < na; i++)
+        for (size_t j = 0; j < nz; j++)
+            fprintf(f, ",\n    <%.9g, %.9g>", ((double)j + 0.5) / (double)nz,
+                    ((double)i + 0.5) / (double)na);
+    fprintf(f, "\n  }\n  face_indices {\n    %zu", nf);
+    for (size_t i = 0; i + 1 < na; i++)
+        for (size_t j = 0; j + 1 < nz; j++) {
+            const size_t a = i * nz + j, b = a + 1, c = a + nz + 1, d = a + nz;
+            if (hz->arc[i] > 0.0)
+                fprintf(f, ",\n    <%zu, %zu, %zu>", a, b, c);
+            fprintf(f, ",\n    <%zu, %zu, %zu>", a, c, d);
+        }
+    fprintf(f, "\n  }\n  Seabake_Emission_Map(\"%s\")\n", file);
+    if (drop < 0.0)
+        fprintf(f, "  translate <0, %.17g, 0> // below the rings\n", drop);
+    fputs("}\n", f);
 }
 
 /* sea.inc: this bake's sea, for scene.pov or a scene of the user's own. */
@@ -320,7 +391,12 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
           "// + (1/2 - v/H) up.\n",
           f);
     fprintf(f, "// %d x %d pixels, focal %.17g pixels.\n", cam->width, cam->height, cam->focal);
-    if (cam->earth == SEA_EARTH_SPHERICAL)
+    if (cam->earth == SEA_EARTH_SPHERICAL && o->horizon != NULL)
+        fputs("// The scene's Earth is spherical: the low-resolution sea (Seabake_Horizon)\n"
+              "// lies on the sphere out to the horizon; the rings stay flat at y = 0 in map\n"
+              "// coordinates (azimuthal equidistant from the nadir) near the sensor.\n",
+              f);
+    else if (cam->earth == SEA_EARTH_SPHERICAL)
         fputs("// The scene's Earth is spherical; here the sea stays flat at y = 0 in map\n"
               "// coordinates (azimuthal equidistant from the nadir), so views near the\n"
               "// horizon are approximate.\n",
@@ -383,10 +459,15 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
                     -SEA_POV_LAYER * finest * (double)rank);
         fputs("}\n", f);
     }
+    if (o->horizon != NULL)
+        write_horizon(f, cam, o->horizon, o->horizon_file,
+                      n > 0 ? -SEA_POV_LAYER * finest * (double)n : 0.0);
     fputs("\n#declare Seabake_Sea = union {\n", f);
     for (size_t k = 0; k < n; k++)
         if (shown[k])
             fprintf(f, "  object { Seabake_Level_%zu }\n", k);
+    if (o->horizon != NULL)
+        fputs("  object { Seabake_Horizon }\n", f);
     fputs("}\n", f);
 }
 
@@ -454,7 +535,7 @@ sea_status sea_pov_write(const char *dir, const sea_camera *cam, const sea_pov_l
 {
     static const sea_pov_options still = { 0 };
     const sea_pov_options *o = opt != NULL ? opt : &still;
-    sea_status st = check_args(dir, cam, levels, n, sky_scaled, scale, err);
+    sea_status st = check_args(dir, cam, levels, n, sky_scaled, scale, o->horizon != NULL, err);
     if (st == SEA_OK)
         st = check_options(o, err);
     if (st != SEA_OK)

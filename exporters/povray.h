@@ -59,6 +59,12 @@ typedef struct {
     size_t n_samples;
     const double *wavelength, *weight;
     double unit;
+    /* The low-resolution sea to the horizon (may be NULL): a mesh2 on the
+     * grid's nodes (sea_camera_sea_point of each, so on a sphere the mesh
+     * follows it), below every ring, textured with horizon_file (a relative
+     * name, as emission_file), texel (j, row n_arc - 1 - i) at node (i, j). */
+    const sea_bake_horizon *horizon;
+    const char *horizon_file;
 } sea_pov_options;
 
 /* Largest value POV-Ray can read from or write to a half-float EXR. */

@@ -1150,6 +1150,41 @@ sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_ba
                                sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
                                void *each_ctx, sea_error *err);
 
+/* The low-resolution sea out to the horizon, as the sensor sees it, for
+ * exports (one constant cannot hold it: toward the horizon the emissivity
+ * falls, the sky's reflection and the glint path change).  A polar grid of
+ * map points around the sensor's nadir point, x = x0 + arc cos(az),
+ * y = y0 + arc sin(az) ((x0, y0) the sensor's x, y; spherical: the
+ * azimuthal equidistant map of sensor.c, placed on the sphere by
+ * sea_camera_sea_point): at each node the radiance that seabake render
+ * gives a low-resolution pixel there (the low-resolution slope statistics
+ * seen from the sensor, the sun in the local frame), in the images' units.
+ * Time does not enter.  The grid reaches every sea point the image's pixel
+ * corners and centres meet (spherical: at most the horizon, the farthest ring on it,
+ * so the silhouette is the sphere's); the azimuths span those points (the
+ * full turn, closed by a repeated first column at az + 2 pi, when the
+ * nadir point is in view or they span more than half a turn).  Nodes are
+ * refined until linear interpolation between neighbours (what a mesh with
+ * this map does) is within tol (relative radiance, [1e-5, 0.1]) of the
+ * radiance at every interval's midpoint along each ring and each radius
+ * (checked at every node of the other direction), and, on a sphere, until
+ * every chord between rings projects within 1/4 pixel of the sphere; at
+ * most SEA_HORIZON_MAX_NODES nodes each way (then max_err says how close it
+ * got).  Threads: OpenMP.  Fills h; release with sea_bake_horizon_free(). */
+#define SEA_HORIZON_MAX_NODES 1024
+typedef struct {
+    size_t n_arc, n_az;
+    double *arc;      /* n_arc map distances from the nadir point, m, increasing from 0 */
+    double *az;       /* n_az azimuths, rad, counter-clockwise from east, increasing */
+    double *radiance; /* n_arc x n_az, node (i, j) at radiance[i n_az + j] */
+    double x0, y0;    /* the nadir point (the sensor's x, y), m */
+    double max_err;   /* largest relative midpoint error left */
+    int full_turn;    /* 1: az[n_az - 1] = az[0] + 2 pi, the same nodes */
+} sea_bake_horizon;
+sea_status sea_bake_horizon_make(const sea_render *r, double tol, sea_bake_horizon *h,
+                                 sea_error *err);
+void sea_bake_horizon_free(sea_bake_horizon *h);
+
 /* Tangent-space normal of the mean slope (+x east, +y north, +z up):
  * n = (-mx, -my, 1) / sqrt(mx^2 + my^2 + 1).  Pure. */
 void sea_bake_normal(const sea_moments *m, double n[3]);

@@ -336,9 +336,10 @@ def check_normal_map(m, directory, scene, workdir):
     images = {}
     for which, build in (("plain", lambda nt, img: tex(nt, img)), ("node", decoded)):
         for obj in bpy.data.collections["seabake_sea"].objects:
-            level = int(obj.name.rsplit("_", 1)[1])
+            # the horizon mesh (the low-resolution level) has no normal map
+            level = None if obj.name == "seabake_horizon" else int(obj.name.rsplit("_", 1)[1])
             img = normal_imgs.get(level)
-            mat = emission_of("check_%s_%d" % (which, level),
+            mat = emission_of("check_%s_%s" % (which, level),
                               lambda nt: build(nt, img) if img is not None else None)
             obj.data.materials.clear()
             obj.data.materials.append(mat)

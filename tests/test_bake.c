@@ -492,6 +492,128 @@ static void test_each_level(void)
     sea_render_free(r);
 }
 
+/* The horizon grid (sea_bake_horizon_make), on both earths, at a mast
+ * view with the horizon in view and at a nadir view (the full turn):
+ *  - it reaches every pixel centre's sea point: each lies inside the grid
+ *    (arc within [0, last ring], azimuth within the span), and on the
+ *    sphere with sky in view the last ring is the horizon's distance
+ *    R acos(R / (R + h)) to 1e-9;
+ *  - its nodes carry seabake render's low-resolution radiance: at every
+ *    pixel centre, the grid's bilinear interpolation against the radiance
+ *    computed there directly (sea_render_facet_optics toward the sensor) is
+ *    within 4 x tol (the refinement bounds the midpoints of each direction
+ *    at tol; a cell's centre, interpolated both ways, may add the two and
+ *    their cross term);
+ *  - a tolerance outside [1e-5, 0.1] is refused. */
+static double hz_direct(const sea_render *r, const sea_bake_horizon *h, double arc, double az)
+{
+    const sea_camera *cam = sea_render_camera(r);
+    const sea_scene *sc = sea_render_scene(r);
+    double q[3], d[3];
+    sea_pixel_geom g;
+    sea_camera_sea_point(cam, h->x0 + arc * cos(az), h->y0 + arc * sin(az), q, g.normal);
+    for (int k = 0; k < 3; k++)
+        d[k] = cam->pos[k] - q[k];
+    const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++)
+        d[k] /= len;
+    const double sv[3] = {sin(sc->sun_zenith) * cos(sc->sun_azimuth),
+                          sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith)};
+    const sea_moments m = sea_render_lr_moments(r);
+    const sea_slope_stats st = sea_moments_stats(&m);
+    sea_facet_optics o;
+    sea_error err;
+    CU_ASSERT_EQUAL(sea_render_facet_optics(r, &st, sea_camera_local_dir(&g, d),
+                                            sea_camera_local_dir(&g, sv), &o, &err),
+                    SEA_OK);
+    return o.radiance;
+}
+
+static size_t hz_find(const double *v, size_t n, double x)
+{
+    size_t k = 0;
+    while (k + 2 < n && v[k + 1] <= x)
+        k++;
+    return k;
+}
+
+static void test_horizon(void)
+{
+    const double tol = UNIT_QUICK ? 1e-2 : 1e-3; /* fewer nodes under valgrind */
+    for (int view = 0; view < 2; view++)
+        for (int earth = 0; earth < 2; earth++) {
+            sea_scene sc = bake_scene();
+            sc.width = sc.height = UNIT_QUICK ? 12 : 24;
+            sc.earth = earth ? SEA_EARTH_SPHERICAL : SEA_EARTH_FLAT;
+            if (view == 0) { /* a mast: the horizon in view */
+                sc.altitude = 20.0;
+                sc.look_zenith = 88.0 * DEG;
+                sc.hfov = 30.0 * DEG;
+                sc.sun_zenith = 75.0 * DEG;
+                sc.sun_azimuth = 190.0 * DEG;
+            } else {
+                sc.look_zenith = 0.0;
+            }
+            sea_render *r = prepare(&sc);
+            sea_bake_horizon h;
+            sea_error err;
+            CU_ASSERT_EQUAL_FATAL(sea_bake_horizon_make(r, tol, &h, &err), SEA_OK);
+            CU_ASSERT(h.n_arc >= 2 && h.n_az >= 2 && h.arc[0] == 0.0);
+            CU_ASSERT_EQUAL(h.full_turn, view == 1);
+            CU_ASSERT(h.max_err <= tol);
+            if (view == 0 && earth) {
+                const double R = SEA_EARTH_RADIUS, hz = R * acos(R / (R + sc.altitude));
+                CU_ASSERT(fabs(h.arc[h.n_arc - 1] - hz) <= 1e-9 * hz);
+            }
+            const sea_camera *cam = sea_render_camera(r);
+            int outside = 0, sea = 0;
+            double worst = 0.0;
+            for (int j = 0; j < sc.height; j++)
+                for (int i = 0; i < sc.width; i++) {
+                    sea_pixel_geom g;
+                    sea_camera_pixel(cam, i + 0.5, j + 0.5, &g);
+                    if (!g.hit)
+                        continue;
+                    sea++;
+                    const double dx = g.x - h.x0, dy = g.y - h.y0, arc = hypot(dx, dy);
+                    double az = atan2(dy, dx);
+                    while (az < h.az[0])
+                        az += 2.0 * M_PI;
+                    while (az > h.az[h.n_az - 1])
+                        az -= 2.0 * M_PI;
+                    if (!(arc <= h.arc[h.n_arc - 1] && az >= h.az[0] && az <= h.az[h.n_az - 1])) {
+                        outside++;
+                        continue;
+                    }
+                    const size_t a = hz_find(h.arc, h.n_arc, arc), b = hz_find(h.az, h.n_az, az);
+                    const double s = (arc - h.arc[a]) / (h.arc[a + 1] - h.arc[a]);
+                    const double t = (az - h.az[b]) / (h.az[b + 1] - h.az[b]);
+                    const double *L = h.radiance;
+                    const size_t nz = h.n_az;
+                    const double lin = (1 - s) * ((1 - t) * L[a * nz + b] + t * L[a * nz + b + 1]) +
+                                       s * ((1 - t) * L[(a + 1) * nz + b] +
+                                            t * L[(a + 1) * nz + b + 1]);
+                    const double direct = hz_direct(r, &h, arc, az);
+                    worst = fmax(worst, fabs(lin - direct) / direct);
+                }
+            MEASURED("horizon (%s, %s): %zu x %zu nodes, last ring %.6g m; %d sea pixels, %d "
+                     "outside, worst interpolation %.2e\n",
+                     view ? "nadir" : "mast", earth ? "spherical" : "flat", h.n_arc, h.n_az,
+                     h.arc[h.n_arc - 1], sea, outside, worst);
+            CU_ASSERT(sea > 0);
+            CU_ASSERT_EQUAL(outside, 0);
+            CU_ASSERT(worst <= 4.0 * tol);
+            sea_bake_horizon_free(&h);
+            sea_bake_horizon_free(&h); /* harmless twice */
+            if (view == 0 && earth == 0) {
+                CU_ASSERT_EQUAL(sea_bake_horizon_make(r, 0.2, &h, &err), SEA_ERR_DOMAIN);
+                CU_ASSERT(strstr(err.msg, "tolerance") != NULL);
+                CU_ASSERT_EQUAL(sea_bake_horizon_make(r, NAN, &h, &err), SEA_ERR_DOMAIN);
+            }
+            sea_render_free(r);
+        }
+}
+
 /* The view mask's test: sea_camera_hits is sea_camera_pixel's hit, on
  * both earths, over an image that holds the horizon (and beyond it). */
 static void test_camera_hits(void)
@@ -530,6 +652,7 @@ int test_bake_register(void)
            !CU_add_test(s, "view maps reproduce seabake render", test_view_matches_render) ||
            !CU_add_test(s, "cancelled by the progress function", test_cancel) ||
            !CU_add_test(s, "one level at a time", test_each_level) ||
+           !CU_add_test(s, "horizon grid: extent and interpolation", test_horizon) ||
            !CU_add_test(s, "the view mask's hit test", test_camera_hits) ||
            !CU_add_test(s, "errors, spherical earth", test_errors_and_earth);
 }

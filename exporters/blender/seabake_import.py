@@ -8,7 +8,11 @@
 # What it builds, mirroring the POV-Ray export (scene.pov):
 #   - one mesh per clipmap level, a flat ring at sea level: the level's
 #     rectangle minus the next finer level's ("hole" in the manifest); the
-#     low-resolution level reaches 1000 sensor altitudes from the sensor.
+#     low-resolution level as the manifest's "horizon": a polar mesh to the
+#     farthest sea in view (on a spherical Earth, on the sphere, to the
+#     horizon) textured with the radiance a low-resolution pixel has there
+#     (older bakes without it: a flat ring of one value reaching 1000
+#     sensor altitudes).
 #     Each coarser level sits 1e-3 finest facets lower, so that where two
 #     windows overlap the finer level is the one seen.  UVs map a level's
 #     rectangle onto its maps: u = (x - x0) / w, v = (y - y0) / h, so
@@ -198,6 +202,54 @@ def ring_mesh(name, x0, y0, w, h, kind, hole, z):
     for loop in mesh.loops:
         x, y, _ = verts[loop.vertex_index]
         uv.data[loop.index].uv = ((x - x0) / w, (y - y0) / h)
+    mesh.validate()
+    mesh.update()
+    return mesh
+
+
+def sea_point(hz, arc, az):
+    """The world point of the sea at map distance arc (m) and azimuth az
+    (rad) from the nadir point: flat, on z = 0; spherical, the azimuthal
+    equidistant map point placed on the sphere (sea_camera_sea_point)."""
+    x0, y0 = hz["nadir_m"]
+    dx, dy = arc * math.cos(az), arc * math.sin(az)
+    if hz["earth"] != "spherical":
+        return (x0 + dx, y0 + dy, 0.0)
+    r = float(hz["earth_radius_m"])
+    a = arc / r
+    horiz = r * math.sin(a)
+    ux, uy = (dx / arc, dy / arc) if arc > 0.0 else (0.0, 0.0)
+    return (x0 + horiz * ux, y0 + horiz * uy, r * math.cos(a) - r)
+
+
+def horizon_mesh(name, hz, z):
+    """The low-resolution sea to the horizon: the manifest's polar grid of
+    nodes, each at its sea point, lowered by z (< 0) below the rings; UVs
+    at the map's texel centres (node (i, j) -> ((j + 1/2) / n_az,
+    (i + 1/2) / n_arc)); quads, a triangle where the first ring is the
+    nadir point itself (the mesh2 of sea.inc)."""
+    arcs = [float(a) for a in hz["arc_m"]]
+    azs = [math.radians(float(a)) for a in hz["azimuth_deg"]]
+    na, nz = len(arcs), len(azs)
+    verts = []
+    for a in arcs:
+        for t in azs:
+            x, y, h = sea_point(hz, a, t)
+            verts.append((x, y, h + z))
+    faces = []
+    for i in range(na - 1):
+        for j in range(nz - 1):
+            k = i * nz + j
+            if arcs[i] > 0.0:
+                faces.append((k, k + 1, k + nz + 1, k + nz))
+            else:
+                faces.append((k, k + nz + 1, k + nz))
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop in mesh.loops:
+        i, j = divmod(loop.vertex_index, nz)
+        uv.data[loop.index].uv = ((j + 0.5) / nz, (i + 0.5) / na)
     mesh.validate()
     mesh.update()
     return mesh
@@ -467,7 +519,7 @@ def build(manifest_path, frame, material):
     directory = os.path.dirname(os.path.abspath(manifest_path))
     scale = float(m["emission_scale"])
     cam = m["camera"]
-    if cam.get("earth") == "spherical":
+    if cam.get("earth") == "spherical" and "horizon" not in m:
         print("seabake_import: warning: the scene's Earth is spherical; this import is "
               "flat (the rings lie at z = 0 in map coordinates), so views near the "
               "horizon are approximate", file=sys.stderr)
@@ -493,6 +545,8 @@ def build(manifest_path, frame, material):
     coll = bpy.data.collections.new("seabake_sea")
     scene.collection.children.link(coll)
     rings = 0
+    horizon = m.get("horizon")
+    horizon_built = False
     for lv in levels:
         idx = lv["index"]
         if lv["low_res"]:
@@ -503,6 +557,21 @@ def build(manifest_path, frame, material):
             x0, y0 = lv["origin_m"]
             w, h = lv["extent_m"]
         kind, hole = clip_hole(x0, y0, w, h, lv.get("hole"))
+        if lv["low_res"] and horizon is not None:
+            # The low-resolution sea as the sensor sees it, to the horizon.
+            rank = sum(1 for o in levels if not o["low_res"])
+            mesh = horizon_mesh("seabake_horizon", horizon, -LAYER * finest * rank)
+            img = load_map(directory, horizon["exr"], 3)
+            em = emission_material("seabake_emission_%d" % idx, img=img)
+            vis = visible_material("seabake_visible_%d" % idx,
+                                   constants=lr_constants(lv["moments"]))
+            em.use_fake_user = True
+            vis.use_fake_user = True
+            mesh.materials.append(em if material == "emission" else vis)
+            obj = bpy.data.objects.new("seabake_horizon", mesh)
+            coll.objects.link(obj)
+            horizon_built = True
+            continue
         if kind == 2:
             print("seabake_import: level %d is covered by the finer levels: no ring" % idx)
             continue
@@ -535,8 +604,11 @@ def build(manifest_path, frame, material):
         coll.objects.link(obj)
         rings += 1
     scene.frame_set(first if frame is None else frame)
-    print("seabake_import: %d ring%s of %d levels, %s, material %s%s, emission scale %g"
-          % (rings, "" if rings == 1 else "s", len(levels),
+    print("seabake_import: %d ring%s%s of %d levels, %s, material %s%s, emission scale %g"
+          % (rings, "" if rings == 1 else "s",
+             " and the horizon mesh (%d x %d nodes)"
+             % (len(horizon["arc_m"]), len(horizon["azimuth_deg"])) if horizon_built else "",
+             len(levels),
              "frame %d" % first if last == first else
              "frames %d to %d at %g Hz (now %d)" % (first, last, float(m["frame_rate_hz"]),
                                                     scene.frame_current),

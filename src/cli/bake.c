@@ -57,6 +57,9 @@ enum { BAKE_VIEW_K_DEFAULT = 3 };
  * well inside half range (65504) with its 3.3 significant digits, and
  * room for later frames' glints. */
 static const double BAKE_EMISSION_TARGET = 1000.0;
+/* The low-resolution sea to the horizon, for --pov and --blender
+ * (sea_bake_horizon_make): its map, scaled as the emission maps. */
+static const char HORIZON_MAP[] = "horizon.exr";
 static const int BAKE_MANIFEST_VERSION = 1;
 
 /* The quantities a texel can carry. */
@@ -704,8 +707,63 @@ static cJSON *blender_json(const sea_render *r, double scale)
     return o;
 }
 
+/* The horizon mesh for the Blender import: its nodes and map. */
+static cJSON *horizon_json(const sea_bake_horizon *hz, const sea_camera *cam)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "exr", HORIZON_MAP);
+    cJSON_AddStringToObject(o, "grid",
+                            "node (i, j) at map point nadir + arc_m[i] (cos, sin)(azimuth_deg[j]) "
+                            "(spherical: azimuthal equidistant, on the sphere); map texel (j, "
+                            "row n_arc - 1 - i) holds its radiance x emission_scale");
+    const double nadir[2] = {hz->x0, hz->y0};
+    cJSON_AddItemToObject(o, "nadir_m", vec(nadir, 2));
+    cJSON_AddStringToObject(o, "earth", cam->earth == SEA_EARTH_FLAT ? "flat" : "spherical");
+    cJSON_AddNumberToObject(o, "earth_radius_m", SEA_EARTH_RADIUS);
+    cJSON_AddItemToObject(o, "arc_m", vec(hz->arc, hz->n_arc));
+    double *deg_az = malloc(hz->n_az * sizeof *deg_az);
+    if (deg_az != NULL) {
+        for (size_t j = 0; j < hz->n_az; j++)
+            deg_az[j] = deg(hz->az[j]);
+        cJSON_AddItemToObject(o, "azimuth_deg", vec(deg_az, hz->n_az));
+        free(deg_az);
+    }
+    cJSON_AddBoolToObject(o, "full_turn", hz->full_turn);
+    cJSON_AddNumberToObject(o, "max_error", hz->max_err);
+    return o;
+}
+
+/* HORIZON_MAP: n_az x n_arc texels, RGB = radiance x scale, the farthest
+ * ring on row 0 (so that the nadir is the bottom row, v = 0). */
+static sea_status write_horizon(const bake_setup *s, const sea_bake_horizon *hz, const char *tmp,
+                                double scale, sea_error *err)
+{
+    const size_t w = hz->n_az, h = hz->n_arc;
+    float *map = malloc(w * h * sizeof *map);
+    char *path = sea_cli_path_join(tmp, HORIZON_MAP);
+    sea_status st = SEA_OK;
+    if (map == NULL || path == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the horizon map");
+    } else {
+        for (size_t i = 0; i < h; i++)
+            for (size_t j = 0; j < w; j++)
+                map[(h - 1 - i) * w + j] = (float)(hz->radiance[i * w + j] * scale);
+        char scale_s[32], err_s[32];
+        snprintf(scale_s, sizeof scale_s, "%.17g", scale);
+        snprintf(err_s, sizeof err_s, "%.3g", hz->max_err);
+        const sea_exr_attr attrs[] = {{"seabake:quantity", "horizon"},
+                                      {"seabake:emission_scale", scale_s},
+                                      {"seabake:max_error", err_s}};
+        const sea_exr_channel ch[3] = {{"R", map}, {"G", map}, {"B", map}};
+        st = sea_exr_write(path, (int)w, (int)h, ch, 3, attrs, 3, &s->exr, err);
+    }
+    free(map);
+    free(path);
+    return st;
+}
+
 static cJSON *manifest_json(const bake_setup *s, const sea_render *r, const sea_bake *b,
-                            double scale)
+                            const sea_bake_horizon *hz, double scale)
 {
     cJSON *m = cJSON_CreateObject();
     cJSON_AddStringToObject(m, "format", "seabake-bake");
@@ -735,6 +793,8 @@ static cJSON *manifest_json(const bake_setup *s, const sea_render *r, const sea_
                             "(Beckmann-equivalent width), roughness = sqrt(alpha); anisotropy = "
                             "(l1 - l2) / (l1 + l2); rotation = major-axis angle from east / 2 pi");
     cJSON_AddItemToObject(m, "levels", levels_json(s, b));
+    if (hz != NULL)
+        cJSON_AddItemToObject(m, "horizon", horizon_json(hz, sea_render_camera(r)));
     if (s->blender)
         cJSON_AddItemToObject(m, "blender", blender_json(r, scale));
     return m;
@@ -788,11 +848,11 @@ static double emission_scale(double top)
 
 /* The POV-Ray scene: one ring per level (finest first), each with its
  * emission map (with --frames, the map of POV-Ray's frame_number) and the
- * next finer level cut out; the low-resolution level as a constant ring
- * reaching 1000 altitudes away; the scene's spectral samples for
- * Seabake_Blackbody. */
+ * next finer level cut out; the low-resolution level as the horizon mesh
+ * (HORIZON_MAP); the scene's spectral samples for Seabake_Blackbody. */
 static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_bake *b,
-                            const char *tmp, double scale, sea_error *err)
+                            const sea_bake_horizon *hz, const char *tmp, double scale,
+                            sea_error *err)
 {
     sea_pov_level pl[SEA_CLIP_MAX_LEVELS];
     char *names[SEA_CLIP_MAX_LEVELS] = {NULL};
@@ -802,6 +862,8 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
     const double far = 1000.0 * s->sc.altitude;
     for (size_t l = 0; l < b->n_levels && st == SEA_OK; l++) {
         const sea_bake_level *bl = &b->levels[l];
+        if (bl->level.low_res && hz != NULL)
+            continue; /* the horizon mesh shows it */
         sea_pov_level *p = &pl[n];
         memset(p, 0, sizeof *p);
         p->level = bl->level.level;
@@ -842,7 +904,9 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
                          sea_render_samples(r, &wl, &wt),
                          NULL,
                          NULL,
-                         s->sc.wavelength > 0.0 ? 1e-6 : 1.0};
+                         s->sc.wavelength > 0.0 ? 1e-6 : 1.0,
+                         hz,
+                         HORIZON_MAP};
     o.wavelength = wl;
     o.weight = wt;
     if (st == SEA_OK)
@@ -1268,6 +1332,16 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     memset(stats, 0, sizeof *stats);
     bake_progress prog = {{"bake", 0, (size_t)(last - first + 1), -1},
                           !s->quiet && isatty(STDERR_FILENO)};
+    /* The exports' low-resolution sea, to the horizon: one for all frames
+     * (time does not enter), refined to the scene's tolerance. */
+    sea_bake_horizon hz_store, *hz = NULL;
+    if (st == SEA_OK && (s->pov || s->blender)) {
+        const double t0 = sea_cli_seconds();
+        st = sea_bake_horizon_make(r, fmax(1e-5, s->sc.tolerance), &hz_store, err);
+        if (st == SEA_OK)
+            hz = &hz_store;
+        stats->compute += sea_cli_seconds() - t0;
+    }
     for (long f = first; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
         sea_bake b;
@@ -1293,11 +1367,15 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         if (manifest == NULL) {
             for (size_t l = 0; l < b.n_levels; l++)
                 w.top = fmax(w.top, b.levels[l].lr_optics.radiance);
+            for (size_t q = 0; hz != NULL && q < hz->n_arc * hz->n_az; q++)
+                w.top = fmax(w.top, hz->radiance[q]);
             w.scale = emission_scale(w.top);
-            manifest = manifest_json(s, r, &b, w.scale);
+            manifest = manifest_json(s, r, &b, hz, w.scale);
+            if (manifest != NULL && hz != NULL)
+                st = write_horizon(s, hz, tmp, w.scale, err);
             if (manifest == NULL)
                 st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-            else
+            else if (st == SEA_OK)
                 st = previews_setup(&b, tmp, w.scale, &pv, err);
             if (st == SEA_OK)
                 st = write_spilled(&w, &b, err);
@@ -1321,7 +1399,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             st = files_json(s, b.levels[l].level.level, f, files, err);
         }
         if (st == SEA_OK && s->pov && f == first)
-            st = write_pov(s, r, &b, tmp, w.scale, err);
+            st = write_pov(s, r, &b, hz, tmp, w.scale, err);
         sea_bake_free(&b);
         stats->write += sea_cli_seconds() - t0;
         if (prog.on && st == SEA_OK)
@@ -1336,6 +1414,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         st = write_manifest(tmp, manifest, err);
     stats->write += sea_cli_seconds() - t0;
     cJSON_Delete(manifest);
+    sea_bake_horizon_free(hz);
     free(w.pool);
     free(w.emission);
     return st;
