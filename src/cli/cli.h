@@ -328,6 +328,39 @@ int sea_cli_interrupted(void);
  * handlers restored first); returns only if that did not end the process. */
 void sea_cli_die_of_signal(const char *msg);
 
+/* ------------------------------------------------------------ MPI (mpi.c) */
+
+/* render and bake share their work among the ranks of an MPI launch
+ * (seabake(1), PARALLEL RUNS WITH MPI).  sea_cli_mpi_init starts MPI only
+ * when the environment shows a launcher (OMPI_COMM_WORLD_SIZE, PMIX_RANK,
+ * PMI_RANK), so a plain run never touches MPI; built without MPI it fails
+ * (SEA_ERR_DOMAIN) when the launch announces more than one rank
+ * (OMPI_COMM_WORLD_SIZE, PMI_SIZE), and is otherwise rank 0 of 1, where
+ * every call below is a no-op (send and receive are never reached).  The
+ * collective calls (agree, minmax, sum, bcast) must be made by every rank
+ * in the same order.  A failed MPI call aborts the job (MPI's default
+ * handler).  Only rank 0 reports errors (main.c): a rank's failure reaches
+ * it through sea_cli_mpi_agree. */
+sea_status sea_cli_mpi_init(int *argc, char ***argv, sea_error *err);
+/* A barrier (every rank has cleaned up) and MPI_Finalize; no-op unless
+ * MPI was started. */
+void sea_cli_mpi_finalize(void);
+int sea_cli_mpi_rank(void);
+int sea_cli_mpi_size(void);
+/* Collective: SEA_OK when st is SEA_OK on every rank; otherwise the status
+ * and error of the failing rank with the smallest key (ties: the lowest
+ * rank), copied into every rank's err. */
+sea_status sea_cli_mpi_agree(sea_status st, long key, sea_error *err);
+/* Collective: *lo the smallest, *hi the largest over the ranks. */
+void sea_cli_mpi_minmax(double *lo, double *hi);
+/* Collective: *v the sum over the ranks. */
+void sea_cli_mpi_sum(size_t *v);
+/* Collective: bytes of buf from rank root to every rank. */
+void sea_cli_mpi_bcast(void *buf, size_t bytes, int root);
+/* Blocking point-to-point bytes (any size: sent in pieces). */
+void sea_cli_mpi_send(const void *buf, size_t bytes, int dest, int tag);
+void sea_cli_mpi_recv(void *buf, size_t bytes, int source, int tag);
+
 /* --------------------------------------------------- progress (progress.c) */
 
 /* Monotonic wall-clock seconds. */
