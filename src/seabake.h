@@ -1024,6 +1024,14 @@ void sea_image_free(sea_image *img);
  * sea_progress_fn says. */
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err);
+/* sea_render_frame for the rows row0, row0 + step, ... below the image's
+ * height only (row0 >= 0, step >= 1, else SEA_ERR_DOMAIN; none when row0 >=
+ * height): those rows of img get exactly the values sea_render_frame gives
+ * them, the other rows are left as they are, and progress counts those
+ * rows.  For sharing one frame among processes (seabake render under MPI
+ * interleaves the rows of its ranks). */
+sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, sea_image *img,
+                           sea_progress_fn progress, void *ctx, sea_error *err);
 
 /* What the scene's [model] tolerance T (relative radiance) chose in
  * sea_render_prepare besides the low-resolution levels, the spectral
