@@ -17,6 +17,7 @@
  * to DIR, and the old one removed.  On any failure before that the
  * temporary directory is removed and DIR is exactly as it was. */
 #define _XOPEN_SOURCE 700
+#include <assert.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -161,7 +162,11 @@ static const char BAKE_HELP[] =
     "                      overrides a key of the scene file (as in seabake\n"
     "                      render); repeatable\n"
     "  --explain           what is modelled and why (as seabake render --explain)\n"
-    "  --quiet             no progress bar and no summary line\n";
+    "  --quiet             no progress bar and no summary line\n"
+    "\n"
+    "Under mpirun or srun (a build with MPI) the frames are shared among the\n"
+    "ranks, rank 0 writing every file: DIR is that of one process; seabake(1),\n"
+    "PARALLEL RUNS WITH MPI.\n";
 
 /* ------------------------------------------------------------- the setup */
 
@@ -1211,6 +1216,140 @@ static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *er
     return st;
 }
 
+/* ------------------------------------------------------------------ MPI
+ *
+ * Under mpirun or srun with N > 1 ranks (mpi.c; seabake(1), PARALLEL RUNS
+ * WITH MPI) the frames of --frames A:B are shared round-robin: frame f is
+ * computed by rank (f - A) mod N.  Rank 0 is the one writer: it owns the
+ * temporary directory and writes every file, in frame order, exactly as one
+ * process does (its own frames through sea_bake_frame_each, the others'
+ * levels as they arrive, through the same level_ready), so the directory
+ * is that of one process byte for byte; frame A, which sets the emission
+ * scale and the previews' tone curves, is always rank 0's.  Another rank
+ * sends each level of its frame as it is computed (bake_msg, then the
+ * level's moments, optics and view texels as bytes: the ranks run the same
+ * program on the same kind of machine), then an END message with its
+ * status and the frame's headers, and waits for rank 0's answer before its
+ * next frame: so at most one frame a rank is in flight, and a failure
+ * anywhere (a rank's computation, rank 0's writing, a signal) is answered
+ * with STOP to every rank still sending, whose frame in flight rank 0
+ * receives and drops.  Rank 0 then removes the temporary directory, and
+ * every rank leaves with rank 0's error.  One frame is rank 0's alone:
+ * the library bakes a frame's levels in one call. */
+enum { BAKE_MSG_LEVEL, BAKE_MSG_END };
+enum { BAKE_TAG_MSG = 1, BAKE_TAG_DATA, BAKE_TAG_ACK };
+enum { BAKE_ACK_GO = 0, BAKE_ACK_STOP = 1 };
+typedef struct {
+    int kind, status;
+    size_t level;
+    sea_error err;
+    sea_bake b; /* the headers; pointers not meaningful */
+} bake_msg;
+
+static int bake_owner(const bake_setup *s, long f)
+{
+    return (int)((f - (s->framed ? s->frame_a : 0)) % sea_cli_mpi_size());
+}
+
+/* sea_bake_level_fn of a rank other than 0: level l to rank 0. */
+static sea_status level_send(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    (void)ctx;
+    if (sea_cli_interrupted() != 0)
+        return bake_interrupted(err);
+    bake_msg m;
+    memset(&m, 0, sizeof m);
+    m.kind = BAKE_MSG_LEVEL;
+    m.level = l;
+    m.b = *b;
+    sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
+    const sea_bake_level *bl = &b->levels[l];
+    const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+    sea_cli_mpi_send(bl->moments, n * sizeof *bl->moments, 0, BAKE_TAG_DATA);
+    sea_cli_mpi_send(bl->optics, n * sizeof *bl->optics, 0, BAKE_TAG_DATA);
+    sea_cli_mpi_send(bl->view, nv * sizeof *bl->view, 0, BAKE_TAG_DATA);
+    return SEA_OK;
+}
+
+/* A rank other than 0: its frames, each level to rank 0 (see above). */
+static sea_status bake_send_frames(const bake_setup *s, const sea_render *r, sea_error *err)
+{
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
+    sea_status st = SEA_OK;
+    for (long f = first + rank; f <= last; f += size) {
+        const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
+        bake_progress prog = {{"bake", 0, 1, -1}, false};
+        sea_bake b;
+        st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
+                                 level_send, NULL, err);
+        bake_msg m;
+        memset(&m, 0, sizeof m);
+        m.kind = BAKE_MSG_END;
+        if (st == SEA_OK) {
+            m.b = b;
+            sea_bake_free(&b);
+        }
+        /* as bake_all: a signal's message, whatever stopped the bake */
+        if (sea_cli_interrupted() != 0)
+            st = bake_interrupted(err);
+        m.status = (int)st;
+        if (st != SEA_OK && err != NULL)
+            m.err = *err;
+        sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
+        int ack = BAKE_ACK_STOP;
+        sea_cli_mpi_recv(&ack, sizeof ack, 0, BAKE_TAG_ACK);
+        if (st != SEA_OK || ack != BAKE_ACK_GO)
+            break;
+    }
+    return st;
+}
+
+/* Rank 0's buffers for the levels of the others' frames: the largest level. */
+typedef struct {
+    sea_moments *moments;
+    sea_facet_optics *optics;
+    double *view;
+} bake_inbox;
+
+/* Rank 0: frame f of rank k, each level written as it arrives (when st is
+ * SEA_OK: otherwise received and dropped) until its END, whose headers go
+ * to *b (no maps).  The first failure, rank 0's or rank k's, is returned. */
+static sea_status bake_recv_frame(bake_writer *w, bake_inbox *in, int k, sea_status st,
+                                  sea_bake *b, sea_error *err)
+{
+    bake_msg m;
+    for (;;) {
+        sea_cli_mpi_recv(&m, sizeof m, k, BAKE_TAG_MSG);
+        if (m.kind == BAKE_MSG_END)
+            break;
+        sea_bake_level *bl = &m.b.levels[m.level];
+        const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+        /* the same levels as rank 0's (one prepare): within the inbox */
+        assert(n <= w->nmax && bl->view_k == (size_t)w->s->view_k);
+        sea_cli_mpi_recv(in->moments, n * sizeof *in->moments, k, BAKE_TAG_DATA);
+        sea_cli_mpi_recv(in->optics, n * sizeof *in->optics, k, BAKE_TAG_DATA);
+        sea_cli_mpi_recv(in->view, nv * sizeof *in->view, k, BAKE_TAG_DATA);
+        bl->moments = in->moments;
+        bl->optics = in->optics;
+        bl->view = in->view;
+        if (st == SEA_OK)
+            st = level_ready(w, &m.b, m.level, err);
+    }
+    if (st == SEA_OK && m.status != SEA_OK) {
+        st = (sea_status)m.status;
+        if (err != NULL)
+            *err = m.err;
+    }
+    *b = m.b;
+    for (size_t l = 0; l < SEA_CLIP_MAX_LEVELS; l++) {
+        b->levels[l].moments = NULL;
+        b->levels[l].optics = NULL;
+        b->levels[l].view = NULL;
+    }
+    return st;
+}
+
 static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
                            bake_stats *stats, sea_error *err)
 {
@@ -1247,8 +1386,24 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     memset(stats, 0, sizeof *stats);
     bake_progress prog = {{"bake", 0, (size_t)(last - first + 1), -1},
                           !s->quiet && isatty(STDERR_FILENO)};
-    for (long f = first; f <= last && st == SEA_OK; ++f) {
+    /* under MPI: the others' levels, and which ranks still send */
+    const int size = sea_cli_mpi_size();
+    bake_inbox in = {NULL, NULL, NULL};
+    bool *sending = NULL;
+    if (st == SEA_OK && size > 1) {
+        in.moments = malloc(nmax * sizeof *in.moments);
+        in.optics = malloc(nmax * sizeof *in.optics);
+        in.view = malloc(k2 * nmax * sizeof *in.view);
+        sending = malloc((size_t)size * sizeof *sending);
+        if (in.moments == NULL || in.optics == NULL || in.view == NULL || sending == NULL)
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the levels of other ranks");
+        for (int k = 0; sending != NULL && k < size; k++)
+            sending[k] = true;
+    }
+    long f = first;
+    for (; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
+        const int owner = size > 1 ? bake_owner(s, f) : 0;
         sea_bake b;
         prog.bar.index = (size_t)(f - first);
         w.frame = f;
@@ -1257,8 +1412,12 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         w.top = 0.0;
         const double written = w.seconds;
         double t0 = sea_cli_seconds();
-        st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
-                                 level_ready, &w, err);
+        if (owner == 0)
+            st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
+                                     level_ready, &w, err);
+        else
+            st = bake_recv_frame(&w, &in, owner, SEA_OK, &b, err);
+        /* under MPI "maps" is rank 0's computing and waiting for the others */
         stats->compute += sea_cli_seconds() - t0 - (w.seconds - written);
         stats->write += w.seconds - written;
         if (sea_cli_interrupted() != 0) {
@@ -1266,8 +1425,14 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
                 sea_bake_free(&b);
             st = bake_interrupted(err);
         }
-        if (st != SEA_OK)
+        if (st != SEA_OK) {
+            if (owner != 0) {
+                const int stop = BAKE_ACK_STOP;
+                sea_cli_mpi_send(&stop, sizeof stop, owner, BAKE_TAG_ACK);
+                sending[owner] = false;
+            }
             break;
+        }
         t0 = sea_cli_seconds();
         if (manifest == NULL) {
             for (size_t l = 0; l < b.n_levels; l++)
@@ -1303,9 +1468,31 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             st = write_pov(s, r, &b, tmp, w.scale, err);
         sea_bake_free(&b);
         stats->write += sea_cli_seconds() - t0;
+        if (owner != 0) {
+            const int ack = st == SEA_OK ? BAKE_ACK_GO : BAKE_ACK_STOP;
+            sea_cli_mpi_send(&ack, sizeof ack, owner, BAKE_TAG_ACK);
+            sending[owner] = st == SEA_OK;
+        }
         if (prog.on && st == SEA_OK)
             sea_cli_progress_bar(&prog.bar, 1.0);
     }
+    /* After a failure: the frame each rank still has in flight (the next
+     * it owns), received, dropped and answered STOP. */
+    for (; size > 1 && sending != NULL && f <= last; ++f) {
+        const int owner = bake_owner(s, f);
+        if (owner == 0 || !sending[owner])
+            continue;
+        sea_bake b;
+        sea_error dropped;
+        bake_recv_frame(&w, &in, owner, SEA_ERR_CANCELLED, &b, &dropped);
+        const int stop = BAKE_ACK_STOP;
+        sea_cli_mpi_send(&stop, sizeof stop, owner, BAKE_TAG_ACK);
+        sending[owner] = false;
+    }
+    free(in.moments);
+    free(in.optics);
+    free(in.view);
+    free(sending);
     stats->texels = w.texels;
     if (st == SEA_OK && s->blender)
         st = write_text(tmp, SEA_BLENDER_SCRIPT, sea_blender_import_text, err);
@@ -1330,27 +1517,34 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     bake_stats stats = {0, 0.0, 0.0};
     double prepare = 0.0;
     sea_cli_out_dir_init(&od);
+    /* under MPI rank 0 alone owns the directory (see bake_send_frames) */
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_status st = bake_parse(args, &s, err);
     /* The temporary directory first: an unwritable or missing parent, or a
      * DIR that cannot be replaced, must not cost a whole bake. */
-    if (st == SEA_OK)
+    if (st == SEA_OK && rank == 0)
         st = sea_cli_out_dir_begin(&od, s.dir, s.quiet, err);
     if (st == SEA_OK) {
         const double t0 = sea_cli_seconds();
         st = sea_render_prepare(&s.sc, &r, err);
         prepare = sea_cli_seconds() - t0;
-        if (st == SEA_OK && s.explain)
-            sea_cli_explain("bake", s.scene_path, r);
     }
+    st = sea_cli_mpi_agree(st, 0, NULL, err);
+    if (st == SEA_OK && s.explain && rank == 0)
+        sea_cli_explain("bake", s.scene_path, r);
     sea_cli_signals_catch();
     if (st == SEA_OK)
-        st = bake_all(&s, r, od.tmp, &stats, err);
+        st = rank == 0 ? bake_all(&s, r, od.tmp, &stats, err) : bake_send_frames(&s, r, err);
     if (st == SEA_OK && sea_cli_interrupted() != 0)
         st = bake_interrupted(err);
-    if (st == SEA_OK)
+    /* rank 0's error first: it holds the first failure of any rank */
+    st = sea_cli_mpi_agree(st, rank, NULL, err);
+    if (st == SEA_OK && rank == 0)
         st = sea_cli_out_dir_commit(&od, s.quiet, err);
     sea_cli_out_dir_end(&od);
-    if (sea_cli_interrupted() != 0 && st != SEA_OK) {
+    st = sea_cli_mpi_agree(st, rank, NULL, err);
+    /* Under MPI the job ends together: the error is reported, not died of. */
+    if (sea_cli_interrupted() != 0 && st != SEA_OK && size == 1) {
         /* the temporary directory is gone: die of the signal, as asked */
         sea_render_free(r);
         free(s.dir);
@@ -1358,7 +1552,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
         return st;
     }
     sea_cli_signals_restore();
-    if (st == SEA_OK && !s.quiet) {
+    if (st == SEA_OK && !s.quiet && rank == 0) {
         const double secs = sea_cli_seconds() - start;
         fprintf(stderr,
                 "bake: %s: %zu texels in %.3g s (%.3g texels/s): prepare %.3g s, maps %.3g s, "

@@ -349,8 +349,9 @@ int sea_cli_mpi_rank(void);
 int sea_cli_mpi_size(void);
 /* Collective: SEA_OK when st is SEA_OK on every rank; otherwise the status
  * and error of the failing rank with the smallest key (ties: the lowest
- * rank), copied into every rank's err. */
-sea_status sea_cli_mpi_agree(sea_status st, long key, sea_error *err);
+ * rank), copied into every rank's err, and that key in *failed_key (may be
+ * NULL; LONG_MAX when none failed).  key < LONG_MAX. */
+sea_status sea_cli_mpi_agree(sea_status st, long key, long *failed_key, sea_error *err);
 /* Collective: *lo the smallest, *hi the largest over the ranks. */
 void sea_cli_mpi_minmax(double *lo, double *hi);
 /* Collective: *v the sum over the ranks. */

@@ -82,12 +82,18 @@ sea_status sea_cli_mpi_init(int *argc, char ***argv, sea_error *err)
     (void)argc;
     (void)argv;
     const long n = launch_size();
-    if (n > 1)
+    if (n > 1) {
+        /* one message for the job: only the launch's rank 0 reports it */
+        const char *r = getenv("OMPI_COMM_WORLD_RANK");
+        if (r == NULL)
+            r = getenv("PMI_RANK");
+        mpi_rank = r != NULL ? (int)strtol(r, NULL, 10) : 0;
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "launched as one of %ld MPI ranks, but this seabake was built without "
                         "MPI (configure --with-mpi): every rank would write the same files "
                         "(allowed: one process, or mpirun -np 1)",
                         n);
+    }
     return SEA_OK;
 #endif
 }
@@ -116,8 +122,10 @@ int sea_cli_mpi_size(void)
     return mpi_size;
 }
 
-sea_status sea_cli_mpi_agree(sea_status st, long key, sea_error *err)
+sea_status sea_cli_mpi_agree(sea_status st, long key, long *failed_key, sea_error *err)
 {
+    if (failed_key != NULL)
+        *failed_key = st != SEA_OK ? key : LONG_MAX;
 #ifdef HAVE_MPI
     if (mpi_size == 1)
         return st;
@@ -127,6 +135,8 @@ sea_status sea_cli_mpi_agree(sea_status st, long key, sea_error *err)
         int rank;
     } mine = {st != SEA_OK ? key : LONG_MAX, mpi_rank}, first;
     MPI_Allreduce(&mine, &first, 1, MPI_LONG_INT, MPI_MINLOC, MPI_COMM_WORLD);
+    if (failed_key != NULL)
+        *failed_key = first.key;
     if (first.key == LONG_MAX)
         return SEA_OK;
     /* its status and message to every rank (sea_error is plain bytes) */
