@@ -29,9 +29,11 @@
 
 #include "cli.h"
 
+#ifdef HAVE_MPI
 /* Point-to-point messages go in pieces of at most this many bytes: MPI's
  * counts are int, and a level of a large bake holds more than 2^31 bytes. */
 static const size_t MPI_CHUNK_BYTES = (size_t)1 << 30;
+#endif
 
 /* The process's place in the launch: set once by sea_cli_mpi_init (as the
  * signal state of progress.c, process-wide by nature). */
