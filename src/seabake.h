@@ -1158,6 +1158,19 @@ sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_ba
                                sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
                                void *each_ctx, sea_error *err);
 
+/* sea_bake_frame_each for a share of the texels, so that one frame can be
+ * baked by several processes: of every high-resolution level only the
+ * texel rows row0, row0 + step, ... (rows north first, as stored; 0 <=
+ * row0 < step, else SEA_ERR_DOMAIN) get their optics and their view_k rows
+ * of view texels, exactly the values sea_bake_frame_each gives them; the
+ * other rows' optics and view texels are not computed (their values are
+ * unspecified).  The moments and headers are all there.  Each process
+ * still synthesises every level's waves.  row0 0, step 1 is
+ * sea_bake_frame_each. */
+sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int row0, int step,
+                               sea_bake *out, sea_progress_fn progress, void *ctx,
+                               sea_bake_level_fn each, void *each_ctx, sea_error *err);
+
 /* Tangent-space normal of the mean slope (+x east, +y north, +z up):
  * n = (-mx, -my, 1) / sqrt(mx^2 + my^2 + 1).  Pure. */
 void sea_bake_normal(const sea_moments *m, double n[3]);
