@@ -172,8 +172,9 @@ check_eq render.term.frames_kept "$(ls -A "$SB_TMP/t_np3" | tr '\n' ' ')" "$want
 no_temporaries render.term.no_temporaries "$SB_TMP/t_np3"
 
 # -------------------------------------------------------------------- bake
-# One frame (rank 0's alone), and frames 0 to 4 with the exports: rank 0
-# writes every file, the others send their frames' levels.
+# One frame (shared by texel rows: rank k bakes rows k, k + 3, ... of every
+# level), and frames 0 to 4 with the exports (round robin): rank 0 writes
+# every file, the others send their rows or their frames' levels.
 sb_run bake "$EX/tiny.ini" -o "$SB_TMP/b_one"
 check_rc bake.one.rc 0
 summary_one=$(timeless "$SB_ERR")
@@ -227,6 +228,19 @@ check_error bake.fsize.np3 3 "File too large"
 check_eq bake.fsize.same_message "$SB_ERR" "$err_one"
 check_eq bake.fsize.kept "$(ls -A "$SB_TMP/w_np3")" keep
 no_temporaries bake.fsize.no_temporaries "$SB_TMP"
+# the same in one frame shared by rows
+mkdir -p "$SB_TMP/w1_np3" && echo old >"$SB_TMP/w1_np3/keep"
+"$SB_TMP/rank0_fsize.sh" "$SEABAKE" bake "$EX/tiny.ini" -o "$SB_TMP/w_one" >/dev/null 2>"$SB_TMP/err.one"
+err_one=$(cat "$SB_TMP/err.one")
+MPI_OPTS=(--mca btl self,tcp)
+MPI_WRAP=("$SB_TMP/rank0_fsize.sh")
+sb_mpirun 3 bake "$EX/tiny.ini" -o "$SB_TMP/w1_np3"
+MPI_OPTS=()
+MPI_WRAP=()
+check_error bake.rows.fsize.np3 3 "File too large"
+check_eq bake.rows.fsize.same_message "$SB_ERR" "$err_one"
+check_eq bake.rows.fsize.kept "$(ls -A "$SB_TMP/w1_np3")" keep
+no_temporaries bake.rows.fsize.no_temporaries "$SB_TMP"
 
 # Rank 1 (a sender) stops on SIGTERM 3 s into a 41-frame bake (about 20 s
 # of work on two cores): the run fails with the signal's message, from
@@ -242,5 +256,15 @@ check_eq bake.term.message "$SB_ERR" \
     "seabake: error: interrupted by signal 15: the output directory is left as it was"
 check_eq bake.term.kept "$(ls -A "$SB_TMP/s_np3")" keep
 no_temporaries bake.term.no_temporaries "$SB_TMP"
+# and in one frame shared by rows (examples/mast.ini: about 15 s of work)
+mkdir -p "$SB_TMP/s1_np3" && echo old >"$SB_TMP/s1_np3/keep"
+MPI_WRAP=("$SB_TMP/rank1_term.sh")
+sb_mpirun 3 bake "$EX/mast.ini" -o "$SB_TMP/s1_np3"
+MPI_WRAP=()
+check bake.rows.term.failed [ "$SB_RC" -ne 0 ]
+check_eq bake.rows.term.message "$SB_ERR" \
+    "seabake: error: interrupted by signal 15: the output directory is left as it was"
+check_eq bake.rows.term.kept "$(ls -A "$SB_TMP/s1_np3")" keep
+no_temporaries bake.rows.term.no_temporaries "$SB_TMP"
 
 finish

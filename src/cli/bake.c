@@ -164,9 +164,9 @@ static const char BAKE_HELP[] =
     "  --explain           what is modelled and why (as seabake render --explain)\n"
     "  --quiet             no progress bar and no summary line\n"
     "\n"
-    "Under mpirun or srun (a build with MPI) the frames are shared among the\n"
-    "ranks, rank 0 writing every file: DIR is that of one process; seabake(1),\n"
-    "PARALLEL RUNS WITH MPI.\n";
+    "Under mpirun or srun (a build with MPI) the frames, or the texel rows of\n"
+    "one frame, are shared among the ranks, rank 0 writing every file: DIR is\n"
+    "that of one process; seabake(1), PARALLEL RUNS WITH MPI.\n";
 
 /* ------------------------------------------------------------- the setup */
 
@@ -1234,14 +1234,14 @@ static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *er
  * anywhere (a rank's computation, rank 0's writing, a signal) is answered
  * with STOP to every rank still sending, whose frame in flight rank 0
  * receives and drops.  Rank 0 then removes the temporary directory, and
- * every rank leaves with rank 0's error.  One frame is rank 0's alone:
- * the library bakes a frame's levels in one call. */
+ * every rank leaves with rank 0's error.  One frame (no --frames) is
+ * shared by texel rows instead: see bake_rows_frame. */
 enum { BAKE_MSG_LEVEL, BAKE_MSG_END };
 enum { BAKE_TAG_MSG = 1, BAKE_TAG_DATA, BAKE_TAG_ACK };
 enum { BAKE_ACK_GO = 0, BAKE_ACK_STOP = 1 };
 typedef struct {
     int kind, status;
-    size_t level;
+    size_t level, bytes; /* bytes: of a rows message's data */
     sea_error err;
     sea_bake b; /* the headers; pointers not meaningful */
 } bake_msg;
@@ -1350,6 +1350,183 @@ static sea_status bake_recv_frame(bake_writer *w, bake_inbox *in, int k, sea_sta
     return st;
 }
 
+/* One frame (no --frames) under MPI: shared by texel rows.  Rank k bakes
+ * texel rows k, k + N, ... of every level (sea_bake_frame_rows; every rank
+ * synthesises the frame's waves itself) and, per level, sends rank 0 a
+ * BAKE_MSG_LEVEL then its rows' optics and view texels, and waits for GO
+ * or STOP; then an END with its status.  Rank 0 assembles each level (its
+ * own rows, the others', the moments it has whole) and writes it through
+ * level_ready, as one process does, then answers every rank.  A rank's
+ * failure reaches rank 0 as its END; rank 0 then answers STOP, and after
+ * its own bake drains every rank to its END. */
+typedef struct {
+    bake_writer *w;  /* rank 0 */
+    bake_inbox *in;  /* rank 0: the level assembled */
+    bool *open;      /* rank 0: ranks whose END has not come */
+} bake_rows_ctx;
+
+/* Bytes of one texel row of a level in a rank's message: its optics, then
+ * its view_k rows of view texels. */
+static size_t row_bytes(const sea_bake_level *bl)
+{
+    return bl->level.nx *
+           (sizeof(sea_facet_optics) + bl->view_k * bl->view_k * sizeof(double));
+}
+
+/* Rank k's rows of level bl into (pack) or out of (unpack) buf. */
+static void rows_pack(sea_bake_level *bl, int k, int size, unsigned char *buf, bool pack)
+{
+    const size_t nx = bl->level.nx, nv = bl->view_k * bl->view_k * nx;
+    for (size_t row = (size_t)k; row < bl->level.ny; row += (size_t)size) {
+        sea_facet_optics *o = bl->optics + row * nx;
+        double *v = bl->view + row * nv;
+        if (pack) {
+            memcpy(buf, o, nx * sizeof *o);
+            memcpy(buf + nx * sizeof *o, v, nv * sizeof *v);
+        } else {
+            memcpy(o, buf, nx * sizeof *o);
+            memcpy(v, buf + nx * sizeof *o, nv * sizeof *v);
+        }
+        buf += row_bytes(bl);
+    }
+}
+
+/* sea_bake_level_fn of a rank other than 0 (rows). */
+static sea_status rows_send(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    (void)ctx;
+    if (sea_cli_interrupted() != 0)
+        return bake_interrupted(err);
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    sea_bake_level bl = b->levels[l];
+    const size_t bytes = sea_cli_mpi_share(bl.level.ny, rank, size) * row_bytes(&bl);
+    unsigned char *buf = malloc(bytes + 1);
+    if (buf == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
+    rows_pack(&bl, rank, size, buf, true);
+    bake_msg m;
+    memset(&m, 0, sizeof m);
+    m.kind = BAKE_MSG_LEVEL;
+    m.level = l;
+    m.bytes = bytes;
+    sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
+    sea_cli_mpi_send(buf, bytes, 0, BAKE_TAG_DATA);
+    free(buf);
+    int ack = BAKE_ACK_STOP;
+    sea_cli_mpi_recv(&ack, sizeof ack, 0, BAKE_TAG_ACK);
+    /* stopped: rank 0 holds the failure that it will report */
+    return ack == BAKE_ACK_GO ? SEA_OK : sea_fail(err, SEA_ERR_CANCELLED, "stopped by rank 0");
+}
+
+/* A rank other than 0: its rows of the one frame (see above). */
+static sea_status bake_send_rows(const bake_setup *s, const sea_render *r, sea_error *err)
+{
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    bake_progress prog = {{"bake", 0, 1, -1}, false};
+    sea_bake b;
+    sea_status st = sea_bake_frame_rows(r, s->sc.time, (int)s->view_k, rank, size, &b,
+                                        bake_progress_compute, &prog, rows_send, NULL, err);
+    if (st == SEA_OK)
+        sea_bake_free(&b);
+    if (sea_cli_interrupted() != 0)
+        st = bake_interrupted(err);
+    bake_msg m;
+    memset(&m, 0, sizeof m);
+    m.kind = BAKE_MSG_END;
+    m.status = (int)st;
+    if (st != SEA_OK && err != NULL)
+        m.err = *err;
+    sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
+    return st;
+}
+
+/* Rank 0: the next message of rank k; a level's rows into bl (or dropped
+ * when bl is NULL).  Returns its kind; an END's failure into *st, *err
+ * unless *st already failed. */
+static int rows_recv(int k, sea_bake_level *bl, sea_status *st, sea_error *err)
+{
+    bake_msg m;
+    sea_cli_mpi_recv(&m, sizeof m, k, BAKE_TAG_MSG);
+    if (m.kind == BAKE_MSG_END) {
+        if (*st == SEA_OK && m.status != SEA_OK) {
+            *st = (sea_status)m.status;
+            if (err != NULL)
+                *err = m.err;
+        }
+        return BAKE_MSG_END;
+    }
+    /* the level of rank 0's own bake: the same headers (one prepare) */
+    unsigned char *buf = NULL;
+    if (bl != NULL) {
+        assert(m.bytes == sea_cli_mpi_share(bl->level.ny, k, sea_cli_mpi_size()) * row_bytes(bl));
+        if ((buf = malloc(m.bytes + 1)) == NULL && *st == SEA_OK)
+            *st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows of rank %d", k);
+    }
+    if (buf != NULL) {
+        sea_cli_mpi_recv(buf, m.bytes, k, BAKE_TAG_DATA);
+        rows_pack(bl, k, sea_cli_mpi_size(), buf, false);
+        free(buf);
+    } else {
+        sea_cli_mpi_drop(m.bytes, k, BAKE_TAG_DATA);
+    }
+    return BAKE_MSG_LEVEL;
+}
+
+/* sea_bake_level_fn of rank 0 (rows): the level assembled and written. */
+static sea_status rows_gather(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    bake_rows_ctx *c = ctx;
+    const int size = sea_cli_mpi_size();
+    sea_bake whole = *b;
+    sea_bake_level *bl = &whole.levels[l];
+    const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+    memcpy(c->in->moments, bl->moments, n * sizeof *bl->moments);
+    memcpy(c->in->optics, bl->optics, n * sizeof *bl->optics);
+    memcpy(c->in->view, bl->view, nv * sizeof *bl->view);
+    bl->moments = c->in->moments;
+    bl->optics = c->in->optics;
+    bl->view = c->in->view;
+    sea_status st = sea_cli_interrupted() != 0 ? bake_interrupted(err) : SEA_OK;
+    for (int k = 1; k < size; k++)
+        if (c->open[k] && rows_recv(k, bl, &st, err) == BAKE_MSG_END)
+            c->open[k] = false;
+    if (st == SEA_OK)
+        st = level_ready(c->w, &whole, l, err);
+    const int ack = st == SEA_OK ? BAKE_ACK_GO : BAKE_ACK_STOP;
+    for (int k = 1; k < size; k++)
+        if (c->open[k])
+            sea_cli_mpi_send(&ack, sizeof ack, k, BAKE_TAG_ACK);
+    return st;
+}
+
+/* Rank 0: the one frame by rows, then every other rank to its END (a
+ * level still coming is dropped and answered STOP). */
+static sea_status bake_rows_frame(bake_writer *w, bake_inbox *in, bool *open, const sea_render *r,
+                                  double t, bake_progress *prog, sea_bake *b, sea_error *err)
+{
+    const int size = sea_cli_mpi_size();
+    bake_rows_ctx c = {w, in, open};
+    sea_status st = sea_bake_frame_rows(r, t, (int)w->s->view_k, 0, size, b, bake_progress_compute,
+                                        prog, rows_gather, &c, err);
+    for (int k = 1; k < size; k++)
+        while (open[k]) {
+            sea_status later = st == SEA_OK ? SEA_OK : SEA_ERR_CANCELLED;
+            sea_error dropped;
+            if (rows_recv(k, NULL, &later, &dropped) == BAKE_MSG_END) {
+                open[k] = false;
+                if (st == SEA_OK && later != SEA_OK) {
+                    st = later;
+                    if (err != NULL)
+                        *err = dropped;
+                }
+            } else {
+                const int stop = BAKE_ACK_STOP;
+                sea_cli_mpi_send(&stop, sizeof stop, k, BAKE_TAG_ACK);
+            }
+        }
+    return st;
+}
+
 static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
                            bake_stats *stats, sea_error *err)
 {
@@ -1412,7 +1589,9 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         w.top = 0.0;
         const double written = w.seconds;
         double t0 = sea_cli_seconds();
-        if (owner == 0)
+        if (size > 1 && !s->framed)
+            st = bake_rows_frame(&w, &in, sending, r, t, &prog, &b, err);
+        else if (owner == 0)
             st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
                                      level_ready, &w, err);
         else
@@ -1534,7 +1713,9 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
         sea_cli_explain("bake", s.scene_path, r);
     sea_cli_signals_catch();
     if (st == SEA_OK)
-        st = rank == 0 ? bake_all(&s, r, od.tmp, &stats, err) : bake_send_frames(&s, r, err);
+        st = rank == 0   ? bake_all(&s, r, od.tmp, &stats, err)
+             : s.framed ? bake_send_frames(&s, r, err)
+                        : bake_send_rows(&s, r, err);
     if (st == SEA_OK && sea_cli_interrupted() != 0)
         st = bake_interrupted(err);
     /* rank 0's error first: it holds the first failure of any rank */

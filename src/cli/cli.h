@@ -358,9 +358,15 @@ void sea_cli_mpi_minmax(double *lo, double *hi);
 void sea_cli_mpi_sum(size_t *v);
 /* Collective: bytes of buf from rank root to every rank. */
 void sea_cli_mpi_bcast(void *buf, size_t bytes, int root);
+/* How many of items 0 .. n-1 are rank k's when rank k takes k, k + size,
+ * ... (render's rows of one frame, bake's texel rows). */
+size_t sea_cli_mpi_share(size_t n, int k, int size);
 /* Blocking point-to-point bytes (any size: sent in pieces). */
 void sea_cli_mpi_send(const void *buf, size_t bytes, int dest, int tag);
 void sea_cli_mpi_recv(void *buf, size_t bytes, int source, int tag);
+/* Receives and discards a message of bytes sent by sea_cli_mpi_send (when
+ * no memory is left even for that, aborts the job: the last resort). */
+void sea_cli_mpi_drop(size_t bytes, int source, int tag);
 
 /* --------------------------------------------------- progress (progress.c) */
 

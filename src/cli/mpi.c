@@ -20,6 +20,7 @@
 
 #include <assert.h>
 #include <limits.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -186,6 +187,11 @@ void sea_cli_mpi_sum(size_t *v)
 #endif
 }
 
+size_t sea_cli_mpi_share(size_t n, int k, int size)
+{
+    return (size_t)k < n ? (n - (size_t)k + (size_t)size - 1) / (size_t)size : 0;
+}
+
 void sea_cli_mpi_bcast(void *buf, size_t bytes, int root)
 {
 #ifdef HAVE_MPI
@@ -217,6 +223,32 @@ void sea_cli_mpi_send(const void *buf, size_t bytes, int dest, int tag)
     (void)dest;
     (void)tag;
     assert(!"sea_cli_mpi_send with one rank"); /* no one to send to */
+#endif
+}
+
+void sea_cli_mpi_drop(size_t bytes, int source, int tag)
+{
+#ifdef HAVE_MPI
+    const size_t n = bytes < MPI_CHUNK_BYTES ? bytes : MPI_CHUNK_BYTES;
+    void *scratch = malloc(n + 1);
+    if (scratch == NULL) {
+        /* the last resort: unmatched messages would hang the job */
+        fprintf(stderr, "seabake: error: out of memory for a message of rank %d\n", source);
+        MPI_Abort(MPI_COMM_WORLD, SEA_CLI_EXIT_RUNTIME);
+        return;
+    }
+    size_t done = 0;
+    do {
+        const size_t k = bytes - done < n ? bytes - done : n;
+        MPI_Recv(scratch, (int)k, MPI_BYTE, source, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        done += k;
+    } while (done < bytes);
+    free(scratch);
+#else
+    (void)bytes;
+    (void)source;
+    (void)tag;
+    assert(!"sea_cli_mpi_drop with one rank"); /* no one to receive from */
 #endif
 }
 

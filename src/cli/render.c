@@ -809,14 +809,8 @@ static void image_planes(const sea_image *img, float *planes[RENDER_PLANES])
     planes[4] = img->reflectivity;
 }
 
-/* Rows of one frame rank k renders: k, k + size, ... below height. */
-static size_t rank_rows(int k, int size, int height)
-{
-    return k < height ? (size_t)((height - k + size - 1) / size) : 0;
-}
-
-/* Rows k, k + N, ... of rank k > 0 to rank 0, through pack (rank_rows(1)
- * rows of every plane). */
+/* Rows k, k + N, ... of rank k > 0 to rank 0, through pack (rank 1's
+ * share of rows, the largest, of every plane). */
 static void gather_rows(sea_image *img, float *pack, int rank, int size)
 {
     const size_t W = (size_t)img->width;
@@ -825,7 +819,7 @@ static void gather_rows(sea_image *img, float *pack, int rank, int size)
     for (int k = 1; k < size; k++) {
         if (rank != 0 && rank != k)
             continue;
-        const size_t n = rank_rows(k, size, img->height);
+        const size_t n = sea_cli_mpi_share((size_t)img->height, k, size);
         if (n == 0)
             continue;
         for (size_t i = 0; rank == k && i < n; i++)
@@ -855,9 +849,9 @@ static sea_status render_rows_mpi(const render_setup *s, const sea_render *r, do
     sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
     float *pack = NULL;
     if (st == SEA_OK &&
-        (st = sea_check_size(rank_rows(1, size, s->sc.height) * RENDER_PLANES, W * sizeof *pack,
+        (st = sea_check_size(sea_cli_mpi_share((size_t)s->sc.height, 1, size) * RENDER_PLANES, W * sizeof *pack,
                              "the rows sent to rank 0", err)) == SEA_OK &&
-        (pack = malloc((rank_rows(1, size, s->sc.height) * RENDER_PLANES * W + 1) *
+        (pack = malloc((sea_cli_mpi_share((size_t)s->sc.height, 1, size) * RENDER_PLANES * W + 1) *
                        sizeof *pack)) == NULL)
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
     char levels[SEA_CLIP_MAX_LEVELS * 24];
