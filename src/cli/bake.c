@@ -1226,11 +1226,13 @@ static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *er
  * levels as they arrive, through the same level_ready), so the directory
  * is that of one process byte for byte; frame A, which sets the emission
  * scale and the previews' tone curves, is always rank 0's.  Another rank
- * sends each level of its frame as it is computed (bake_msg, then the
- * level's moments, optics and view texels as bytes: the ranks run the same
- * program on the same kind of machine), then an END message with its
- * status and the frame's headers, and waits for rank 0's answer before its
- * next frame: so at most one frame a rank is in flight, and a failure
+ * queues each level of its frame as it is computed (bake_msg, then a copy
+ * of the level's moments, optics and view texels as bytes: the ranks run
+ * the same program on the same kind of machine), so that it computes its
+ * whole frame while rank 0 is on earlier ones, then sends an END message
+ * with its status and the frame's headers, and waits until rank 0 has
+ * taken the frame and answered: so at most one frame a rank is in flight
+ * (its maps held in the queue), and a failure
  * anywhere (a rank's computation, rank 0's writing, a signal) is answered
  * with STOP to every rank still sending, whose frame in flight rank 0
  * receives and drops.  Rank 0 then removes the temporary directory, and
@@ -1251,10 +1253,29 @@ static int bake_owner(const bake_setup *s, long f)
     return (int)((f - (s->framed ? s->frame_a : 0)) % sea_cli_mpi_size());
 }
 
-/* sea_bake_level_fn of a rank other than 0: level l to rank 0. */
+/* A copy of n bytes of p, queued to rank 0. */
+static sea_status queue_copy(sea_cli_mpi_queue *q, const void *p, size_t n, int tag,
+                             sea_error *err)
+{
+    void *copy = malloc(n + 1);
+    if (copy == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the maps sent to rank 0");
+    memcpy(copy, p, n);
+    return sea_cli_mpi_queue_send(q, copy, n, 0, tag, err);
+}
+
+/* sea_bake_level_fn of a rank other than 0: level l queued to rank 0 (a
+ * copy: the library frees its maps), so that the rank computes its whole
+ * frame while rank 0 is still on earlier ones. */
+typedef struct {
+    sea_cli_mpi_queue q;
+    bool broken; /* a level queued in part (no memory for a copy) */
+} bake_outbox;
+
 static sea_status level_send(void *ctx, const sea_bake *b, size_t l, sea_error *err)
 {
-    (void)ctx;
+    bake_outbox *out = ctx;
+    sea_cli_mpi_queue *q = &out->q;
     if (sea_cli_interrupted() != 0)
         return bake_interrupted(err);
     bake_msg m;
@@ -1262,27 +1283,36 @@ static sea_status level_send(void *ctx, const sea_bake *b, size_t l, sea_error *
     m.kind = BAKE_MSG_LEVEL;
     m.level = l;
     m.b = *b;
-    sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
     const sea_bake_level *bl = &b->levels[l];
     const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
-    sea_cli_mpi_send(bl->moments, n * sizeof *bl->moments, 0, BAKE_TAG_DATA);
-    sea_cli_mpi_send(bl->optics, n * sizeof *bl->optics, 0, BAKE_TAG_DATA);
-    sea_cli_mpi_send(bl->view, nv * sizeof *bl->view, 0, BAKE_TAG_DATA);
-    return SEA_OK;
+    sea_status st = queue_copy(q, &m, sizeof m, BAKE_TAG_MSG, err);
+    if (st == SEA_OK)
+        st = queue_copy(q, bl->moments, n * sizeof *bl->moments, BAKE_TAG_DATA, err);
+    if (st == SEA_OK)
+        st = queue_copy(q, bl->optics, n * sizeof *bl->optics, BAKE_TAG_DATA, err);
+    if (st == SEA_OK)
+        st = queue_copy(q, bl->view, nv * sizeof *bl->view, BAKE_TAG_DATA, err);
+    out->broken = st != SEA_OK;
+    return st;
 }
 
-/* A rank other than 0: its frames, each level to rank 0 (see above). */
+/* A rank other than 0: its frames, each level to rank 0 (see above).  A
+ * level whose copy failed for memory was not queued whole: the END that
+ * follows cannot be told apart, so that failure aborts the job. */
 static sea_status bake_send_frames(const bake_setup *s, const sea_render *r, sea_error *err)
 {
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
     sea_status st = SEA_OK;
+    bake_outbox out = {{NULL, NULL, 0, 0}, false};
+    sea_cli_mpi_queue *q = &out.q;
+    sea_cli_mpi_queue_init(q);
     for (long f = first + rank; f <= last; f += size) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
         bake_progress prog = {{"bake", 0, 1, -1}, false};
         sea_bake b;
         st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
-                                 level_send, NULL, err);
+                                 level_send, &out, err);
         bake_msg m;
         memset(&m, 0, sizeof m);
         m.kind = BAKE_MSG_END;
@@ -1290,6 +1320,8 @@ static sea_status bake_send_frames(const bake_setup *s, const sea_render *r, sea
             m.b = b;
             sea_bake_free(&b);
         }
+        if (out.broken)
+            sea_cli_mpi_abort(err);
         /* as bake_all: a signal's message, whatever stopped the bake */
         if (sea_cli_interrupted() != 0)
             st = bake_interrupted(err);
@@ -1297,11 +1329,14 @@ static sea_status bake_send_frames(const bake_setup *s, const sea_render *r, sea
         if (st != SEA_OK && err != NULL)
             m.err = *err;
         sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
+        /* rank 0 has taken the frame: then its answer */
+        sea_cli_mpi_queue_wait(q);
         int ack = BAKE_ACK_STOP;
         sea_cli_mpi_recv(&ack, sizeof ack, 0, BAKE_TAG_ACK);
         if (st != SEA_OK || ack != BAKE_ACK_GO)
             break;
     }
+    sea_cli_mpi_queue_free(q);
     return st;
 }
 

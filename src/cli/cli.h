@@ -364,6 +364,27 @@ size_t sea_cli_mpi_share(size_t n, int k, int size);
 /* Blocking point-to-point bytes (any size: sent in pieces). */
 void sea_cli_mpi_send(const void *buf, size_t bytes, int dest, int tag);
 void sea_cli_mpi_recv(void *buf, size_t bytes, int source, int tag);
+/* Sends that do not wait for the receiver: each buffer (malloc'ed) belongs
+ * to the queue from sea_cli_mpi_queue_send, which frees it once it is sent
+ * (at the latest in sea_cli_mpi_queue_wait).  A sender that must not stall
+ * on a busy receiver queues a frame's data, computes on, and waits later.
+ * sea_cli_mpi_queue_send fails only for memory (SEA_ERR_NOMEM, buf freed). */
+typedef struct {
+    void **bufs;    /* one per request; NULL past a buffer's first piece */
+    void *requests; /* MPI_Request[cap] */
+    size_t n, cap;
+} sea_cli_mpi_queue;
+void sea_cli_mpi_queue_init(sea_cli_mpi_queue *q);
+sea_status sea_cli_mpi_queue_send(sea_cli_mpi_queue *q, void *buf, size_t bytes, int dest,
+                                  int tag, sea_error *err);
+/* Waits for every queued send, frees the buffers; the queue stays usable. */
+void sea_cli_mpi_queue_wait(sea_cli_mpi_queue *q);
+/* Waits, then releases the queue's arrays. */
+void sea_cli_mpi_queue_free(sea_cli_mpi_queue *q);
+/* The last resort, where the ranks' messages can no longer be matched:
+ * prints "seabake: error: MSG (rank k of N: the job is aborted)" and ends
+ * every rank (MPI_Abort, exit status 1). */
+void sea_cli_mpi_abort(const sea_error *err);
 /* Receives and discards a message of bytes sent by sea_cli_mpi_send (when
  * no memory is left even for that, aborts the job: the last resort). */
 void sea_cli_mpi_drop(size_t bytes, int source, int tag);

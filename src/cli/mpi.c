@@ -226,6 +226,81 @@ void sea_cli_mpi_send(const void *buf, size_t bytes, int dest, int tag)
 #endif
 }
 
+void sea_cli_mpi_queue_init(sea_cli_mpi_queue *q)
+{
+    memset(q, 0, sizeof *q);
+}
+
+sea_status sea_cli_mpi_queue_send(sea_cli_mpi_queue *q, void *buf, size_t bytes, int dest,
+                                  int tag, sea_error *err)
+{
+#ifdef HAVE_MPI
+    const size_t pieces = bytes / MPI_CHUNK_BYTES + 1;
+    if (q->n + pieces > q->cap) {
+        const size_t cap = 2 * (q->n + pieces);
+        void **bufs = realloc(q->bufs, cap * sizeof *bufs);
+        if (bufs != NULL)
+            q->bufs = bufs;
+        MPI_Request *req = bufs ? realloc(q->requests, cap * sizeof *req) : NULL;
+        if (req == NULL) {
+            free(buf);
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the sends to rank %d", dest);
+        }
+        q->requests = req;
+        q->cap = cap;
+    }
+    MPI_Request *req = q->requests;
+    const unsigned char *p = buf;
+    size_t done = 0;
+    do {
+        const size_t n = bytes - done < MPI_CHUNK_BYTES ? bytes - done : MPI_CHUNK_BYTES;
+        q->bufs[q->n] = done == 0 ? buf : NULL;
+        MPI_Isend(p + done, (int)n, MPI_BYTE, dest, tag, MPI_COMM_WORLD, &req[q->n]);
+        q->n++;
+        done += n;
+    } while (done < bytes);
+    return SEA_OK;
+#else
+    (void)q;
+    (void)bytes;
+    (void)dest;
+    (void)tag;
+    (void)err;
+    free(buf);
+    assert(!"sea_cli_mpi_queue_send with one rank"); /* no one to send to */
+    return SEA_OK;
+#endif
+}
+
+void sea_cli_mpi_queue_wait(sea_cli_mpi_queue *q)
+{
+#ifdef HAVE_MPI
+    if (q->n > 0)
+        MPI_Waitall((int)q->n, q->requests, MPI_STATUSES_IGNORE);
+#endif
+    for (size_t i = 0; i < q->n; i++)
+        free(q->bufs[i]);
+    q->n = 0;
+}
+
+void sea_cli_mpi_queue_free(sea_cli_mpi_queue *q)
+{
+    sea_cli_mpi_queue_wait(q);
+    free(q->bufs);
+    free(q->requests);
+    memset(q, 0, sizeof *q);
+}
+
+void sea_cli_mpi_abort(const sea_error *err)
+{
+    fprintf(stderr, "seabake: error: %s (rank %d of %d: the job is aborted)\n",
+            err != NULL && err->msg[0] ? err->msg : "internal error", mpi_rank, mpi_size);
+#ifdef HAVE_MPI
+    MPI_Abort(MPI_COMM_WORLD, SEA_CLI_EXIT_RUNTIME);
+#endif
+    exit(SEA_CLI_EXIT_RUNTIME);
+}
+
 void sea_cli_mpi_drop(size_t bytes, int source, int tag)
 {
 #ifdef HAVE_MPI
@@ -233,9 +308,9 @@ void sea_cli_mpi_drop(size_t bytes, int source, int tag)
     void *scratch = malloc(n + 1);
     if (scratch == NULL) {
         /* the last resort: unmatched messages would hang the job */
-        fprintf(stderr, "seabake: error: out of memory for a message of rank %d\n", source);
-        MPI_Abort(MPI_COMM_WORLD, SEA_CLI_EXIT_RUNTIME);
-        return;
+        sea_error e;
+        snprintf(e.msg, sizeof e.msg, "out of memory for a message of rank %d", source);
+        sea_cli_mpi_abort(&e);
     }
     size_t done = 0;
     do {
