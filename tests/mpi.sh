@@ -90,6 +90,13 @@ if printf '%s\n' "$SB_ERR" | grep -q 'built without MPI'; then
     finish
 fi
 check_error spectrum.refused 2 "spectrum does not share its work among MPI ranks: run it as one process"
+# the help and the version once
+sb_mpirun 3 --version
+check_rc version.rc 0
+check_eq version.once "$SB_OUT" "$("$SEABAKE" --version)"
+sb_mpirun 3 render --help
+check_rc render.help.rc 0
+check_eq render.help.once "$SB_OUT" "$("$SEABAKE" render --help)"
 
 # ------------------------------------------------------------------ render
 # Frames 0 to 5 with AOVs and their previews: 3 ranks take frames
@@ -170,6 +177,14 @@ want=""
 for ((i = 0; i <= ${kept:--1}; i++)); do want="$want$(printf 't_%04d.exr ' "$i")"; done
 check_eq render.term.frames_kept "$(ls -A "$SB_TMP/t_np3" | tr '\n' ' ')" "$want"
 no_temporaries render.term.no_temporaries "$SB_TMP/t_np3"
+
+# One frame that rank 0 cannot write (its name is a directory): the other
+# ranks' rows were rendered for nothing; one message, nothing written.
+mkdir -p "$SB_TMP/y_np3/t.exr"
+sb_mpirun 3 render "$EX/tiny.ini" -o "$SB_TMP/y_np3/t.exr" --quiet
+check_error frame.fail.np3 3 "cannot write .*/y_np3/t.exr: Is a directory"
+check_eq frame.fail.nothing "$(ls -A "$SB_TMP/y_np3")" t.exr
+no_temporaries frame.fail.no_temporaries "$SB_TMP/y_np3"
 
 # -------------------------------------------------------------------- bake
 # One frame (shared by texel rows: rank k bakes rows k, k + 3, ... of every

@@ -99,6 +99,9 @@ static int help(int argc, char **argv)
         sea_fail(&err, SEA_ERR_PARSE, "help takes at most one subcommand, got '%s'", argv[1]);
         return report(SEA_ERR_PARSE, &err, NULL);
     }
+    /* under MPI the help and the version are rank 0's, as the errors */
+    if (sea_cli_mpi_rank() != 0)
+        return SEA_CLI_EXIT_OK;
     if (argc == 0) {
         sea_cli_print_usage(stdout);
         return SEA_CLI_EXIT_OK;
@@ -123,7 +126,8 @@ static int run(int argc, char **argv)
             sea_fail(&err, SEA_ERR_PARSE, "--version takes no argument, got '%s'", argv[2]);
             return report(SEA_ERR_PARSE, &err, NULL);
         }
-        printf("seabake %s\n", PACKAGE_VERSION);
+        if (sea_cli_mpi_rank() == 0)
+            printf("seabake %s\n", PACKAGE_VERSION);
         return SEA_CLI_EXIT_OK;
     }
     const sea_cli_command *cmd = sea_cli_command_find(name);
@@ -140,7 +144,8 @@ static int run(int argc, char **argv)
     if (st != SEA_OK)
         return report(st, &err, cmd->name);
     if (args.help) {
-        fputs(cmd->help, stdout);
+        if (sea_cli_mpi_rank() == 0)
+            fputs(cmd->help, stdout);
         return SEA_CLI_EXIT_OK;
     }
     /* Under MPI only render and bake share their work; any other
