@@ -185,7 +185,7 @@ static int synth_report(void *ctx, double fraction)
  * no sea, the facet's own optics). */
 static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
                                sea_bake_level *bl, int view, const unsigned char *mask,
-                               bake_progress *bp, sea_error *err)
+                               size_t row0, size_t step, bake_progress *bp, sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, k = view ? bl->view_k : 1;
@@ -200,7 +200,8 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
     sea_error first = { { 0 } };
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t R = 0; R < rows; R++) {
-        if (failed)
+        /* texel rows row0, row0 + step, ... only (with their view rows) */
+        if (failed || (R / k) % step != row0)
             continue;
         if (bp->fn != NULL) {
             int stop = 0;
@@ -279,12 +280,30 @@ sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_ba
                                sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
                                void *each_ctx, sea_error *err)
 {
+    return sea_bake_frame_rows(r, t, view_k, 0, 1, out, progress, ctx, each, each_ctx, err);
+}
+
+/* Texel rows of an ny-row level that row0, row0 + step, ... are. */
+static size_t share_rows(size_t ny, size_t row0, size_t step)
+{
+    return row0 < ny ? (ny - row0 + step - 1) / step : 0;
+}
+
+sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int row0, int step,
+                               sea_bake *out, sea_progress_fn progress, void *ctx,
+                               sea_bake_level_fn each, void *each_ctx, sea_error *err)
+{
     memset(out, 0, sizeof *out);
     if (!isfinite(t))
         return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
     if (view_k < 1 || view_k > SEA_BAKE_VIEW_K_MAX)
         return sea_fail(err, SEA_ERR_DOMAIN, "view texels per facet %d (allowed: 1 to %d)", view_k,
                         SEA_BAKE_VIEW_K_MAX);
+    if (row0 < 0 || step < 1 || row0 >= step)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "texel rows from %d every %d (allowed: step >= 1, 0 <= first row < step)",
+                        row0, step);
+    const size_t r0 = (size_t)row0, rs = (size_t)step;
     out->time = t;
     const sea_clip_level *lv;
     const size_t n = sea_render_levels(r, &lv);
@@ -312,7 +331,8 @@ sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_ba
     for (size_t l = 0; l < n; l++)
         if (!lv[l].low_res) {
             synth += (double)(lv[l].nx * lv[l].ny);
-            bp.work += (double)(lv[l].nx * lv[l].ny) * (2.0 + (double)(view_k * view_k));
+            bp.work += (double)(lv[l].nx * share_rows(lv[l].ny, r0, rs)) *
+                       (2.0 + (double)(view_k * view_k));
         }
 #define PROGRESS(w)                                                                               \
     do {                                                                                          \
@@ -355,12 +375,13 @@ sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_ba
                           lv[l].level);
             break;
         }
+        const double texels = (double)(lv[l].nx * share_rows(lv[l].ny, r0, rs));
         if (st == SEA_OK)
-            st = level_optics(r, f, bl, 0, NULL, &bp, err);
-        PROGRESS((double)(lv[l].nx * lv[l].ny));
+            st = level_optics(r, f, bl, 0, NULL, r0, rs, &bp, err);
+        PROGRESS(texels);
         if (st == SEA_OK)
-            st = level_optics(r, f, bl, 1, mask, &bp, err);
-        PROGRESS((double)(lv[l].nx * lv[l].ny * bl->view_k * bl->view_k));
+            st = level_optics(r, f, bl, 1, mask, r0, rs, &bp, err);
+        PROGRESS(texels * (double)(bl->view_k * bl->view_k));
         free(mask);
         if (st == SEA_OK && each != NULL) {
             st = each(each_ctx, out, l, err);

@@ -491,12 +491,26 @@ fail:
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err)
 {
+    return sea_render_rows(r, t, 0, 1, img, progress, ctx, err);
+}
+
+sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, sea_image *img,
+                           sea_progress_fn progress, void *ctx, sea_error *err)
+{
     const sea_scene *sc = &r->sc;
     if (img->width != sc->width || img->height != sc->height)
         return sea_fail(err, SEA_ERR_DOMAIN, "image %d x %d does not match the scene's %d x %d",
                         img->width, img->height, sc->width, sc->height);
     if (!isfinite(t))
         return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if (row0 < 0 || step < 1)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "rows from %d every %d (allowed: first row >= 0, step >= 1)", row0, step);
+    /* rows row0, row0 + step, ... below H: none when row0 >= H */
+    const size_t H = (size_t)sc->height;
+    const size_t nrows = (size_t)row0 < H ? (H - (size_t)row0 + (size_t)step - 1) / (size_t)step : 0;
+    if (nrows == 0)
+        return SEA_OK;
     sea_multires_frame *f = NULL;
     sea_status st = sea_multires_frame_alloc(r->mr, t, NULL, NULL, &f, err);
     if (st != SEA_OK)
@@ -508,7 +522,7 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
         facet[lv[l].level] = lv[l].facet;
     const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                                 sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
-    const size_t W = (size_t)sc->width, H = (size_t)sc->height;
+    const size_t W = (size_t)sc->width;
     double sky_L = 0.0;
     for (size_t i = 0; i < r->nsamp; i++)
         sky_L += r->wt[i] * r->lsky[i];
@@ -524,7 +538,8 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
     int failed = 0, cancelled = 0;
     sea_error first = { { 0 } };
 #pragma omp parallel for schedule(dynamic, 1)
-    for (size_t j = 0; j < H; j++) {
+    for (size_t jr = 0; jr < nrows; jr++) {
+        const size_t j = (size_t)row0 + jr * (size_t)step;
         if (failed)
             continue;
         for (size_t i = 0; i < W; i++) {
@@ -599,7 +614,7 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                 /* any thread, one at a time: a thread that does no row
                  * must not keep a stop from being seen */
                 rows_done++;
-                stop = progress(ctx, (double)rows_done / (double)H) != 0;
+                stop = progress(ctx, (double)rows_done / (double)nrows) != 0;
             }
             if (stop) {
 #pragma omp critical(sea_render_error)

@@ -1024,6 +1024,14 @@ void sea_image_free(sea_image *img);
  * sea_progress_fn says. */
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err);
+/* sea_render_frame for the rows row0, row0 + step, ... below the image's
+ * height only (row0 >= 0, step >= 1, else SEA_ERR_DOMAIN; none when row0 >=
+ * height): those rows of img get exactly the values sea_render_frame gives
+ * them, the other rows are left as they are, and progress counts those
+ * rows.  For sharing one frame among processes (seabake render under MPI
+ * interleaves the rows of its ranks). */
+sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, sea_image *img,
+                           sea_progress_fn progress, void *ctx, sea_error *err);
 
 /* What the scene's [model] tolerance T (relative radiance) chose in
  * sea_render_prepare besides the low-resolution levels, the spectral
@@ -1149,6 +1157,19 @@ typedef sea_status (*sea_bake_level_fn)(void *ctx, const sea_bake *b, size_t l, 
 sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_bake *out,
                                sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
                                void *each_ctx, sea_error *err);
+
+/* sea_bake_frame_each for a share of the texels, so that one frame can be
+ * baked by several processes: of every high-resolution level only the
+ * texel rows row0, row0 + step, ... (rows north first, as stored; 0 <=
+ * row0 < step, else SEA_ERR_DOMAIN) get their optics and their view_k rows
+ * of view texels, exactly the values sea_bake_frame_each gives them; the
+ * other rows' optics and view texels are not computed (their values are
+ * unspecified).  The moments and headers are all there.  Each process
+ * still synthesises every level's waves.  row0 0, step 1 is
+ * sea_bake_frame_each. */
+sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int row0, int step,
+                               sea_bake *out, sea_progress_fn progress, void *ctx,
+                               sea_bake_level_fn each, void *each_ctx, sea_error *err);
 
 /* The low-resolution sea out to the horizon, as the sensor sees it, for
  * exports (one constant cannot hold it: toward the horizon the emissivity

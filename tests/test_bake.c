@@ -614,6 +614,64 @@ static void test_horizon(void)
         }
 }
 
+/* sea_bake_frame_rows: rows row0, row0 + 3, ... of every level's optics and
+ * view texels are sea_bake_frame's bit for bit, the moments all of them;
+ * the three shares together cover every row; a first row outside
+ * [0, step) or a step below 1 is SEA_ERR_DOMAIN. */
+typedef struct {
+    const sea_bake *all;
+    size_t row0, step, calls, diff, rows;
+} rows_ctx;
+
+static sea_status rows_level(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    (void)err;
+    rows_ctx *c = ctx;
+    const sea_bake_level *bl = &b->levels[l], *ref = &c->all->levels[l];
+    const size_t nx = bl->level.nx, ny = bl->level.ny, k = bl->view_k;
+    c->calls++;
+    if (memcmp(bl->moments, ref->moments, nx * ny * sizeof *bl->moments) != 0)
+        c->diff++;
+    for (size_t row = c->row0; row < ny; row += c->step) {
+        c->rows++;
+        if (memcmp(bl->optics + row * nx, ref->optics + row * nx, nx * sizeof *bl->optics) != 0 ||
+            memcmp(bl->view + row * k * k * nx, ref->view + row * k * k * nx,
+                   k * k * nx * sizeof *bl->view) != 0)
+            c->diff++;
+    }
+    return SEA_OK;
+}
+
+static void test_bake_rows(void)
+{
+    const sea_scene sc = bake_scene();
+    sea_render *r = prepare(&sc);
+    sea_bake all, b;
+    sea_error err;
+    CU_ASSERT_EQUAL_FATAL(sea_bake_frame(r, 0.4, 3, &all, NULL, NULL, &err), SEA_OK);
+    size_t rows = 0, want = 0;
+    for (size_t l = 0; l < all.n_levels; l++)
+        if (!all.levels[l].level.low_res)
+            want += all.levels[l].level.ny;
+    for (int row0 = 0; row0 < 3; row0++) {
+        rows_ctx c = {&all, (size_t)row0, 3, 0, 0, 0};
+        CU_ASSERT_EQUAL_FATAL(
+            sea_bake_frame_rows(r, 0.4, 3, row0, 3, &b, NULL, NULL, rows_level, &c, &err), SEA_OK);
+        CU_ASSERT_EQUAL(c.calls, count_hr(&all));
+        CU_ASSERT_EQUAL(c.diff, 0);
+        rows += c.rows;
+        sea_bake_free(&b);
+    }
+    CU_ASSERT_EQUAL(rows, want);
+    CU_ASSERT_EQUAL(sea_bake_frame_rows(r, 0.4, 3, 3, 3, &b, NULL, NULL, rows_level, NULL, &err),
+                    SEA_ERR_DOMAIN);
+    CU_ASSERT(strstr(err.msg, "0 <= first row < step") != NULL);
+    CU_ASSERT_EQUAL(sea_bake_frame_rows(r, 0.4, 3, 0, 0, &b, NULL, NULL, rows_level, NULL, &err),
+                    SEA_ERR_DOMAIN);
+    sea_bake_free(&all);
+    sea_render_free(r);
+}
+
 /* The view mask's test: sea_camera_hits is sea_camera_pixel's hit, on
  * both earths, over an image that holds the horizon (and beyond it). */
 static void test_camera_hits(void)
@@ -652,6 +710,7 @@ int test_bake_register(void)
            !CU_add_test(s, "view maps reproduce seabake render", test_view_matches_render) ||
            !CU_add_test(s, "cancelled by the progress function", test_cancel) ||
            !CU_add_test(s, "one level at a time", test_each_level) ||
+           !CU_add_test(s, "rows: shares bit for bit", test_bake_rows) ||
            !CU_add_test(s, "horizon grid: extent and interpolation", test_horizon) ||
            !CU_add_test(s, "the view mask's hit test", test_camera_hits) ||
            !CU_add_test(s, "errors, spherical earth", test_errors_and_earth);

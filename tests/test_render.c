@@ -669,6 +669,59 @@ static void test_render_cancel(void)
     sea_render_free(r);
 }
 
+/* sea_render_rows: three interleaved row sets (row0 0, 1, 2, step 3) give
+ * those rows of sea_render_frame bit for bit and leave every other row as
+ * it was (here the 0 of sea_image_alloc); a view 80 degrees from nadir so
+ * that the top rows are sky.  A first row past the bottom renders nothing;
+ * a negative first row or a step below 1 is SEA_ERR_DOMAIN. */
+static void test_render_rows(void)
+{
+    sea_scene sc = base_scene(UNIT_QUICK ? 12 : 24);
+    sc.look_zenith = 80.0 * DEG;
+    sea_render *r = NULL;
+    sea_error err;
+    sea_image full, part;
+    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&full, sc.width, sc.height, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 1.25, &full, NULL, NULL, &err), SEA_OK);
+    CU_ASSERT(full.level[0] == 0.0f);                                      /* sky */
+    CU_ASSERT(full.level[(size_t)sc.width * (size_t)sc.height - 1] > 0.0f); /* sea */
+    const size_t W = (size_t)sc.width;
+    for (int row0 = 0; row0 < 3; row0++) {
+        CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&part, sc.width, sc.height, &err), SEA_OK);
+        CU_ASSERT_EQUAL_FATAL(sea_render_rows(r, 1.25, row0, 3, &part, NULL, NULL, &err), SEA_OK);
+        int same = 1, untouched = 1;
+        for (int y = 0; y < sc.height; y++) {
+            const size_t o = (size_t)y * W;
+            const float *pl[5][2] = {{full.radiance, part.radiance},
+                                     {full.temperature, part.temperature},
+                                     {full.level, part.level},
+                                     {full.emissivity, part.emissivity},
+                                     {full.reflectivity, part.reflectivity}};
+            for (int k = 0; k < 5; k++) {
+                if (y % 3 == row0)
+                    same &= memcmp(pl[k][0] + o, pl[k][1] + o, W * sizeof(float)) == 0;
+                else
+                    for (size_t x = 0; x < W; x++)
+                        untouched &= pl[k][1][o + x] == 0.0f;
+            }
+        }
+        CU_ASSERT(same);
+        CU_ASSERT(untouched);
+        sea_image_free(&part);
+    }
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&part, sc.width, sc.height, &err), SEA_OK);
+    CU_ASSERT_EQUAL(sea_render_rows(r, 1.25, sc.height, 2, &part, NULL, NULL, &err), SEA_OK);
+    CU_ASSERT(part.radiance[0] == 0.0f);
+    CU_ASSERT_EQUAL(sea_render_rows(r, 1.25, -1, 2, &part, NULL, NULL, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT(strstr(err.msg, "first row >= 0") != NULL);
+    CU_ASSERT_EQUAL(sea_render_rows(r, 1.25, 0, 0, &part, NULL, NULL, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT(strstr(err.msg, "step >= 1") != NULL);
+    sea_image_free(&part);
+    sea_image_free(&full);
+    sea_render_free(r);
+}
+
 /* seabake.h's rule for a filled struct: a failed sea_image_alloc leaves
  * nothing to free, and sea_image_free takes NULL or a freed image. */
 static void test_image_ownership(void)
@@ -894,6 +947,7 @@ int test_render_register(void)
            !CU_add_test(s, "low-resolution levels", test_low_resolution_levels) ||
            !CU_add_test(s, "clipmap windows", test_clipmap_windows) ||
            !CU_add_test(s, "cancelled by the progress function", test_render_cancel) ||
+           !CU_add_test(s, "rows: interleaved sets, bit for bit", test_render_rows) ||
            !CU_add_test(s, "image: allocation and free", test_image_ownership) ||
            !CU_add_test(s, "Fig. 7-9 level sets", test_figure_levels) ||
            !CU_add_test(s, "tolerance: cheaper choices, bounded error", test_tolerance_choices) ||

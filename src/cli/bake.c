@@ -17,6 +17,7 @@
  * to DIR, and the old one removed.  On any failure before that the
  * temporary directory is removed and DIR is exactly as it was. */
 #define _XOPEN_SOURCE 700
+#include <assert.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -167,7 +168,11 @@ static const char BAKE_HELP[] =
     "                      overrides a key of the scene file (as in seabake\n"
     "                      render); repeatable\n"
     "  --explain           what is modelled and why (as seabake render --explain)\n"
-    "  --quiet             no progress bar and no summary line\n";
+    "  --quiet             no progress bar and no summary line\n"
+    "\n"
+    "Under mpirun or srun (a build with MPI) the frames, or the texel rows of\n"
+    "one frame, are shared among the ranks, rank 0 writing every file: DIR is\n"
+    "that of one process; seabake(1), PARALLEL RUNS WITH MPI.\n";
 
 /* ------------------------------------------------------------- the setup */
 
@@ -1296,6 +1301,352 @@ static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *er
     return st;
 }
 
+/* ------------------------------------------------------------------ MPI
+ *
+ * Under mpirun or srun with N > 1 ranks (mpi.c; seabake(1), PARALLEL RUNS
+ * WITH MPI) the frames of --frames A:B are shared round-robin: frame f is
+ * computed by rank (f - A) mod N.  Rank 0 is the one writer: it owns the
+ * temporary directory and writes every file, in frame order, exactly as one
+ * process does (its own frames through sea_bake_frame_each, the others'
+ * levels as they arrive, through the same level_ready), so the directory
+ * is that of one process byte for byte; frame A, which sets the emission
+ * scale and the previews' tone curves, is always rank 0's.  Another rank
+ * queues each level of its frame as it is computed (bake_msg, then a copy
+ * of the level's moments, optics and view texels as bytes: the ranks run
+ * the same program on the same kind of machine), so that it computes its
+ * whole frame while rank 0 is on earlier ones, then sends an END message
+ * with its status and the frame's headers, and waits until rank 0 has
+ * taken the frame and answered: so at most one frame a rank is in flight
+ * (its maps held in the queue), and a failure
+ * anywhere (a rank's computation, rank 0's writing, a signal) is answered
+ * with STOP to every rank still sending, whose frame in flight rank 0
+ * receives and drops.  Rank 0 then removes the temporary directory, and
+ * every rank leaves with rank 0's error.  One frame (no --frames) is
+ * shared by texel rows instead: see bake_rows_frame. */
+enum { BAKE_MSG_LEVEL, BAKE_MSG_END };
+enum { BAKE_TAG_MSG = 1, BAKE_TAG_DATA, BAKE_TAG_ACK };
+enum { BAKE_ACK_GO = 0, BAKE_ACK_STOP = 1 };
+typedef struct {
+    int kind, status;
+    size_t level, bytes; /* bytes: of a rows message's data */
+    sea_error err;
+    sea_bake b; /* the headers; pointers not meaningful */
+} bake_msg;
+
+static int bake_owner(const bake_setup *s, long f)
+{
+    return (int)((f - (s->framed ? s->frame_a : 0)) % sea_cli_mpi_size());
+}
+
+/* A copy of n bytes of p, queued to rank 0. */
+static sea_status queue_copy(sea_cli_mpi_queue *q, const void *p, size_t n, int tag,
+                             sea_error *err)
+{
+    void *copy = malloc(n + 1);
+    if (copy == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the maps sent to rank 0");
+    memcpy(copy, p, n);
+    return sea_cli_mpi_queue_send(q, copy, n, 0, tag, err);
+}
+
+/* sea_bake_level_fn of a rank other than 0: level l queued to rank 0 (a
+ * copy: the library frees its maps), so that the rank computes its whole
+ * frame while rank 0 is still on earlier ones. */
+typedef struct {
+    sea_cli_mpi_queue q;
+    bool broken; /* a level queued in part (no memory for a copy) */
+} bake_outbox;
+
+static sea_status level_send(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    bake_outbox *out = ctx;
+    sea_cli_mpi_queue *q = &out->q;
+    if (sea_cli_interrupted() != 0)
+        return bake_interrupted(err);
+    bake_msg m;
+    memset(&m, 0, sizeof m);
+    m.kind = BAKE_MSG_LEVEL;
+    m.level = l;
+    m.b = *b;
+    const sea_bake_level *bl = &b->levels[l];
+    const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+    sea_status st = queue_copy(q, &m, sizeof m, BAKE_TAG_MSG, err);
+    if (st == SEA_OK)
+        st = queue_copy(q, bl->moments, n * sizeof *bl->moments, BAKE_TAG_DATA, err);
+    if (st == SEA_OK)
+        st = queue_copy(q, bl->optics, n * sizeof *bl->optics, BAKE_TAG_DATA, err);
+    if (st == SEA_OK)
+        st = queue_copy(q, bl->view, nv * sizeof *bl->view, BAKE_TAG_DATA, err);
+    out->broken = st != SEA_OK;
+    return st;
+}
+
+/* A rank other than 0: its frames, each level to rank 0 (see above).  A
+ * level whose copy failed for memory was not queued whole: the END that
+ * follows cannot be told apart, so that failure aborts the job. */
+static sea_status bake_send_frames(const bake_setup *s, const sea_render *r, sea_error *err)
+{
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
+    sea_status st = SEA_OK;
+    bake_outbox out = {{NULL, NULL, 0, 0}, false};
+    sea_cli_mpi_queue *q = &out.q;
+    sea_cli_mpi_queue_init(q);
+    for (long f = first + rank; f <= last; f += size) {
+        const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
+        bake_progress prog = {{"bake", 0, 1, -1}, false};
+        sea_bake b;
+        st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
+                                 level_send, &out, err);
+        bake_msg m;
+        memset(&m, 0, sizeof m);
+        m.kind = BAKE_MSG_END;
+        if (st == SEA_OK) {
+            m.b = b;
+            sea_bake_free(&b);
+        }
+        if (out.broken)
+            sea_cli_mpi_abort(err);
+        /* as bake_all: a signal's message, whatever stopped the bake */
+        if (sea_cli_interrupted() != 0)
+            st = bake_interrupted(err);
+        m.status = (int)st;
+        if (st != SEA_OK && err != NULL)
+            m.err = *err;
+        sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
+        /* rank 0 has taken the frame: then its answer */
+        sea_cli_mpi_queue_wait(q);
+        int ack = BAKE_ACK_STOP;
+        sea_cli_mpi_recv(&ack, sizeof ack, 0, BAKE_TAG_ACK);
+        if (st != SEA_OK || ack != BAKE_ACK_GO)
+            break;
+    }
+    sea_cli_mpi_queue_free(q);
+    return st;
+}
+
+/* Rank 0's buffers for the levels of the others' frames: the largest level. */
+typedef struct {
+    sea_moments *moments;
+    sea_facet_optics *optics;
+    double *view;
+} bake_inbox;
+
+/* Rank 0: frame f of rank k, each level written as it arrives (when st is
+ * SEA_OK: otherwise received and dropped) until its END, whose headers go
+ * to *b (no maps).  The first failure, rank 0's or rank k's, is returned. */
+static sea_status bake_recv_frame(bake_writer *w, bake_inbox *in, int k, sea_status st,
+                                  sea_bake *b, sea_error *err)
+{
+    bake_msg m;
+    for (;;) {
+        sea_cli_mpi_recv(&m, sizeof m, k, BAKE_TAG_MSG);
+        if (m.kind == BAKE_MSG_END)
+            break;
+        sea_bake_level *bl = &m.b.levels[m.level];
+        const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+        /* the same levels as rank 0's (one prepare): within the inbox */
+        assert(n <= w->nmax && bl->view_k == (size_t)w->s->view_k);
+        sea_cli_mpi_recv(in->moments, n * sizeof *in->moments, k, BAKE_TAG_DATA);
+        sea_cli_mpi_recv(in->optics, n * sizeof *in->optics, k, BAKE_TAG_DATA);
+        sea_cli_mpi_recv(in->view, nv * sizeof *in->view, k, BAKE_TAG_DATA);
+        bl->moments = in->moments;
+        bl->optics = in->optics;
+        bl->view = in->view;
+        if (st == SEA_OK)
+            st = level_ready(w, &m.b, m.level, err);
+    }
+    if (st == SEA_OK && m.status != SEA_OK) {
+        st = (sea_status)m.status;
+        if (err != NULL)
+            *err = m.err;
+    }
+    *b = m.b;
+    for (size_t l = 0; l < SEA_CLIP_MAX_LEVELS; l++) {
+        b->levels[l].moments = NULL;
+        b->levels[l].optics = NULL;
+        b->levels[l].view = NULL;
+    }
+    return st;
+}
+
+/* One frame (no --frames) under MPI: shared by texel rows.  Rank k bakes
+ * texel rows k, k + N, ... of every level (sea_bake_frame_rows; every rank
+ * synthesises the frame's waves itself) and, per level, sends rank 0 a
+ * BAKE_MSG_LEVEL then its rows' optics and view texels, and waits for GO
+ * or STOP; then an END with its status.  Rank 0 assembles each level (its
+ * own rows, the others', the moments it has whole) and writes it through
+ * level_ready, as one process does, then answers every rank.  A rank's
+ * failure reaches rank 0 as its END; rank 0 then answers STOP, and after
+ * its own bake drains every rank to its END. */
+typedef struct {
+    bake_writer *w;  /* rank 0 */
+    bake_inbox *in;  /* rank 0: the level assembled */
+    bool *open;      /* rank 0: ranks whose END has not come */
+} bake_rows_ctx;
+
+/* Bytes of one texel row of a level in a rank's message: its optics, then
+ * its view_k rows of view texels. */
+static size_t row_bytes(const sea_bake_level *bl)
+{
+    return bl->level.nx *
+           (sizeof(sea_facet_optics) + bl->view_k * bl->view_k * sizeof(double));
+}
+
+/* Rank k's rows of level bl into (pack) or out of (unpack) buf. */
+static void rows_pack(sea_bake_level *bl, int k, int size, unsigned char *buf, bool pack)
+{
+    const size_t nx = bl->level.nx, nv = bl->view_k * bl->view_k * nx;
+    for (size_t row = (size_t)k; row < bl->level.ny; row += (size_t)size) {
+        sea_facet_optics *o = bl->optics + row * nx;
+        double *v = bl->view + row * nv;
+        if (pack) {
+            memcpy(buf, o, nx * sizeof *o);
+            memcpy(buf + nx * sizeof *o, v, nv * sizeof *v);
+        } else {
+            memcpy(o, buf, nx * sizeof *o);
+            memcpy(v, buf + nx * sizeof *o, nv * sizeof *v);
+        }
+        buf += row_bytes(bl);
+    }
+}
+
+/* sea_bake_level_fn of a rank other than 0 (rows). */
+static sea_status rows_send(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    (void)ctx;
+    if (sea_cli_interrupted() != 0)
+        return bake_interrupted(err);
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    sea_bake_level bl = b->levels[l];
+    const size_t bytes = sea_cli_mpi_share(bl.level.ny, rank, size) * row_bytes(&bl);
+    unsigned char *buf = malloc(bytes + 1);
+    if (buf == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
+    rows_pack(&bl, rank, size, buf, true);
+    bake_msg m;
+    memset(&m, 0, sizeof m);
+    m.kind = BAKE_MSG_LEVEL;
+    m.level = l;
+    m.bytes = bytes;
+    sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
+    sea_cli_mpi_send(buf, bytes, 0, BAKE_TAG_DATA);
+    free(buf);
+    int ack = BAKE_ACK_STOP;
+    sea_cli_mpi_recv(&ack, sizeof ack, 0, BAKE_TAG_ACK);
+    /* stopped: rank 0 holds the failure that it will report */
+    return ack == BAKE_ACK_GO ? SEA_OK : sea_fail(err, SEA_ERR_CANCELLED, "stopped by rank 0");
+}
+
+/* A rank other than 0: its rows of the one frame (see above). */
+static sea_status bake_send_rows(const bake_setup *s, const sea_render *r, sea_error *err)
+{
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    bake_progress prog = {{"bake", 0, 1, -1}, false};
+    sea_bake b;
+    sea_status st = sea_bake_frame_rows(r, s->sc.time, (int)s->view_k, rank, size, &b,
+                                        bake_progress_compute, &prog, rows_send, NULL, err);
+    if (st == SEA_OK)
+        sea_bake_free(&b);
+    if (sea_cli_interrupted() != 0)
+        st = bake_interrupted(err);
+    bake_msg m;
+    memset(&m, 0, sizeof m);
+    m.kind = BAKE_MSG_END;
+    m.status = (int)st;
+    if (st != SEA_OK && err != NULL)
+        m.err = *err;
+    sea_cli_mpi_send(&m, sizeof m, 0, BAKE_TAG_MSG);
+    return st;
+}
+
+/* Rank 0: the next message of rank k; a level's rows into bl (or dropped
+ * when bl is NULL).  Returns its kind; an END's failure into *st, *err
+ * unless *st already failed. */
+static int rows_recv(int k, sea_bake_level *bl, sea_status *st, sea_error *err)
+{
+    bake_msg m;
+    sea_cli_mpi_recv(&m, sizeof m, k, BAKE_TAG_MSG);
+    if (m.kind == BAKE_MSG_END) {
+        if (*st == SEA_OK && m.status != SEA_OK) {
+            *st = (sea_status)m.status;
+            if (err != NULL)
+                *err = m.err;
+        }
+        return BAKE_MSG_END;
+    }
+    /* the level of rank 0's own bake: the same headers (one prepare) */
+    unsigned char *buf = NULL;
+    if (bl != NULL) {
+        assert(m.bytes == sea_cli_mpi_share(bl->level.ny, k, sea_cli_mpi_size()) * row_bytes(bl));
+        if ((buf = malloc(m.bytes + 1)) == NULL && *st == SEA_OK)
+            *st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows of rank %d", k);
+    }
+    if (buf != NULL) {
+        sea_cli_mpi_recv(buf, m.bytes, k, BAKE_TAG_DATA);
+        rows_pack(bl, k, sea_cli_mpi_size(), buf, false);
+        free(buf);
+    } else {
+        sea_cli_mpi_drop(m.bytes, k, BAKE_TAG_DATA);
+    }
+    return BAKE_MSG_LEVEL;
+}
+
+/* sea_bake_level_fn of rank 0 (rows): the level assembled and written. */
+static sea_status rows_gather(void *ctx, const sea_bake *b, size_t l, sea_error *err)
+{
+    bake_rows_ctx *c = ctx;
+    const int size = sea_cli_mpi_size();
+    sea_bake whole = *b;
+    sea_bake_level *bl = &whole.levels[l];
+    const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
+    memcpy(c->in->moments, bl->moments, n * sizeof *bl->moments);
+    memcpy(c->in->optics, bl->optics, n * sizeof *bl->optics);
+    memcpy(c->in->view, bl->view, nv * sizeof *bl->view);
+    bl->moments = c->in->moments;
+    bl->optics = c->in->optics;
+    bl->view = c->in->view;
+    sea_status st = sea_cli_interrupted() != 0 ? bake_interrupted(err) : SEA_OK;
+    for (int k = 1; k < size; k++)
+        if (c->open[k] && rows_recv(k, bl, &st, err) == BAKE_MSG_END)
+            c->open[k] = false;
+    if (st == SEA_OK)
+        st = level_ready(c->w, &whole, l, err);
+    const int ack = st == SEA_OK ? BAKE_ACK_GO : BAKE_ACK_STOP;
+    for (int k = 1; k < size; k++)
+        if (c->open[k])
+            sea_cli_mpi_send(&ack, sizeof ack, k, BAKE_TAG_ACK);
+    return st;
+}
+
+/* Rank 0: the one frame by rows, then every other rank to its END (a
+ * level still coming is dropped and answered STOP). */
+static sea_status bake_rows_frame(bake_writer *w, bake_inbox *in, bool *open, const sea_render *r,
+                                  double t, bake_progress *prog, sea_bake *b, sea_error *err)
+{
+    const int size = sea_cli_mpi_size();
+    bake_rows_ctx c = {w, in, open};
+    sea_status st = sea_bake_frame_rows(r, t, (int)w->s->view_k, 0, size, b, bake_progress_compute,
+                                        prog, rows_gather, &c, err);
+    for (int k = 1; k < size; k++)
+        while (open[k]) {
+            sea_status later = st == SEA_OK ? SEA_OK : SEA_ERR_CANCELLED;
+            sea_error dropped;
+            if (rows_recv(k, NULL, &later, &dropped) == BAKE_MSG_END) {
+                open[k] = false;
+                if (st == SEA_OK && later != SEA_OK) {
+                    st = later;
+                    if (err != NULL)
+                        *err = dropped;
+                }
+            } else {
+                const int stop = BAKE_ACK_STOP;
+                sea_cli_mpi_send(&stop, sizeof stop, k, BAKE_TAG_ACK);
+            }
+        }
+    return st;
+}
+
 static sea_status bake_all(const bake_setup *s, const sea_render *r, const char *tmp,
                            bake_stats *stats, sea_error *err)
 {
@@ -1333,17 +1684,27 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     bake_progress prog = {{"bake", 0, (size_t)(last - first + 1), -1},
                           !s->quiet && isatty(STDERR_FILENO)};
     /* The exports' low-resolution sea, to the horizon: one for all frames
-     * (time does not enter), refined to the scene's tolerance. */
+     * (time does not enter), made with the first frame's files (a failure
+     * then stops the bake as a frame's would, ranks included). */
     sea_bake_horizon hz_store, *hz = NULL;
-    if (st == SEA_OK && (s->pov || s->blender)) {
-        const double t0 = sea_cli_seconds();
-        st = sea_bake_horizon_make(r, fmax(1e-5, s->sc.tolerance), &hz_store, err);
-        if (st == SEA_OK)
-            hz = &hz_store;
-        stats->compute += sea_cli_seconds() - t0;
+    /* under MPI: the others' levels, and which ranks still send */
+    const int size = sea_cli_mpi_size();
+    bake_inbox in = {NULL, NULL, NULL};
+    bool *sending = NULL;
+    if (st == SEA_OK && size > 1) {
+        in.moments = malloc(nmax * sizeof *in.moments);
+        in.optics = malloc(nmax * sizeof *in.optics);
+        in.view = malloc(k2 * nmax * sizeof *in.view);
+        sending = malloc((size_t)size * sizeof *sending);
+        if (in.moments == NULL || in.optics == NULL || in.view == NULL || sending == NULL)
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the levels of other ranks");
+        for (int k = 0; sending != NULL && k < size; k++)
+            sending[k] = true;
     }
-    for (long f = first; f <= last && st == SEA_OK; ++f) {
+    long f = first;
+    for (; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
+        const int owner = size > 1 ? bake_owner(s, f) : 0;
         sea_bake b;
         prog.bar.index = (size_t)(f - first);
         w.frame = f;
@@ -1352,8 +1713,14 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         w.top = 0.0;
         const double written = w.seconds;
         double t0 = sea_cli_seconds();
-        st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
-                                 level_ready, &w, err);
+        if (size > 1 && !s->framed)
+            st = bake_rows_frame(&w, &in, sending, r, t, &prog, &b, err);
+        else if (owner == 0)
+            st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
+                                     level_ready, &w, err);
+        else
+            st = bake_recv_frame(&w, &in, owner, SEA_OK, &b, err);
+        /* under MPI "maps" is rank 0's computing and waiting for the others */
         stats->compute += sea_cli_seconds() - t0 - (w.seconds - written);
         stats->write += w.seconds - written;
         if (sea_cli_interrupted() != 0) {
@@ -1361,10 +1728,24 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
                 sea_bake_free(&b);
             st = bake_interrupted(err);
         }
-        if (st != SEA_OK)
+        if (st != SEA_OK) {
+            if (owner != 0) {
+                const int stop = BAKE_ACK_STOP;
+                sea_cli_mpi_send(&stop, sizeof stop, owner, BAKE_TAG_ACK);
+                sending[owner] = false;
+            }
             break;
+        }
         t0 = sea_cli_seconds();
-        if (manifest == NULL) {
+        if (manifest == NULL && (s->pov || s->blender)) {
+            st = sea_bake_horizon_make(r, fmax(1e-5, s->sc.tolerance), &hz_store, err);
+            if (st == SEA_OK)
+                hz = &hz_store;
+            const double t1 = sea_cli_seconds();
+            stats->compute += t1 - t0;
+            t0 = t1;
+        }
+        if (manifest == NULL && st == SEA_OK) {
             for (size_t l = 0; l < b.n_levels; l++)
                 w.top = fmax(w.top, b.levels[l].lr_optics.radiance);
             for (size_t q = 0; hz != NULL && q < hz->n_arc * hz->n_az; q++)
@@ -1402,9 +1783,31 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             st = write_pov(s, r, &b, hz, tmp, w.scale, err);
         sea_bake_free(&b);
         stats->write += sea_cli_seconds() - t0;
+        if (owner != 0) {
+            const int ack = st == SEA_OK ? BAKE_ACK_GO : BAKE_ACK_STOP;
+            sea_cli_mpi_send(&ack, sizeof ack, owner, BAKE_TAG_ACK);
+            sending[owner] = st == SEA_OK;
+        }
         if (prog.on && st == SEA_OK)
             sea_cli_progress_bar(&prog.bar, 1.0);
     }
+    /* After a failure: the frame each rank still has in flight (the next
+     * it owns), received, dropped and answered STOP. */
+    for (; size > 1 && sending != NULL && f <= last; ++f) {
+        const int owner = bake_owner(s, f);
+        if (owner == 0 || !sending[owner])
+            continue;
+        sea_bake b;
+        sea_error dropped;
+        bake_recv_frame(&w, &in, owner, SEA_ERR_CANCELLED, &b, &dropped);
+        const int stop = BAKE_ACK_STOP;
+        sea_cli_mpi_send(&stop, sizeof stop, owner, BAKE_TAG_ACK);
+        sending[owner] = false;
+    }
+    free(in.moments);
+    free(in.optics);
+    free(in.view);
+    free(sending);
     stats->texels = w.texels;
     if (st == SEA_OK && s->blender)
         st = write_text(tmp, SEA_BLENDER_SCRIPT, sea_blender_import_text, err);
@@ -1430,27 +1833,36 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     bake_stats stats = {0, 0.0, 0.0};
     double prepare = 0.0;
     sea_cli_out_dir_init(&od);
+    /* under MPI rank 0 alone owns the directory (see bake_send_frames) */
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_status st = bake_parse(args, &s, err);
     /* The temporary directory first: an unwritable or missing parent, or a
      * DIR that cannot be replaced, must not cost a whole bake. */
-    if (st == SEA_OK)
+    if (st == SEA_OK && rank == 0)
         st = sea_cli_out_dir_begin(&od, s.dir, s.quiet, err);
     if (st == SEA_OK) {
         const double t0 = sea_cli_seconds();
         st = sea_render_prepare(&s.sc, &r, err);
         prepare = sea_cli_seconds() - t0;
-        if (st == SEA_OK && s.explain)
-            sea_cli_explain("bake", s.scene_path, r);
     }
+    st = sea_cli_mpi_agree(st, 0, NULL, err);
+    if (st == SEA_OK && s.explain && rank == 0)
+        sea_cli_explain("bake", s.scene_path, r);
     sea_cli_signals_catch();
     if (st == SEA_OK)
-        st = bake_all(&s, r, od.tmp, &stats, err);
+        st = rank == 0   ? bake_all(&s, r, od.tmp, &stats, err)
+             : s.framed ? bake_send_frames(&s, r, err)
+                        : bake_send_rows(&s, r, err);
     if (st == SEA_OK && sea_cli_interrupted() != 0)
         st = bake_interrupted(err);
-    if (st == SEA_OK)
+    /* rank 0's error first: it holds the first failure of any rank */
+    st = sea_cli_mpi_agree(st, rank, NULL, err);
+    if (st == SEA_OK && rank == 0)
         st = sea_cli_out_dir_commit(&od, s.quiet, err);
     sea_cli_out_dir_end(&od);
-    if (sea_cli_interrupted() != 0 && st != SEA_OK) {
+    st = sea_cli_mpi_agree(st, rank, NULL, err);
+    /* Under MPI the job ends together: the error is reported, not died of. */
+    if (sea_cli_interrupted() != 0 && st != SEA_OK && size == 1) {
         /* the temporary directory is gone: die of the signal, as asked */
         sea_render_free(r);
         free(s.dir);
@@ -1458,7 +1870,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
         return st;
     }
     sea_cli_signals_restore();
-    if (st == SEA_OK && !s.quiet) {
+    if (st == SEA_OK && !s.quiet && rank == 0) {
         const double secs = sea_cli_seconds() - start;
         fprintf(stderr,
                 "bake: %s: %zu texels in %.3g s (%.3g texels/s): prepare %.3g s, maps %.3g s, "

@@ -328,6 +328,67 @@ int sea_cli_interrupted(void);
  * handlers restored first); returns only if that did not end the process. */
 void sea_cli_die_of_signal(const char *msg);
 
+/* ------------------------------------------------------------ MPI (mpi.c) */
+
+/* render and bake share their work among the ranks of an MPI launch
+ * (seabake(1), PARALLEL RUNS WITH MPI).  sea_cli_mpi_init starts MPI only
+ * when the environment shows a launcher (OMPI_COMM_WORLD_SIZE, PMIX_RANK,
+ * PMI_RANK), so a plain run never touches MPI; built without MPI it fails
+ * (SEA_ERR_DOMAIN) when the launch announces more than one rank
+ * (OMPI_COMM_WORLD_SIZE, PMI_SIZE), and is otherwise rank 0 of 1, where
+ * every call below is a no-op (send and receive are never reached).  The
+ * collective calls (agree, minmax, sum, bcast) must be made by every rank
+ * in the same order.  A failed MPI call aborts the job (MPI's default
+ * handler).  Only rank 0 reports errors (main.c): a rank's failure reaches
+ * it through sea_cli_mpi_agree. */
+sea_status sea_cli_mpi_init(int *argc, char ***argv, sea_error *err);
+/* A barrier (every rank has cleaned up) and MPI_Finalize; no-op unless
+ * MPI was started. */
+void sea_cli_mpi_finalize(void);
+int sea_cli_mpi_rank(void);
+int sea_cli_mpi_size(void);
+/* Collective: SEA_OK when st is SEA_OK on every rank; otherwise the status
+ * and error of the failing rank with the smallest key (ties: the lowest
+ * rank), copied into every rank's err, and that key in *failed_key (may be
+ * NULL; LONG_MAX when none failed).  key < LONG_MAX. */
+sea_status sea_cli_mpi_agree(sea_status st, long key, long *failed_key, sea_error *err);
+/* Collective: *lo the smallest, *hi the largest over the ranks. */
+void sea_cli_mpi_minmax(double *lo, double *hi);
+/* Collective: *v the sum over the ranks. */
+void sea_cli_mpi_sum(size_t *v);
+/* Collective: bytes of buf from rank root to every rank. */
+void sea_cli_mpi_bcast(void *buf, size_t bytes, int root);
+/* How many of items 0 .. n-1 are rank k's when rank k takes k, k + size,
+ * ... (render's rows of one frame, bake's texel rows). */
+size_t sea_cli_mpi_share(size_t n, int k, int size);
+/* Blocking point-to-point bytes (any size: sent in pieces). */
+void sea_cli_mpi_send(const void *buf, size_t bytes, int dest, int tag);
+void sea_cli_mpi_recv(void *buf, size_t bytes, int source, int tag);
+/* Sends that do not wait for the receiver: each buffer (malloc'ed) belongs
+ * to the queue from sea_cli_mpi_queue_send, which frees it once it is sent
+ * (at the latest in sea_cli_mpi_queue_wait).  A sender that must not stall
+ * on a busy receiver queues a frame's data, computes on, and waits later.
+ * sea_cli_mpi_queue_send fails only for memory (SEA_ERR_NOMEM, buf freed). */
+typedef struct {
+    void **bufs;    /* one per request; NULL past a buffer's first piece */
+    void *requests; /* MPI_Request[cap] */
+    size_t n, cap;
+} sea_cli_mpi_queue;
+void sea_cli_mpi_queue_init(sea_cli_mpi_queue *q);
+sea_status sea_cli_mpi_queue_send(sea_cli_mpi_queue *q, void *buf, size_t bytes, int dest,
+                                  int tag, sea_error *err);
+/* Waits for every queued send, frees the buffers; the queue stays usable. */
+void sea_cli_mpi_queue_wait(sea_cli_mpi_queue *q);
+/* Waits, then releases the queue's arrays. */
+void sea_cli_mpi_queue_free(sea_cli_mpi_queue *q);
+/* The last resort, where the ranks' messages can no longer be matched:
+ * prints "seabake: error: MSG (rank k of N: the job is aborted)" and ends
+ * every rank (MPI_Abort, exit status 1). */
+void sea_cli_mpi_abort(const sea_error *err);
+/* Receives and discards a message of bytes sent by sea_cli_mpi_send (when
+ * no memory is left even for that, aborts the job: the last resort). */
+void sea_cli_mpi_drop(size_t bytes, int source, int tag);
+
 /* --------------------------------------------------- progress (progress.c) */
 
 /* Monotonic wall-clock seconds. */

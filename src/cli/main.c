@@ -57,9 +57,13 @@ static void sea_cli_print_usage(FILE *f)
           f);
 }
 
-/* Prints the error as exactly one line; usage errors point to the help. */
+/* Prints the error as exactly one line; usage errors point to the help.
+ * Under MPI only rank 0 prints: every rank has the same error (the same
+ * arguments and files, or a failure agreed by sea_cli_mpi_agree). */
 static int report(sea_status status, const sea_error *err, const char *command)
 {
+    if (sea_cli_mpi_rank() != 0)
+        return (int)sea_cli_exit_code(status);
     char msg[SEA_ERROR_MSG_MAX];
     snprintf(msg, sizeof msg, "%s", err->msg[0] ? err->msg : sea_status_name(status));
     for (char *c = msg; *c; ++c)
@@ -95,6 +99,9 @@ static int help(int argc, char **argv)
         sea_fail(&err, SEA_ERR_PARSE, "help takes at most one subcommand, got '%s'", argv[1]);
         return report(SEA_ERR_PARSE, &err, NULL);
     }
+    /* under MPI the help and the version are rank 0's, as the errors */
+    if (sea_cli_mpi_rank() != 0)
+        return SEA_CLI_EXIT_OK;
     if (argc == 0) {
         sea_cli_print_usage(stdout);
         return SEA_CLI_EXIT_OK;
@@ -119,7 +126,8 @@ static int run(int argc, char **argv)
             sea_fail(&err, SEA_ERR_PARSE, "--version takes no argument, got '%s'", argv[2]);
             return report(SEA_ERR_PARSE, &err, NULL);
         }
-        printf("seabake %s\n", PACKAGE_VERSION);
+        if (sea_cli_mpi_rank() == 0)
+            printf("seabake %s\n", PACKAGE_VERSION);
         return SEA_CLI_EXIT_OK;
     }
     const sea_cli_command *cmd = sea_cli_command_find(name);
@@ -136,8 +144,18 @@ static int run(int argc, char **argv)
     if (st != SEA_OK)
         return report(st, &err, cmd->name);
     if (args.help) {
-        fputs(cmd->help, stdout);
+        if (sea_cli_mpi_rank() == 0)
+            fputs(cmd->help, stdout);
         return SEA_CLI_EXIT_OK;
+    }
+    /* Under MPI only render and bake share their work; any other
+     * subcommand would run N times over. */
+    if (sea_cli_mpi_size() > 1 && cmd != &sea_cli_cmd_render && cmd != &sea_cli_cmd_bake) {
+        sea_fail(&err, SEA_ERR_DOMAIN,
+                 "%s does not share its work among MPI ranks: run it as one process (allowed "
+                 "under MPI: render and bake)",
+                 cmd->name);
+        return report(SEA_ERR_DOMAIN, &err, cmd->name);
     }
     st = cmd->run(&args, stdout, &err);
     if (st != SEA_OK)
@@ -148,9 +166,18 @@ static int run(int argc, char **argv)
 int main(int argc, char **argv)
 {
     sea_init();
+    sea_error err = {{0}};
+    sea_status st = sea_cli_mpi_init(&argc, &argv, &err);
+    if (st != SEA_OK)
+        return report(st, &err, NULL);
+    int code;
     if (argc < 2) {
-        sea_cli_print_usage(stderr);
-        return SEA_CLI_EXIT_USAGE;
+        if (sea_cli_mpi_rank() == 0)
+            sea_cli_print_usage(stderr);
+        code = SEA_CLI_EXIT_USAGE;
+    } else {
+        code = finish_output(run(argc, argv));
     }
-    return finish_output(run(argc, argv));
+    sea_cli_mpi_finalize();
+    return code;
 }

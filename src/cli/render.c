@@ -106,7 +106,11 @@ static const char RENDER_HELP[] =
     "                      facets), why levels are low-resolution or sub-facets\n"
     "                      skipped, the emissivity rule, the wave components, the\n"
     "                      fallbacks taken (seabake(1), LIMITS AND FALLBACKS), the\n"
-    "                      spectral samples\n";
+    "                      spectral samples\n"
+    "\n"
+    "Under mpirun or srun (a build with MPI) the frames, or the rows of one\n"
+    "frame, are shared among the ranks, and the files are those of one process;\n"
+    "seabake(1), PARALLEL RUNS WITH MPI.\n";
 
 /* ------------------------------------------------------------- the setup */
 
@@ -573,6 +577,26 @@ static int render_progress_fn(void *ctx, double fraction)
     return sea_cli_progress_if(&p->bar, p->on, fraction);
 }
 
+/* The closing line on standard error: files, size, levels, frames, the
+ * seconds since start, the brightness temperatures of all frames. */
+static sea_status render_summary(const render_setup *s, const char *levels, double start,
+                                 double t_min, double t_max, sea_error *err)
+{
+    const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
+    char *a = frame_path(s->out_stem, s->framed, first, "", s->out_ext);
+    char *b = frame_path(s->out_stem, s->framed, last, "", s->out_ext);
+    if (a != NULL && b != NULL)
+        fprintf(stderr,
+                "render: %s%s%s: %d x %d, levels %s m, %ld frame%s, %.3g s, brightness "
+                "temperature %.2f to %.2f K\n",
+                a, last > first ? " to " : "", last > first ? b : "", s->sc.width, s->sc.height,
+                levels, last - first + 1, last > first ? "s" : "", sea_cli_seconds() - start, t_min,
+                t_max);
+    free(a);
+    free(b);
+    return a != NULL && b != NULL ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+}
+
 /* Every frame, written as it is done; then the summary line.  A signal
  * stops the frame being rendered within a row: its files are not written
  * (the frames before it are complete and stay). */
@@ -630,18 +654,237 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
     sea_image_free(&img);
     if (st != SEA_OK || s->quiet)
         return st;
-    char *a = frame_path(s->out_stem, s->framed, first, "", s->out_ext);
-    char *b = frame_path(s->out_stem, s->framed, last, "", s->out_ext);
-    if (a != NULL && b != NULL)
-        fprintf(stderr,
-                "render: %s%s%s: %d x %d, levels %s m, %ld frame%s, %.3g s, brightness "
-                "temperature %.2f to %.2f K\n",
-                a, last > first ? " to " : "", last > first ? b : "", s->sc.width, s->sc.height,
-                levels, last - first + 1, last > first ? "s" : "", sea_cli_seconds() - start, t_min,
-                t_max);
-    free(a);
-    free(b);
-    return a != NULL && b != NULL ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    return render_summary(s, levels, start, t_min, t_max, err);
+}
+
+/* ------------------------------------------------------------------ MPI
+ *
+ * Under mpirun or srun with N > 1 ranks (mpi.c; seabake(1), PARALLEL RUNS
+ * WITH MPI) the work is shared and the files are those of one process,
+ * byte for byte:
+ *  - --frames A:B: in rounds of N frames, rank k renders and writes frame
+ *    A + N round + k with the same atomic writes as one process (the
+ *    output's directory must then be one that every rank sees).  The
+ *    previews' tone curves are the first frame's: rank 0 renders frame A
+ *    in round 0 and broadcasts what previews_setup made of it before any
+ *    rank writes.  After each round the ranks agree on the first failed
+ *    frame (sea_cli_mpi_agree); the frames after it that the round wrote
+ *    are removed, so that what stays is what one process leaves: the
+ *    frames before the failure.
+ *  - one frame: rank k renders rows k, k + N, ... (sea_render_rows,
+ *    interleaved so that sky and sea rows are shared evenly) and sends
+ *    them to rank 0, which writes every file.
+ * Rank 0 alone shows progress and prints the summary, whose temperatures
+ * are reduced over the ranks. */
+
+/* Removes the files write_frame wrote for frame (a frame after a failed
+ * one). */
+static void remove_frame(const render_setup *s, long frame)
+{
+    char *paths[2 + 2 * AOV_COUNT];
+    size_t n = 0;
+    paths[n++] = frame_path(s->out_stem, s->framed, frame, "", s->out_ext);
+    for (int k = 0; k < AOV_COUNT; ++k) {
+        if (!s->aov[k])
+            continue;
+        char middle[32];
+        snprintf(middle, sizeof middle, ".%s", RENDER_AOVS[k].name);
+        paths[n++] = frame_path(s->out_stem, s->framed, frame, middle, s->out_ext);
+        if (s->png)
+            paths[n++] = frame_path(s->out_stem, s->framed, frame, middle, ".png");
+    }
+    if (s->png)
+        paths[n++] = frame_path(s->png_stem, s->framed, frame, "", s->png_ext);
+    for (size_t i = 0; i < n; i++) {
+        if (paths[i] != NULL)
+            unlink(paths[i]);
+        free(paths[i]);
+    }
+}
+
+/* previews_setup's result on rank 0 to every rank. */
+static void previews_bcast(render_previews *pv)
+{
+    sea_cli_mpi_bcast(pv->tone, sizeof pv->tone, 0);
+    sea_cli_mpi_bcast(pv->text, sizeof pv->text, 0);
+    sea_cli_mpi_bcast(pv->range, sizeof pv->range, 0);
+    sea_cli_mpi_bcast(pv->palette, sizeof pv->palette, 0);
+    pv->ready = true;
+}
+
+/* A signal under MPI, seen by the rank whose frames before `kept` are all
+ * written (the agreement picks the smallest). */
+static sea_status interrupted_mpi(long first, long kept, sea_error *err)
+{
+    const int sig = sea_cli_interrupted();
+    if (kept <= first)
+        return sea_fail(err, SEA_ERR_CANCELLED, "interrupted by signal %d: no file written", sig);
+    return sea_fail(err, SEA_ERR_CANCELLED,
+                    "interrupted by signal %d: %ld frame%s written (%ld to %ld), the rest not", sig,
+                    kept - first, kept - first > 1 ? "s" : "", first, kept - 1);
+}
+
+/* --frames A:B shared among the ranks (see above). */
+static sea_status render_frames_mpi(const render_setup *s, const sea_render *r, double start,
+                                    sea_error *err)
+{
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    sea_image img;
+    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) != SEA_OK) {
+        sea_image_free(&img);
+        return st;
+    }
+    char levels[SEA_CLIP_MAX_LEVELS * 24];
+    levels_text(r, levels, sizeof levels);
+    const long first = s->frame_a, last = s->frame_b;
+    render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1},
+                            s->progress && rank == 0};
+    const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
+    double t_min = INFINITY, t_max = -INFINITY;
+    render_previews pv;
+    memset(&pv, 0, sizeof pv);
+    pv.n_levels = sea_render_levels(r, &pv.levels);
+    for (long base = first; base <= last; base += size) {
+        const long f = base + rank;
+        const bool mine = f <= last;
+        const double t = s->sc.time + (double)f / s->rate;
+        long key = f, failed;
+        bool wrote = false, write = mine;
+        prog.bar.index = (size_t)(base - first);
+        if (mine)
+            st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
+        /* as render_frames: a signal's message, whatever stopped the frame */
+        if (sea_cli_interrupted() != 0)
+            st = interrupted_mpi(first, f, err);
+        if (s->png && base == first) {
+            /* Frame A is rank 0's: its tone curves to every rank before
+             * anyone writes.  Without them (rank 0 failed) no rank writes,
+             * and the agreement below reports rank 0's failure. */
+            int ready = 0;
+            if (rank == 0 && st == SEA_OK)
+                ready = (st = previews_setup(s, &img, &pv, err)) == SEA_OK;
+            sea_cli_mpi_bcast(&ready, sizeof ready, 0);
+            if (ready)
+                previews_bcast(&pv);
+            write = write && ready;
+        }
+        if (write && st == SEA_OK) {
+            st = write_frame(s, &img, f, t, levels, &pv, err);
+            wrote = st == SEA_OK;
+        }
+        /* a frame written before the signal was seen is complete: kept */
+        if (st == SEA_OK && sea_cli_interrupted() != 0) {
+            key = f + 1;
+            st = interrupted_mpi(first, key, err);
+        }
+        if ((st = sea_cli_mpi_agree(st, key, &failed, err)) != SEA_OK) {
+            if (wrote && f >= failed)
+                remove_frame(s, f);
+            break;
+        }
+        for (size_t q = 0; wrote && q < npix; ++q) {
+            t_min = fmin(t_min, img.temperature[q]);
+            t_max = fmax(t_max, img.temperature[q]);
+        }
+        if (prog.on)
+            sea_cli_progress_bar(&prog.bar, 1.0);
+    }
+    sea_cli_progress_end(&prog.bar);
+    sea_image_free(&img);
+    if (st != SEA_OK || s->quiet)
+        return st;
+    sea_cli_mpi_minmax(&t_min, &t_max);
+    return rank == 0 ? render_summary(s, levels, start, t_min, t_max, err) : SEA_OK;
+}
+
+/* The five planes of img, in the order rows are packed. */
+enum { RENDER_PLANES = 5 };
+static void image_planes(const sea_image *img, float *planes[RENDER_PLANES])
+{
+    planes[0] = img->radiance;
+    planes[1] = img->temperature;
+    planes[2] = img->level;
+    planes[3] = img->emissivity;
+    planes[4] = img->reflectivity;
+}
+
+/* Rows k, k + N, ... of rank k > 0 to rank 0, through pack (rank 1's
+ * share of rows, the largest, of every plane). */
+static void gather_rows(sea_image *img, float *pack, int rank, int size)
+{
+    const size_t W = (size_t)img->width;
+    float *planes[RENDER_PLANES];
+    image_planes(img, planes);
+    for (int k = 1; k < size; k++) {
+        if (rank != 0 && rank != k)
+            continue;
+        const size_t n = sea_cli_mpi_share((size_t)img->height, k, size);
+        if (n == 0)
+            continue;
+        for (size_t i = 0; rank == k && i < n; i++)
+            for (int p = 0; p < RENDER_PLANES; p++)
+                memcpy(pack + (i * RENDER_PLANES + (size_t)p) * W,
+                       planes[p] + ((size_t)k + i * (size_t)size) * W, W * sizeof *pack);
+        const size_t bytes = n * RENDER_PLANES * W * sizeof *pack;
+        if (rank == k) {
+            sea_cli_mpi_send(pack, bytes, 0, k);
+            continue;
+        }
+        sea_cli_mpi_recv(pack, bytes, k, k);
+        for (size_t i = 0; i < n; i++)
+            for (int p = 0; p < RENDER_PLANES; p++)
+                memcpy(planes[p] + ((size_t)k + i * (size_t)size) * W,
+                       pack + (i * RENDER_PLANES + (size_t)p) * W, W * sizeof *pack);
+    }
+}
+
+/* One frame shared by rows among the ranks, written by rank 0 (see above). */
+static sea_status render_rows_mpi(const render_setup *s, const sea_render *r, double start,
+                                  sea_error *err)
+{
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    const size_t W = (size_t)s->sc.width;
+    sea_image img;
+    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    float *pack = NULL;
+    if (st == SEA_OK &&
+        (st = sea_check_size(sea_cli_mpi_share((size_t)s->sc.height, 1, size) * RENDER_PLANES, W * sizeof *pack,
+                             "the rows sent to rank 0", err)) == SEA_OK &&
+        (pack = malloc((sea_cli_mpi_share((size_t)s->sc.height, 1, size) * RENDER_PLANES * W + 1) *
+                       sizeof *pack)) == NULL)
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
+    char levels[SEA_CLIP_MAX_LEVELS * 24];
+    levels_text(r, levels, sizeof levels);
+    render_progress prog = {{"render", 0, 1, -1}, s->progress && rank == 0};
+    const double t = s->sc.time;
+    if (st == SEA_OK)
+        st = sea_render_rows(r, t, rank, size, &img, render_progress_fn, &prog, err);
+    if (st == SEA_OK && sea_cli_interrupted() != 0)
+        st = sea_fail(err, SEA_ERR_CANCELLED, "interrupted by signal %d: no file written",
+                      sea_cli_interrupted());
+    if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) == SEA_OK)
+        gather_rows(&img, pack, rank, size);
+    double t_min = INFINITY, t_max = -INFINITY;
+    if (st == SEA_OK && rank == 0) {
+        render_previews pv;
+        memset(&pv, 0, sizeof pv);
+        pv.n_levels = sea_render_levels(r, &pv.levels);
+        st = write_frame(s, &img, 0, t, levels, &pv, err);
+        for (size_t q = 0; st == SEA_OK && q < W * (size_t)s->sc.height; ++q) {
+            t_min = fmin(t_min, img.temperature[q]);
+            t_max = fmax(t_max, img.temperature[q]);
+        }
+        if (prog.on && st == SEA_OK)
+            sea_cli_progress_bar(&prog.bar, 1.0);
+    }
+    sea_cli_progress_end(&prog.bar);
+    st = sea_cli_mpi_agree(st, 0, NULL, err);
+    free(pack);
+    sea_image_free(&img);
+    if (st != SEA_OK || s->quiet || rank != 0)
+        return st;
+    return render_summary(s, levels, start, t_min, t_max, err);
 }
 
 static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err)
@@ -655,12 +898,19 @@ static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err
         st = check_outputs(&s, err);
     if (st == SEA_OK)
         st = sea_render_prepare(&s.sc, &r, err);
-    if (st == SEA_OK && s.explain)
+    /* Under MPI every rank has read the same arguments and files; a rank
+     * that could not (a file system one node does not see) stops them all. */
+    const int size = sea_cli_mpi_size();
+    st = sea_cli_mpi_agree(st, 0, NULL, err);
+    if (st == SEA_OK && s.explain && sea_cli_mpi_rank() == 0)
         sea_cli_explain("render", s.scene_path, r);
     if (st == SEA_OK) {
         sea_cli_signals_catch();
-        st = render_frames(&s, r, start, err);
-        if (st != SEA_OK && sea_cli_interrupted() != 0) {
+        st = size == 1   ? render_frames(&s, r, start, err)
+             : s.framed ? render_frames_mpi(&s, r, start, err)
+                        : render_rows_mpi(&s, r, start, err);
+        /* Under MPI the job ends together: the error is reported, not died of. */
+        if (st != SEA_OK && sea_cli_interrupted() != 0 && size == 1) {
             sea_render_free(r);
             render_setup_free(&s);
             sea_cli_die_of_signal(err->msg);
