@@ -445,9 +445,9 @@ def make_world(scene, value, colour=(1.0, 1.0, 1.0)):
 
 
 def make_sun(scene, sun):
-    """A Sun lamp toward the manifest's sun (zenith, azimuth counter-clockwise
-    from east, as seabake's [sun]) with its angular diameter; None when the
-    sun is below the horizon."""
+    """A Sun lamp toward the manifest's sun (its zenith angle, and its
+    azimuth counter-clockwise from east as in seabake's [sun]) with its
+    angular diameter; None when the sun is below the horizon."""
     zen = math.radians(float(sun["zenith_deg"]))
     if zen >= math.pi / 2:
         return None
