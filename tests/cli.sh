@@ -1332,15 +1332,19 @@ check_eq render.sigterm_previews "$(find "$RDIR/sig" -name 'a_*.png' | grep -c '
 check_eq render.sigterm_no_temporary "$(find "$RDIR/sig" -name '*.tmp.*' | grep -c '')" 0
 # Ctrl-C on a terminal (script(1) gives the render a pseudo-terminal, so the
 # progress bar shows; ^C typed into it sends SIGINT): the bar's line is
-# ended before the message, and the render dies of SIGINT.
+# ended before the message, and the render dies of SIGINT.  A suite started
+# in the background of a shell without job control inherits SIGINT ignored,
+# which seabake keeps (as for nohup): env --default-signal=INT gives the
+# render the terminal's ^C whatever started the suite, and timeout ends a
+# render that missed it (a failure, not a hung suite).
 if have script bsdutils && [ -z "$SEABAKE_WRAPPER" ]; then
     rm -rf "$RDIR/sig" && mkdir -p "$RDIR/sig"
     SB_CMD="script: seabake render --frames 0:99999, then ^C"
     { n=0
       while [ ! -e "$RDIR/sig/a_0001.exr" ] && [ $n -lt 600 ]; do sleep 0.1; n=$((n + 1)); done
       printf '\003'; sleep 5; } |
-        script -qec "$SEABAKE render '$RSCENE' -o '$RDIR/sig/a.exr' --frames 0:99999" /dev/null \
-            >"$SB_TMP/tty" 2>&1
+        timeout -s KILL 180 script -qec "env --default-signal=INT $SEABAKE render '$RSCENE' \
+            -o '$RDIR/sig/a.exr' --frames 0:99999" /dev/null >"$SB_TMP/tty" 2>&1
     SB_RC=$?
     check_rc render.sigint 130
     tty_out=$(tr '\r' '\n' <"$SB_TMP/tty")
