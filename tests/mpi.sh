@@ -52,7 +52,7 @@ sb_mpirun() {
     # allocates, so its allocations are suppressed (tests/lsan-openmpi.supp),
     # which needs whole stacks (the slow unwinder) through its components
     # kept loaded; seabake's own leaks are still reported.
-    LSAN_OPTIONS="suppressions=$top_srcdir/tests/lsan-openmpi.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
+    LSAN_OPTIONS="suppressions=$top_srcdir/tests/lsan-openmpi.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
     ASAN_OPTIONS="fast_unwind_on_malloc=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
     OMPI_MCA_mca_base_component_disable_dlclose=1 \
         mpirun --oversubscribe "${MPI_OPTS[@]}" -np "$n" "${MPI_WRAP[@]}" "$SEABAKE" "$@" \
