@@ -450,6 +450,15 @@ static sea_status write_preview(const render_setup *s, const sea_image *img, int
 
 /* ---------------------------------------------------------------- frames */
 
+/* Widens [*t_min, *t_max] to the frame's brightness temperatures. */
+static void temperature_range(const sea_image *img, size_t npix, double *t_min, double *t_max)
+{
+    for (size_t q = 0; q < npix; ++q) {
+        *t_min = fmin(*t_min, img->temperature[q]);
+        *t_max = fmax(*t_max, img->temperature[q]);
+    }
+}
+
 /* Writes every file of one frame; on a failure removes those it wrote. */
 static sea_status write_frame(const render_setup *s, const sea_image *img, long frame, double t,
                               const char *levels, render_previews *pv, sea_error *err)
@@ -641,10 +650,7 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
         }
         if (st != SEA_OK)
             break;
-        for (size_t q = 0; q < npix; ++q) {
-            t_min = fmin(t_min, img.temperature[q]);
-            t_max = fmax(t_max, img.temperature[q]);
-        }
+        temperature_range(&img, npix, &t_min, &t_max);
         if (prog.on)
             sea_cli_progress_bar(&prog.bar, 1.0);
     }
@@ -783,10 +789,8 @@ static sea_status render_frames_mpi(const render_setup *s, const sea_render *r, 
                 remove_frame(s, f);
             break;
         }
-        for (size_t q = 0; wrote && q < npix; ++q) {
-            t_min = fmin(t_min, img.temperature[q]);
-            t_max = fmax(t_max, img.temperature[q]);
-        }
+        if (wrote)
+            temperature_range(&img, npix, &t_min, &t_max);
         if (prog.on)
             sea_cli_progress_bar(&prog.bar, 1.0);
     }
