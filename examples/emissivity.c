@@ -50,6 +50,9 @@ int main(void)
     sea_optics *optics = NULL;
     if ((st = sea_optics_alloc(&optics, &err)) != SEA_OK)
         return failed("quadrature plan", st, &err);
+    /* The program's default: a facet's chance to be seen depends on its slope (the
+     * library's own default is the paper's Smith shadowing, SEA_SHADOW_SMITH). */
+    sea_optics_set_shadowing(optics, SEA_SHADOW_CORRELATED);
 
     printf("# %.1f um, n = %.4f, k = %.4f; 10 m/s: sigma_x^2 = %.5f, sigma_y^2 = %.5f\n",
            wavelength * 1e6, creal(N), cimag(N), slopes.cov.xx, slopes.cov.yy);

@@ -122,6 +122,7 @@ struct sea_optics {
     double gh_x[SEA_TRI(SEA_EMIS_GH_MAX)]; /* probabilists' Hermite nodes */
     double gh_w[SEA_TRI(SEA_EMIS_GH_MAX)]; /* normalised weights (sum 1) */
     int avx2;                              /* this processor runs the AVX2 loops */
+    sea_shadowing shadowing;
 };
 
 sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
@@ -207,6 +208,30 @@ int sea_emis_method_from_name(const char *name)
     return -1;
 }
 
+void sea_optics_set_shadowing(sea_optics *p, sea_shadowing s)
+{
+    p->shadowing = s == SEA_SHADOW_CORRELATED ? SEA_SHADOW_CORRELATED : SEA_SHADOW_SMITH;
+}
+
+sea_shadowing sea_optics_shadowing(const sea_optics *p)
+{
+    return p->shadowing;
+}
+
+int sea_shadowing_from_name(const char *name)
+{
+    if (strcmp(name, "smith") == 0)
+        return SEA_SHADOW_SMITH;
+    if (strcmp(name, "correlated") == 0)
+        return SEA_SHADOW_CORRELATED;
+    return -1;
+}
+
+const char *sea_shadowing_name(sea_shadowing s)
+{
+    return s == SEA_SHADOW_CORRELATED ? "correlated" : "smith";
+}
+
 const char *sea_emis_method_name(sea_emis_method m)
 {
     switch (m) {
@@ -232,6 +257,7 @@ typedef struct {
     double t_lo, t_hi;    /* where the weight lives */
     double t_ref;         /* min(z, 0): the weight's exponent is taken relative to it */
     int delta;            /* s_X below SEA_S_DELTA */
+    int corr;             /* weights times sea_shadow_correlated(z, t) */
 } view_frame;
 
 /* Where the weight lives, for a standard normal cut at |t| = t_cut.  Upper
@@ -245,7 +271,8 @@ static void view_window(const view_frame *f, double t_cut, double *t_lo, double 
     *t_lo = isinf(f->z) ? -t_cut : fmin(-t_cut, f->z - (sqrt(az * az + t_cut * t_cut) - az));
 }
 
-static void view_frame_init(const sea_slope_stats *st, sea_dir v, view_frame *f)
+static void view_frame_init(const sea_optics *p, const sea_slope_stats *st, sea_dir v,
+                            view_frame *f)
 {
     const double c = cos(v.phi), s = sin(v.phi);
     const sea_cov2 *C = &st->cov;
@@ -273,6 +300,7 @@ static void view_frame_init(const sea_slope_stats *st, sea_dir v, view_frame *f)
     }
     view_window(f, SEA_T_CUT, &f->t_lo, &f->t_hi);
     f->t_ref = fmin(f->z, 0.0);
+    f->corr = p != NULL && p->shadowing == SEA_SHADOW_CORRELATED && isfinite(f->z);
 }
 
 /* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant.
@@ -286,7 +314,10 @@ static double view_weight(const view_frame *f, double t)
 {
     const double gX = f->m_X + f->s_X * t;
     const double g = f->cos_th - gX * f->sin_th;
-    return g > 0.0 ? g * exp(-0.5 * (t - f->t_ref) * (t + f->t_ref)) : 0.0;
+    if (!(g > 0.0))
+        return 0.0;
+    const double w = g * exp(-0.5 * (t - f->t_ref) * (t + f->t_ref));
+    return f->corr ? w * sea_shadow_correlated(f->z, t) : w;
 }
 
 /* exp(x) for the fixed rules' weights, x in [-700, 0] (clamped below):
@@ -637,7 +668,7 @@ sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double co
     if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
         return s;
     view_frame f;
-    view_frame_init(st, v, &f);
+    view_frame_init(p, st, v, &f);
     /* The reference evaluates the formula itself, never a table. */
     emis_ctx e = { N, NULL };
     return expect_reference(p, &f, emissivity_fn, &e, 0, out, err);
@@ -892,6 +923,9 @@ static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, 
             nd->w_i[i] = w > 0.0 ? w : 0.0;
         }
     }
+    if (f->corr)
+        for (int i = 0; i < r.n_gl; i++)
+            nd->w_i[i] *= sea_shadow_correlated(f->z, mid + half * x[i]);
     for (int i = 0; i < r.n_gl; i++) {
         if (nd->w_i[i] > 0.0) {
             const double t = mid + half * x[i];
@@ -1029,7 +1063,7 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
     if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
         return s;
     view_frame f;
-    view_frame_init(st, v, &f);
+    view_frame_init(p, st, v, &f);
     const fixed_rule r = fixed_rule_of(&f, method, rule);
     fixed_nodes nd;
     nodes_fixed(p, &f, r, &nd);
@@ -1061,7 +1095,7 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
 sea_emis_rule sea_emissivity_auto_rule(const sea_slope_stats *st, sea_dir v)
 {
     view_frame f;
-    view_frame_init(st, v, &f);
+    view_frame_init(NULL, st, v, &f); /* (the orders do not depend on the shadowing) */
     return auto_rule(&f);
 }
 
@@ -1218,7 +1252,7 @@ sea_status sea_energy_balance(const sea_optics *p, sea_emis_method method, doubl
     if ((s = sea_emissivity(p, method, N, st, v, &out->emissivity, err)) != SEA_OK)
         return s;
     view_frame f;
-    view_frame_init(st, v, &f);
+    view_frame_init(p, st, v, &f);
     reflectance_ctx c = { N, st, lambda_along(st, v) };
     /* The reflectance is integrated by the adaptive rule over the exact region
      * where the mirror ray leaves upwards, whatever the emissivity method:
@@ -1302,7 +1336,7 @@ static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, sea_d
 {
     const int first = r0 != NULL;
     view_frame f;
-    view_frame_init(st, d, &f);
+    view_frame_init(p, st, d, &f);
     fixed_rule a;
     if (first) {
         a = *r0;
@@ -1416,7 +1450,7 @@ static sea_status emissivity_general(const sea_optics *p, sea_emis_method method
         return s;
     /* the sensor's facets by the rule reflections = 1 would use (full: auto) */
     view_frame f;
-    view_frame_init(st, v, &f);
+    view_frame_init(p, st, v, &f);
     const fixed_rule r0 = fixed_rule_of(&f, method, rule);
     for (size_t k0 = 0; k0 < n; k0 += SEA_MULTI_BLOCK) {
         const size_t m = n - k0 < SEA_MULTI_BLOCK ? n - k0 : SEA_MULTI_BLOCK;

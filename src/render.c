@@ -426,6 +426,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
                           : sea_water_alloc((sea_water_table)sc->water_table, sc->salinity,
                                             &r->water, err));
     TRY(sea_optics_alloc(&r->optics, err));
+    sea_optics_set_shadowing(r->optics, (sea_shadowing)sc->shadowing);
     /* the sky's and the air's tables */
     double x_max, w_min, w_max;
     if (sc->sky_model == SEA_SKY_TABLE) {

@@ -198,7 +198,7 @@ typedef enum {
     K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
     K_WAVELENGTH, K_BAND, K_RESPONSE, K_SAMPLES,
     K_METHOD, K_N, K_FINEST, K_GRID, K_EMISSIVITY, K_EARTH, K_WINDOWS, K_TOLERANCE,
-    K_REFLECTIONS,
+    K_REFLECTIONS, K_SHADOWING,
     K_COUNT
 } key_id;
 
@@ -331,6 +331,8 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_WINDOWS] = CHOICE(SEC_MODEL, "windows", windows_from_name, "view, clipmap", windows),
     [K_TOLERANCE] = REAL(SEC_MODEL, "tolerance", 0.0, 0.1, LO_OPEN, 1.0, "", tolerance),
     [K_REFLECTIONS] = INT(SEC_MODEL, "reflections", 1, SEA_REFLECTIONS_MAX, 0, "", reflections),
+    [K_SHADOWING] = CHOICE(SEC_MODEL, "shadowing", sea_shadowing_from_name, "smith, correlated",
+                           shadowing),
 };
 
 #undef INF
@@ -945,6 +947,7 @@ void sea_scene_defaults(sea_scene *sc)
     sc->windows = SEA_WINDOWS_VIEW;
     sc->tolerance = 1e-3;
     sc->reflections = 1;
+    sc->shadowing = SEA_SHADOW_CORRELATED;
     sc->sky_model = SEA_SKY_ISOTROPIC;
     sc->sky_zenith_emissivity = NAN;
     sc->air_temperature = NAN;

@@ -86,3 +86,145 @@ double sea_shadow_D(double theta, double m, double s)
      * tan(theta) E[(mu - gamma)+], a sum of non-negative terms. */
     return t * sea_shadow_visible(mu, m, s) / (1.0 + t * sea_shadow_hidden(mu, m, s));
 }
+
+/* ------------------------------------------------ correlated shadowing */
+
+/* Smith's function treats the heights ahead of a facet as independent of
+ * the facet's own slope; along a real profile they are not (a facet tilted
+ * toward the sensor starts a ray that clears the surface ahead sooner).
+ * Following Bourlier, Saillard and Berginc (IEEE Trans. Antennas Propag.
+ * 48, 437, 2000; the "correlated Smith" function), the hazard of Smith's
+ * derivation is taken under the joint Gaussian law of the profile's height
+ * and slope at distance l conditioned on the facet's height z0 and slope
+ * t, here for the Gaussian correlation R(l) = exp(-l^2/2) (unit height
+ * and slope deviations; the ray rises at z = (cot theta - m)/s):
+ *   rate(l) = E[(gamma_l - z)+ ; zeta_l = z0 + z l] / P(zeta_l < z0 + z l)
+ *   S(z0, t) = exp(-int_0^inf rate dl),  S(t) = E_z0[S(z0, t)].
+ * Past L_END correlations are below 1e-27 and Smith's closed form of the
+ * rest, Lambda (-ln Phi(z0 + z L_END)) with Lambda = G(z)/z, is exact.
+ * Only the slope dependence changes the emissivity, so the function kept
+ * is C(z, t) = S(t) (1 + G(z)/z), Smith's constant divided out. */
+static const double SEA_CS_PANELS[] = { 0.0, 1e-3, 5e-3, 0.02, 0.08, 0.2, 0.4, 0.7, 1.0,
+                                        1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 11.0 };
+enum { SEA_CS_NODES = 16, SEA_CS_Z0_PANELS = 8 };
+static const double SEA_CS_Z0_MAX = 8.0;
+
+static double cs_phi(double u) { return 0.39894228040143267794 * exp(-0.5 * u * u); }
+static double cs_Phi(double u) { return 0.5 * erfc(-u * M_SQRT1_2); }
+
+/* Gauss-Legendre nodes and weights on [-1, 1] (Newton on the Legendre
+ * recurrence; tests/test_shadow.c checks them against GSL's). */
+static void cs_gauss_legendre(int n, double *x, double *w)
+{
+    for (int i = 0; i < n; i++) {
+        double r = cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
+        for (int it = 0; it < 100; it++) {
+            double p0 = 1.0, p1 = r;
+            for (int k = 2; k <= n; k++) {
+                const double p2 = ((2 * k - 1) * r * p1 - (k - 1) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = n * (r * p1 - p0) / (r * r - 1.0);
+            const double step = p1 / dp;
+            r -= step;
+            if (fabs(step) < 1e-16)
+                break;
+        }
+        x[i] = r;
+        w[i] = 2.0 / ((1.0 - r * r) * dp * dp);
+    }
+}
+
+static double cs_rate(double l, double z0, double t, double z)
+{
+    const double x = l * l, e = exp(-0.5 * x), e2 = exp(-x);
+    /* conditional means and covariance of (zeta_l, gamma_l) given (z0, t) */
+    const double mz = e * (z0 + l * t), mg = e * (-l * z0 - (x - 1.0) * t);
+    const double szz = -expm1(-x) - x * e2;
+    const double sgg = 1.0 - e2 * (1.0 - x + x * x), szg = l * x * e2;
+    if (!(szz > 0.0))
+        return 0.0;
+    const double sz = sqrt(szz), eta = z0 + z * l, a = (eta - mz) / sz;
+    const double mc = mg + szg / szz * (eta - mz);
+    const double sc = sqrt(fmax(sgg - szg * szg / szz, 1e-300));
+    const double below = cs_Phi(a);
+    if (!(below > 1e-300))
+        return 1e300;
+    return cs_phi(a) / sz * sc * sea_shadow_G((z - mc) / sc) / below;
+}
+
+double sea_shadow_correlated_exact(double z, double t)
+{
+    if (!(z > 0.0) || !(t < z))
+        return 0.0;
+    double x[SEA_CS_NODES], w[SEA_CS_NODES];
+    cs_gauss_legendre(SEA_CS_NODES, x, w);
+    const int np = (int)(sizeof SEA_CS_PANELS / sizeof SEA_CS_PANELS[0]);
+    const double l_end = SEA_CS_PANELS[np - 1], lambda = sea_shadow_G(z) / z;
+    double S = 0.0;
+    for (int q = 0; q < SEA_CS_Z0_PANELS; q++) {
+        const double h = SEA_CS_Z0_MAX / SEA_CS_Z0_PANELS;
+        const double zm = -SEA_CS_Z0_MAX + h * (2 * q + 1);
+        for (int i = 0; i < SEA_CS_NODES; i++) {
+            const double z0 = zm + h * x[i];
+            double hazard = -lambda * log(cs_Phi(z0 + z * l_end));
+            for (int p = 0; p + 1 < np && hazard < 745.0; p++) {
+                const double a = SEA_CS_PANELS[p], b = SEA_CS_PANELS[p + 1];
+                const double hh = 0.5 * (b - a), lm = 0.5 * (a + b);
+                for (int k = 0; k < SEA_CS_NODES; k++)
+                    hazard += hh * w[k] * cs_rate(lm + hh * x[k], z0, t, z);
+            }
+            S += h * w[i] * cs_phi(z0) * exp(-hazard);
+        }
+    }
+    return S * (1.0 + lambda);
+}
+
+#ifndef SEA_CS_GENERATOR /* (the generator computes the table) */
+#include "shadow_table.h"
+
+static void cs_catmull_rom(double f, double w[4])
+{
+    const double f2 = f * f, f3 = f2 * f;
+    w[0] = 0.5 * (-f3 + 2.0 * f2 - f);
+    w[1] = 0.5 * (3.0 * f3 - 5.0 * f2 + 2.0);
+    w[2] = 0.5 * (-3.0 * f3 + 4.0 * f2 + f);
+    w[3] = 0.5 * (f3 - f2);
+}
+
+static int cs_clamp(int i, int n) { return i < 0 ? 0 : i > n ? n : i; }
+
+double sea_shadow_correlated(double z, double t)
+{
+    if (!(z <= SEA_CS_Z_MAX))
+        return 1.0; /* (also NaN) past Z_MAX facets are as good as unshadowed */
+    const double u = z - t;
+    if (!(u > 0.0))
+        return 0.0;
+    const double zc = z < SEA_CS_Z_MIN ? SEA_CS_Z_MIN : z;
+    /* index coordinates: the grids are quadratic in both */
+    double a = SEA_CS_NZ * sqrt((zc - SEA_CS_Z_MIN) / (SEA_CS_Z_MAX - SEA_CS_Z_MIN));
+    double b = SEA_CS_NU * sqrt(u / SEA_CS_U_MAX);
+    a = a > SEA_CS_NZ ? SEA_CS_NZ : a;
+    b = b > SEA_CS_NU ? SEA_CS_NU : b;
+    int i = (int)a, j = (int)b;
+    i = i >= SEA_CS_NZ ? SEA_CS_NZ - 1 : i;
+    j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
+    /* Catmull-Rom in both index coordinates (continuous slopes, so the
+     * emissivity's Gauss-Legendre rules see no kinks); one-sided at the
+     * grid's ends */
+    double wa[4], wb[4];
+    cs_catmull_rom(a - i, wa);
+    cs_catmull_rom(b - j, wb);
+    double acc = 0.0;
+    for (int p = 0; p < 4; p++) {
+        const int ii = cs_clamp(i - 1 + p, SEA_CS_NZ);
+        double row = 0.0;
+        for (int q = 0; q < 4; q++)
+            row += wb[q] * sea_cs_table[ii][cs_clamp(j - 1 + q, SEA_CS_NU)];
+        acc += wa[p] * row;
+    }
+    return acc;
+}
+#endif

@@ -440,6 +440,12 @@ sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_e
     if (st == SEA_OK)
         st = sea_cli_opt_integer(args, "reflections", 1, SEA_REFLECTIONS_MAX, 0,
                                  &out->reflections, err);
+    out->shadowing = -1;
+    if (st == SEA_OK && sea_cli_args_get(args, "shadowing") != NULL) {
+        sea_shadowing s;
+        st = sea_cli_opt_shadowing(args, SEA_SHADOW_CORRELATED, &s, err);
+        out->shadowing = (int)s;
+    }
     return st;
 }
 
@@ -460,6 +466,8 @@ void sea_cli_apply_model(const sea_cli_model *m, sea_scene *sc)
         sc->tolerance = m->tolerance;
     if (m->reflections > 0)
         sc->reflections = (int)m->reflections;
+    if (m->shadowing >= 0)
+        sc->shadowing = m->shadowing;
 }
 
 sea_status sea_cli_opt_list(const sea_cli_args *args, const char *name, const sea_cli_range *range,

@@ -164,6 +164,8 @@ static const char BAKE_HELP[] =
     "                      tolerance, as in seabake render\n"
     "  --reflections N     surface hits, 1 to 3: overrides the scene's [model]\n"
     "                      reflections, as in seabake render\n"
+    "  --shadowing S       correlated or smith: overrides the scene's [model]\n"
+    "                      shadowing, as in seabake render\n"
     "  --set SECTION.KEY=VALUE\n"
     "                      overrides a key of the scene file (as in seabake\n"
     "                      render); repeatable\n"
@@ -583,6 +585,7 @@ static cJSON *scene_json(const bake_setup *s)
                             sc->windows == SEA_WINDOWS_CLIPMAP ? "clipmap" : "view");
     cJSON_AddNumberToObject(mod, "tolerance", sc->tolerance);
     cJSON_AddNumberToObject(mod, "reflections", sc->reflections);
+    cJSON_AddStringToObject(mod, "shadowing", sea_shadowing_name((sea_shadowing)sc->shadowing));
     return o;
 }
 
@@ -1898,6 +1901,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"explain", SEA_CLI_OPT_FLAG},
     {"tolerance", 0},
     {"reflections", 0},
+    {"shadowing", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},
     {"quiet", SEA_CLI_OPT_FLAG}};
 

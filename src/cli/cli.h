@@ -160,6 +160,7 @@ sea_status sea_cli_require(const sea_cli_args *args, const char *name, const cha
 typedef struct {
     double tolerance;
     long reflections;
+    int shadowing; /* a sea_shadowing, or -1: the scene's */
 } sea_cli_model;
 sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_error *err);
 /* The positional SCENE.ini of render and bake: present and not empty. */
@@ -499,6 +500,14 @@ sea_status sea_cli_exclusive(const sea_cli_args *args, const char *name1, const 
                              sea_error *err);
 /* --emissivity of the optics (the scene file's [model] emissivity): auto
  * (default), fast or full. */
+#define SEA_CLI_HELP_SHADOWING \
+    "  --shadowing S       correlated (default: a facet's chance to be seen\n" \
+    "                      depends on its slope; within 1.1e-3 of ray tracing\n" \
+    "                      to 85 deg) or smith (the paper's Eq 9c-9e: up to\n" \
+    "                      12e-3 low at 75-85 deg)\n"
+/* --shadowing smith|correlated, or def when absent. */
+sea_status sea_cli_opt_shadowing(const sea_cli_args *args, sea_shadowing def, sea_shadowing *out,
+                                 sea_error *err);
 sea_status sea_cli_opt_emissivity(const sea_cli_args *args, sea_emis_method *out,
                                   sea_error *err);
 /* Sea state from --wind, --fetch, --wind-dir (--wind must be given). */

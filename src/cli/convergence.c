@@ -55,6 +55,7 @@ static const char SEA_CLI_HELP_CONVERGENCE[] =
     "                      stay >= 1 m (n = min(N, x - 1))\n"
     "  --facets K          facets per side, 1..256; default 16\n"
     "  --sizes X1:X2       sweep x = X1..X2 only, 1 <= X1 <= X2 <= 11; default 1:11\n"
+    SEA_CLI_HELP_SHADOWING
     "  --converged REL     relative deviation, (0, 1); default 0.001: a size counts\n"
     "                      as converged when it and every larger size have\n"
     "                      max |HR - LR| <= REL |LR|\n"
@@ -83,7 +84,7 @@ static const sea_cli_option SEA_CLI_CONVERGENCE_OPTIONS[] = {
     {"fetch", 0},      {"wind-dir", 0},  {"theta", 0},     {"phi", 0},
     {"inc", 0},        {"seed", 0},      {"method", 0},    {"n", 0},
     {"facets", 0},     {"sizes", 0},     {"converged", 0}, {"o", SEA_CLI_OPT_SHORT},
-    {"quiet", SEA_CLI_OPT_FLAG}};
+    {"shadowing", 0},  {"quiet", SEA_CLI_OPT_FLAG}};
 
 typedef struct {
     double wavelength_um;
@@ -94,6 +95,7 @@ typedef struct {
     double fetch, wind_dir_deg;
     unsigned long seed;
     sea_facet_method method;
+    sea_shadowing shadowing;
     int n;
     long K;
     int x1, x2;
@@ -180,6 +182,8 @@ static sea_status conv_parse(const sea_cli_args *args, conv_setup *c, sea_error 
 
     if ((st = sea_cli_opt_seed(args, &c->seed, err)) != SEA_OK ||
         (st = sea_cli_opt_facet_method(args, &c->method, &c->n, err)) != SEA_OK ||
+        (st = sea_cli_opt_shadowing(args, SEA_SHADOW_CORRELATED, &c->shadowing, err)) !=
+            SEA_OK ||
         (st = sea_cli_opt_integer(args, "facets", 1, SEA_CLI_CONV_FACETS_MAX,
                                   SEA_CLI_CONV_FACETS_DEFAULT, &K, err)) != SEA_OK ||
         (st = conv_sizes(args, &c->x1, &c->x2, err)) != SEA_OK ||
@@ -405,9 +409,9 @@ static sea_status conv_csv(const conv_setup *c, const conv_row *rows, size_t nro
     fprintf(f, "# seed=%lu method=%s", c->seed, sea_facet_method_name(c->method));
     if (c->method == SEA_METHOD_VARIABLE_STEP_2N)
         fprintf(f, " n=%d", c->n);
-    fprintf(f, " generator=%s finest_m=%g facets_per_side=%ld converged=%.10g\n",
+    fprintf(f, " generator=%s finest_m=%g facets_per_side=%ld converged=%.10g shadowing=%s\n",
             c->method == SEA_METHOD_ONE_METER ? "fft" : "sinusoids", SEA_CLI_CONV_FINEST, c->K,
-            c->tol);
+            c->tol, sea_shadowing_name(c->shadowing));
     char fetch[32];
     snprintf(fetch, sizeof fetch, isinf(c->fetch) ? "inf" : "%.10g", c->fetch);
     fprintf(f, "# fetch_m=%s wind_dir_deg=%.10g water=%s salinity_g_kg=%s index=%.10g+%.10gi\n",
@@ -568,6 +572,7 @@ static sea_status run_convergence(const sea_cli_args *args, FILE *out, sea_error
     }
     if ((st = sea_optics_alloc(&optics, err)) != SEA_OK)
         goto done;
+    sea_optics_set_shadowing(optics, c.shadowing);
     size_t done_rows = 0;
     for (size_t w = 0; w < c.winds.n && st == SEA_OK; ++w)
         st = conv_wind(&c, optics, c.winds.values[w], rows + w * per_wind, &done_rows, nrows, err);

@@ -34,6 +34,7 @@ static const char SEA_CLI_HELP_EMISSIVITY[] =
     "                      or 3 a facet's mirror ray may meet the sea again and\n"
     "                      bring its emission (then --emissivity sets the first\n"
     "                      hit's rule only when N = 1)\n"
+    SEA_CLI_HELP_SHADOWING
     SEA_CLI_HELP_WATER
     SEA_CLI_HELP_SLOPE_STATS
     "\n" SEA_CLI_HELP_LIST "\n"
@@ -51,6 +52,7 @@ static const char SEA_CLI_HELP_ENERGY[] =
     "Directions:\n"
     SEA_CLI_HELP_GRID
     SEA_CLI_HELP_EMISSIVITY_RULE
+    SEA_CLI_HELP_SHADOWING
     SEA_CLI_HELP_WATER
     SEA_CLI_HELP_SLOPE_STATS
     "\n" SEA_CLI_HELP_LIST "\n"
@@ -60,9 +62,10 @@ static const char SEA_CLI_HELP_ENERGY[] =
 /* ---------------------------------------------------- emissivity, energy */
 
 static const sea_cli_option SEA_CLI_EMISSIVITY_OPTIONS[] = {
-    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"reflections", 0}};
+    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"reflections", 0},
+    {"shadowing", 0}};
 static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
-    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}};
+    SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"shadowing", 0}};
 
 /* The two subcommands that evaluate one observation direction at a time
  * with the quadrature plan differ only in the call and the last columns. */
@@ -115,12 +118,16 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
         st = sea_cli_opt_emissivity(args, &method, err);
     if (st == SEA_OK)
         st = sea_cli_opt_integer(args, "reflections", 1, SEA_REFLECTIONS_MAX, 1, &reflections, err);
+    sea_shadowing shadowing = SEA_SHADOW_CORRELATED;
+    if (st == SEA_OK)
+        st = sea_cli_opt_shadowing(args, SEA_SHADOW_CORRELATED, &shadowing, err);
     if (st == SEA_OK)
         st = sea_cli_sea_inputs(args, &sea, err);
     if (st == SEA_OK)
         st = sea_optics_alloc(&optics, err);
     if (st != SEA_OK)
         goto done;
+    sea_optics_set_shadowing(optics, shadowing);
 
     fputs(what == SEA_CLI_EMISSIVITY
               ? "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity\n"

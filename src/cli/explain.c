@@ -133,6 +133,17 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
                 "rule at every hit, its orders halved after the first; seabake-model(7) gives "
                 "the accuracy and the cost)\n",
                 what, sc->reflections);
+    if (sc->shadowing == SEA_SHADOW_CORRELATED)
+        fprintf(stderr,
+                "%s: shadowing: correlated (a facet turned toward the sensor is seen more "
+                "often than one grazing the ray; single-bounce emissivity within 1.1e-3 of "
+                "ray tracing to 85 deg, seabake-model(7), SHADOWING)\n",
+                what);
+    else
+        fprintf(stderr,
+                "%s: shadowing: smith (the paper's Eq 9c-9e, independent of the facet's "
+                "slope: the emissivity up to 12e-3 low at 75-85 deg, seabake-model(7))\n",
+                what);
     if (ch.wave_count == 0)
         fprintf(stderr, "%s: waves: none (every level is low-resolution)\n", what);
     else if (ch.directions > 0)

@@ -62,6 +62,22 @@ sea_status sea_cli_opt_emissivity(const sea_cli_args *args, sea_emis_method *out
     return SEA_OK;
 }
 
+sea_status sea_cli_opt_shadowing(const sea_cli_args *args, sea_shadowing def, sea_shadowing *out,
+                                 sea_error *err)
+{
+    const char *text = sea_cli_args_get(args, "shadowing");
+    if (text == NULL) {
+        *out = def;
+        return SEA_OK;
+    }
+    int s = sea_shadowing_from_name(text);
+    if (s < 0)
+        return sea_fail(err, SEA_ERR_PARSE, "--shadowing: '%s' is not one of smith, correlated",
+                        text);
+    *out = (sea_shadowing)s;
+    return SEA_OK;
+}
+
 /* ---------------------------------------------------------- sea inputs */
 
 static sea_status water_index(const sea_cli_args *args, sea_cli_sea *sea, sea_error *err)
