@@ -253,6 +253,11 @@ sea_render_choices sea_render_choices_of(const sea_render *r)
     return r->choices;
 }
 
+/* The sun's disc is not resolved where its glint's radiance is certainly
+ * below this fraction of the tolerance of the pixel's other radiance (so
+ * below 1e-6 of it at the default tolerance). */
+static const double SEA_GLINT_NEGLIGIBLE = 1e-3;
+
 /* Radiance of a facet with stats st seen from obs, sun from sun (or none),
  * summed over the samples with their weights; band means of emissivity and
  * reflectivity through *e and *rho. */
@@ -286,9 +291,22 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
                                      r->sc.reflections, eps_all, err);
     if (s != SEA_OK)
         return s;
-    if (sun_up)
+    if (sun_up) {
+        /* the glint is negligible where its radiance is below 1e-3 tolerance
+         * of what the pixel has without it, at every sample */
+        double negligible = INFINITY;
+        for (size_t i = 0; i < r->nsamp; i++) {
+            const double sky = directional ? ksky_all[i] : (1.0 - eps_all[i]) * r->lsky[i];
+            const double other = eps_all[i] * r->lsea[i] + sky;
+            negligible = r->esun[i] > 0.0
+                             ? fmin(negligible, SEA_GLINT_NEGLIGIBLE * r->sc.tolerance * other /
+                                                    r->esun[i])
+                             : negligible;
+        }
         sea_reflectivity_disc_n(r->optics, r->N, r->nsamp, st, sun, obs, r->sc.sun_radius,
-                                0.1 * r->sc.tolerance, rr_all);
+                                0.1 * r->sc.tolerance, isfinite(negligible) ? negligible : 0.0,
+                                rr_all);
+    }
     for (size_t i = 0; i < r->nsamp; i++) {
         const double eps = eps_all[i];
         const double rr = sun_up ? rr_all[i] : 0.0;

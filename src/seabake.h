@@ -490,10 +490,16 @@ void sea_reflectivity_n(const double complex *N, size_t n, const sea_slope_stats
  * image of the sun.  Where the slope density is nearly linear over the
  * disc's image in slope space (relative effect below skip_rel) it is the
  * point value of sea_reflectivity_n, bit for bit; radius 0 likewise.
- * Reads p (its Gauss-Legendre nodes). */
+ * So too where the disc's value is certainly below `negligible` (units of
+ * out; 0: never): the point value times the largest ratio of the slope
+ * density over the disc's image to its value at the centre, exp(a
+ * sqrt(lambda_max) d), a the radius and d the centre's Mahalanobis
+ * distance, bounds it.  A caller passes the reflectivity below which the
+ * glint does not matter (the renderer: 1e-3 tolerance of the pixel's other
+ * radiance over the sun's irradiance).  Reads p (its Gauss-Legendre nodes). */
 void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_t n,
                              const sea_slope_stats *st, sea_dir inc, sea_dir obs, double radius,
-                             double skip_rel, double *out);
+                             double skip_rel, double negligible, double *out);
 /* BRDF f = rho~ / cos(theta_inc) (Eq 20), sr^-1.  Pure. */
 double sea_brdf(double complex N, const sea_slope_stats *st, sea_dir inc, sea_dir obs);
 
