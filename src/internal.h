@@ -19,6 +19,11 @@ SEA_INTERNAL void sea_planck_coefficients(double wavelength, double *a, double *
 struct sea_optics;
 SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
 
+/* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
+ * the same values, the interpolation's rows in z found once. */
+SEA_INTERNAL void sea_shadow_correlated_scale(double z, double mid, double half, const double *x,
+                                              int n, double *w);
+
 /* optics.c, the sun's disc: the probability of N(mu, Cu) over the disc
  * |u| <= radius by quadrature, and the mean over it of a Gaussian density
  * of precision Q centred at mu, relative to its value at 0, by the

@@ -924,8 +924,7 @@ static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, 
         }
     }
     if (f->corr)
-        for (int i = 0; i < r.n_gl; i++)
-            nd->w_i[i] *= sea_shadow_correlated(f->z, mid + half * x[i]);
+        sea_shadow_correlated_scale(f->z, mid, half, x, r.n_gl, nd->w_i);
     for (int i = 0; i < r.n_gl; i++) {
         if (nd->w_i[i] > 0.0) {
             const double t = mid + half * x[i];

@@ -19,6 +19,12 @@
 /* Largest automatic number of spectral samples. */
 enum { SAMPLES_AUTO_MAX = 64 };
 
+/* The band radiance's table for the brightness temperature: ln T uniform
+ * over 30-6000 K. */
+enum { SEA_TB_N = 256 };
+static const double SEA_TB_LNT0 = 3.4011973816621555;          /* ln 30 */
+static const double SEA_TB_STEP = 5.2983173665480363 / 255.0; /* ln(6000/30) / (N - 1) */
+
 struct sea_render {
     sea_scene sc;
     sea_camera cam;
@@ -41,6 +47,9 @@ struct sea_render {
     double atm_range_max;
     double complex *N;
     double wsum;
+    /* the band's ln radiance at ln T = TB_LNT0 + k TB_STEP (several samples):
+     * the brightness temperature's first guess */
+    double tb_lnL[SEA_TB_N];
     sea_render_choices choices;
 };
 
@@ -228,6 +237,13 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
         r->sky = (sea_sky){ SEA_SKY_TABLE, NAN, r->sky_v, r->sky_nx, r->sky_x };
     if (!(r->wsum > 0.0))
         return sea_fail(err, SEA_ERR_DOMAIN, "the response is zero over the whole band");
+    for (int j = 0; j < SEA_TB_N; j++) {
+        const double T = exp(SEA_TB_LNT0 + j * SEA_TB_STEP);
+        double L = 0.0;
+        for (size_t i = 0; i < k; i++)
+            L += r->wt[i] * r->pa[i] / expm1(r->pb[i] / T);
+        r->tb_lnL[j] = log(L); /* (-inf where L underflows: below every pixel's) */
+    }
     return SEA_OK;
 }
 
@@ -334,7 +350,31 @@ static double band_temperature(const sea_render *r, double L)
     if (r->nsamp == 1)
         return sea_planck_brightness_temperature(r->wl[0], L / r->wt[0]);
     double lo = 1.0, hi = 1e5;
-    double T = sea_planck_brightness_temperature(r->wl[r->nsamp / 2], L / r->wsum);
+    double T;
+    const double lnL = log(L);
+    if (lnL > r->tb_lnL[1] && lnL < r->tb_lnL[SEA_TB_N - 2]) {
+        /* the table: the interval by bisection, then the cubic through
+         * four points (ln T as a function of ln L), within about 1e-7 */
+        int a = 1, b = SEA_TB_N - 2;
+        while (b - a > 1) {
+            const int m = (a + b) / 2;
+            if (r->tb_lnL[m] <= lnL)
+                a = m;
+            else
+                b = m;
+        }
+        double lnT = 0.0;
+        for (int p = a - 1; p <= a + 2; p++) {
+            double w = 1.0;
+            for (int q = a - 1; q <= a + 2; q++)
+                if (q != p)
+                    w *= (lnL - r->tb_lnL[q]) / (r->tb_lnL[p] - r->tb_lnL[q]);
+            lnT += w * (SEA_TB_LNT0 + p * SEA_TB_STEP);
+        }
+        T = exp(lnT);
+    } else {
+        T = sea_planck_brightness_temperature(r->wl[r->nsamp / 2], L / r->wsum);
+    }
     if (!(T > lo && T < hi))
         T = 300.0;
     for (int it = 0; it < 100; it++) {

@@ -13,6 +13,7 @@
 #include <math.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 /* Above this t the continued fraction is used (direct form error there
  * about 1e-14; continued fraction with the depth below, < 1e-15). */
@@ -195,6 +196,45 @@ static void cs_catmull_rom(double f, double w[4])
 
 static int cs_clamp(int i, int n) { return i < 0 ? 0 : i > n ? n : i; }
 
+/* The z part of the interpolation: the four rows and their weights. */
+typedef struct {
+    int row[4];
+    double wa[4];
+} cs_rows;
+
+static void cs_rows_of(double z, cs_rows *r)
+{
+    const double zc = z < SEA_CS_Z_MIN ? SEA_CS_Z_MIN : z;
+    /* index coordinate: the grid is quadratic */
+    double a = SEA_CS_NZ * sqrt((zc - SEA_CS_Z_MIN) / (SEA_CS_Z_MAX - SEA_CS_Z_MIN));
+    a = a > SEA_CS_NZ ? SEA_CS_NZ : a;
+    int i = (int)a;
+    i = i >= SEA_CS_NZ ? SEA_CS_NZ - 1 : i;
+    cs_catmull_rom(a - i, r->wa);
+    for (int p = 0; p < 4; p++)
+        r->row[p] = cs_clamp(i - 1 + p, SEA_CS_NZ);
+}
+
+/* C at u = z - t > 0 from the rows (Catmull-Rom in both index coordinates:
+ * continuous slopes, so the emissivity's Gauss-Legendre rules see no
+ * kinks; one-sided at the grid's ends). */
+static double cs_at(const cs_rows *r, double u)
+{
+    double b = SEA_CS_NU * sqrt(u / SEA_CS_U_MAX);
+    b = b > SEA_CS_NU ? SEA_CS_NU : b;
+    int j = (int)b;
+    j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
+    double wb[4];
+    cs_catmull_rom(b - j, wb);
+    const int j0 = cs_clamp(j - 1, SEA_CS_NU), j1 = j, j2 = j + 1, j3 = cs_clamp(j + 2, SEA_CS_NU);
+    double acc = 0.0;
+    for (int p = 0; p < 4; p++) {
+        const double *row = sea_cs_table[r->row[p]];
+        acc += r->wa[p] * (wb[0] * row[j0] + wb[1] * row[j1] + wb[2] * row[j2] + wb[3] * row[j3]);
+    }
+    return acc;
+}
+
 double sea_shadow_correlated(double z, double t)
 {
     if (!(z <= SEA_CS_Z_MAX))
@@ -202,29 +242,21 @@ double sea_shadow_correlated(double z, double t)
     const double u = z - t;
     if (!(u > 0.0))
         return 0.0;
-    const double zc = z < SEA_CS_Z_MIN ? SEA_CS_Z_MIN : z;
-    /* index coordinates: the grids are quadratic in both */
-    double a = SEA_CS_NZ * sqrt((zc - SEA_CS_Z_MIN) / (SEA_CS_Z_MAX - SEA_CS_Z_MIN));
-    double b = SEA_CS_NU * sqrt(u / SEA_CS_U_MAX);
-    a = a > SEA_CS_NZ ? SEA_CS_NZ : a;
-    b = b > SEA_CS_NU ? SEA_CS_NU : b;
-    int i = (int)a, j = (int)b;
-    i = i >= SEA_CS_NZ ? SEA_CS_NZ - 1 : i;
-    j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
-    /* Catmull-Rom in both index coordinates (continuous slopes, so the
-     * emissivity's Gauss-Legendre rules see no kinks); one-sided at the
-     * grid's ends */
-    double wa[4], wb[4];
-    cs_catmull_rom(a - i, wa);
-    cs_catmull_rom(b - j, wb);
-    double acc = 0.0;
-    for (int p = 0; p < 4; p++) {
-        const int ii = cs_clamp(i - 1 + p, SEA_CS_NZ);
-        double row = 0.0;
-        for (int q = 0; q < 4; q++)
-            row += wb[q] * sea_cs_table[ii][cs_clamp(j - 1 + q, SEA_CS_NU)];
-        acc += wa[p] * row;
+    cs_rows r;
+    cs_rows_of(z, &r);
+    return cs_at(&r, u);
+}
+
+void sea_shadow_correlated_scale(double z, double mid, double half, const double *x, int n,
+                                 double *w)
+{
+    if (!(z <= SEA_CS_Z_MAX))
+        return;
+    cs_rows r;
+    cs_rows_of(z, &r);
+    for (int k = 0; k < n; k++) {
+        const double u = z - (mid + half * x[k]);
+        w[k] = u > 0.0 ? w[k] * cs_at(&r, u) : 0.0;
     }
-    return acc;
 }
 #endif
