@@ -159,9 +159,9 @@ sea_status sea_cli_bench_optics(bool quick, sea_cli_bench_row **rows_out, size_t
 {
     enum { NGL = sizeof SEA_CLI_BENCH_GL / sizeof SEA_CLI_BENCH_GL[0] };
     enum { NGH = sizeof SEA_CLI_BENCH_GH / sizeof SEA_CLI_BENCH_GH[0] };
-    enum { MAX_ROWS = 3 + NGL * NGH + 1 + 3 };
+    enum { MAX_ROWS = 3 + 2 + NGL * NGH + 1 + 3 };
     const int reps = quick ? SEA_CLI_BENCH_REPS_QUICK : SEA_CLI_BENCH_REPS;
-    sea_optics *p = NULL;
+    sea_optics *p = NULL, *pc = NULL;
     bench_cond *c = NULL;
     double *ref = NULL, *vals = NULL;
     char desc[160], edesc[200];
@@ -170,6 +170,10 @@ sea_status sea_cli_bench_optics(bool quick, sea_cli_bench_row **rows_out, size_t
     sea_status st = rows == NULL ? sea_fail(err, SEA_ERR_NOMEM, "out of memory") : SEA_OK;
     if (st == SEA_OK)
         st = sea_optics_alloc(&p, err);
+    if (st == SEA_OK)
+        st = sea_optics_alloc(&pc, err);
+    if (st == SEA_OK)
+        sea_optics_set_shadowing(pc, SEA_SHADOW_CORRELATED);
     if (st == SEA_OK)
         st = bench_conditions(quick, &c, &n, desc, sizeof desc, err);
     if (st != SEA_OK)
@@ -215,6 +219,30 @@ sea_status sea_cli_bench_optics(bool quick, sea_cli_bench_row **rows_out, size_t
              lo.n_gl, hi.n_gl, lo.n_gh, hi.n_gh);
     sum->auto_seconds = sec, sum->auto_max = mx, sum->auto_rms = rms;
     sum->conditions = n;
+
+    /* The program's default, correlated shadowing, against its own
+     * reference (the same weights, adaptive quadrature); then ref holds
+     * Smith's reference again. */
+    double *ref_c = malloc(n * sizeof *ref_c);
+    if (ref_c == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the bench values");
+        goto fail;
+    }
+    if ((st = emis_pass(pc, &full, c, n, 1, ref_c, &sec, err)) != SEA_OK) {
+        free(ref_c);
+        goto fail;
+    }
+    snprintf(bench_add(rows, &nrows, "emissivity", "full", sec, 0.0, 0.0, desc)->settings,
+             sizeof rows[0].settings, "Eq 7 adaptive with correlated shadowing (reference)");
+    if ((st = emis_pass(pc, &deflt, c, n, reps, vals, &sec, err)) != SEA_OK) {
+        free(ref_c);
+        goto fail;
+    }
+    bench_errors(vals, ref_c, n, &mx, &rms);
+    free(ref_c);
+    snprintf(bench_add(rows, &nrows, "emissivity", "auto", sec, mx, rms, desc)->settings,
+             sizeof rows[0].settings, "Eq 7 default with correlated shadowing (the program's)");
+    sum->corr_seconds = sec, sum->corr_max = mx;
 
     for (size_t a = 0; a < NGL; ++a)
         for (size_t b = 0; b < NGH; ++b) {
@@ -283,6 +311,7 @@ fail:
     free(vals);
     free(c);
     sea_optics_free(p);
+    sea_optics_free(pc);
     return st;
 }
 

@@ -552,6 +552,7 @@ typedef struct {
 typedef struct {
     size_t conditions;
     double full_seconds, auto_seconds, auto_max, auto_rms, fast_seconds, fast_max, fast_rms;
+    double corr_seconds, corr_max; /* auto with correlated shadowing, against its reference */
 } sea_cli_bench_summary;
 
 /* Emissivity (reference, Eq 12, default, fixed rules), reflectivity and
