@@ -73,6 +73,32 @@ static void test_kirchhoff_closure(void)
         CU_ASSERT(sea > n / 4 && sea < n); /* both sea and sky were seen */
         sea_image_free(&img);
     }
+    /* a band (3-5 um, 8 samples): the brightness temperature of the band
+     * radiance (Newton from the band's table, render.c) is the same 288 K;
+     * and one colder sky: every pixel between the sky's and the sea's */
+    for (int cold = 0; cold < 2; cold++) {
+        sea_scene sc = base_scene(UNIT_QUICK ? 16 : 32);
+        sc.wavelength = -1.0;
+        sc.band_min = 3e-6;
+        sc.band_max = 5e-6;
+        sc.band_samples = 8;
+        sc.sun_zenith = 120.0 * DEG;
+        sc.sky_temperature = cold ? 250.0 : sc.temperature;
+        sc.look_zenith = 50.0 * DEG;
+        sc.hfov = 100.0 * DEG;
+        sea_image img;
+        render(&sc, 0.0, &img);
+        const size_t n = (size_t)sc.width * (size_t)sc.height;
+        for (size_t i = 0; i < n; i++) {
+            if (cold) {
+                CU_ASSERT(img.temperature[i] >= 250.0f - 1e-3f &&
+                          img.temperature[i] <= 288.0f + 1e-3f);
+            } else {
+                ASSERT_ABS(img.temperature[i], 288.0, 1e-3);
+            }
+        }
+        sea_image_free(&img);
+    }
 }
 
 /* The general Eq 22 and the air.  Isothermal: sea, air and a black clear
