@@ -81,6 +81,80 @@ static void mul2(const double a[2][2], const double b[2][2], double r[2][2])
             r[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j];
 }
 
+/* n x n white noise of unit variance (seed), its spectrum multiplied by
+ * amplitude(kx, ky) (radians per cell) and its mean removed, back in h. */
+int mc_filtered_noise(int n, unsigned long seed, double (*amplitude)(double kx, double ky, void *ctx),
+                      void *ctx, double *h)
+{
+    int nc = n / 2 + 1;
+    fftw_complex *H = fftw_malloc(sizeof(fftw_complex) * n * nc);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    if (H == NULL || rng == NULL) {
+        fftw_free(H);
+        gsl_rng_free(rng);
+        return -1;
+    }
+    fftw_plan fwd = fftw_plan_dft_r2c_2d(n, n, h, H, FFTW_ESTIMATE);
+    fftw_plan inv = fftw_plan_dft_c2r_2d(n, n, H, h, FFTW_ESTIMATE);
+    gsl_rng_set(rng, seed);
+    for (long k = 0; k < (long)n * n; k++)
+        h[k] = gsl_ran_gaussian_ziggurat(rng, 1.0);
+    fftw_execute(fwd);
+    for (int j = 0; j < n; j++) {
+        double ky = 2 * M_PI * (j <= n / 2 ? j : j - n) / n;
+        for (int i = 0; i < nc; i++) {
+            double kx = 2 * M_PI * i / n;
+            double f = amplitude(kx, ky, ctx);
+            H[j * nc + i][0] *= f;
+            H[j * nc + i][1] *= f;
+        }
+    }
+    H[0][0] = H[0][1] = 0; /* zero mean height */
+    fftw_execute(inv);
+    fftw_destroy_plan(fwd);
+    fftw_destroy_plan(inv);
+    gsl_rng_free(rng);
+    fftw_free(H);
+    return 0;
+}
+
+/* The Gaussian correlation's amplitude: exp(-k^T Q^-1 k / 8). */
+typedef struct {
+    double qxx, qyy, qxy;
+} gauss_filter;
+
+static double gauss_amplitude(double kx, double ky, void *ctx)
+{
+    const gauss_filter *g = ctx;
+    return exp(-(g->qxx * kx * kx + 2 * g->qxy * kx * ky + g->qyy * ky * ky) / 8);
+}
+
+int mc_next_option(int argc, char **argv, int *a, int *opt, const char **value)
+{
+    if (*a >= argc)
+        return 0;
+    const char *o = argv[*a];
+    if (*a + 1 >= argc || o[0] != '-' || strlen(o) != 2)
+        return -1;
+    *opt = o[1];
+    *value = argv[*a + 1];
+    *a += 2;
+    return 1;
+}
+
+int mc_parse_list(const char *s, double *out, int max)
+{
+    int k = 0;
+    char *end;
+    while (*s && k < max) {
+        out[k++] = strtod(s, &end);
+        if (end == s)
+            return -1;
+        s = *end == ',' ? end + 1 : end;
+    }
+    return *s ? -1 : k;
+}
+
 int mc_surface_gaussian(mc_surface *s, int n, double ell, const sea_cov2 *C, unsigned long seed)
 {
     memset(s, 0, sizeof *s);
@@ -96,41 +170,15 @@ int mc_surface_gaussian(mc_surface *s, int n, double ell, const sea_cov2 *C, uns
     }
     if (!(C->xx > 0 && C->yy > 0 && det > 0))
         return -1;
-    int nc = n / 2 + 1;
     double *h = fftw_malloc(sizeof(double) * n * n);
-    fftw_complex *H = fftw_malloc(sizeof(fftw_complex) * n * nc);
-    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-    if (h == NULL || H == NULL || rng == NULL) {
-        fftw_free(h);
-        fftw_free(H);
-        gsl_rng_free(rng);
-        return -1;
-    }
-    fftw_plan fwd = fftw_plan_dft_r2c_2d(n, n, h, H, FFTW_ESTIMATE);
-    fftw_plan inv = fftw_plan_dft_c2r_2d(n, n, H, h, FFTW_ESTIMATE);
-    gsl_rng_set(rng, seed);
-    for (long k = 0; k < (long)n * n; k++)
-        h[k] = gsl_ran_gaussian_ziggurat(rng, 1.0);
-    fftw_execute(fwd);
     /* Q = C / (ell^2 tr C / 2): correlation exp(-r^T Q r) (index units),
      * amplitude spectrum sqrt(exp(-k^T Q^-1 k / 4)); Q^-1 = ell^2 (tr/2) C^-1. */
     double q = ell * ell * tr / 2 / det;
-    double qxx = q * C->yy, qyy = q * C->xx, qxy = -q * C->xy;
-    for (int j = 0; j < n; j++) {
-        double ky = 2 * M_PI * (j <= n / 2 ? j : j - n) / n;
-        for (int i = 0; i < nc; i++) {
-            double kx = 2 * M_PI * i / n;
-            double f = exp(-(qxx * kx * kx + 2 * qxy * kx * ky + qyy * ky * ky) / 8);
-            H[j * nc + i][0] *= f;
-            H[j * nc + i][1] *= f;
-        }
+    gauss_filter g = { q * C->yy, q * C->xx, -q * C->xy };
+    if (h == NULL || mc_filtered_noise(n, seed, gauss_amplitude, &g, h)) {
+        fftw_free(h);
+        return -1;
     }
-    H[0][0] = H[0][1] = 0; /* zero mean height */
-    fftw_execute(inv);
-    fftw_destroy_plan(fwd);
-    fftw_destroy_plan(inv);
-    gsl_rng_free(rng);
-    fftw_free(H);
     /* Measure the index-space slope covariance M with A = I, then
      * A = C^-1/2 M^1/2 gives A^-T M A^-1 = C. */
     int r = mc_surface_from_heights(s, n, h, ID);

@@ -46,6 +46,17 @@ typedef struct {
  * length in cells.  Returns 0, or -1 (allocation, bad arguments). */
 int mc_surface_gaussian(mc_surface *s, int n, double ell, const sea_cov2 *target,
                         unsigned long seed);
+/* n x n white noise of unit variance (seed, as mc_surface_gaussian draws
+ * it), its spectrum multiplied by amplitude(kx, ky, ctx) (wavenumbers in
+ * radians per cell) and its mean removed, into h (n * n).  0, or -1. */
+int mc_filtered_noise(int n, unsigned long seed, double (*amplitude)(double kx, double ky, void *ctx),
+                      void *ctx, double *h);
+/* A comma-separated list of numbers into out (at most max): the count, or
+ * -1 if malformed (the oracles' options). */
+int mc_parse_list(const char *s, double *out, int max);
+/* The oracles' options, "-x VALUE" pairs: the next one's letter and value
+ * from argv[*a] on (advancing *a); 1, 0 when none is left, -1 if malformed. */
+int mc_next_option(int argc, char **argv, int *a, int *opt, const char **value);
 /* A surface from given heights (copied) and cell matrix A (invertible). */
 int mc_surface_from_heights(mc_surface *s, int n, const double *h, const double A[2][2]);
 void mc_surface_free(mc_surface *s);

@@ -28,19 +28,6 @@
 
 enum { MAXL = 16 };
 
-static int parse_list(const char *s, double *out, int max)
-{
-    int k = 0;
-    char *end;
-    while (*s && k < max) {
-        out[k++] = strtod(s, &end);
-        if (end == s)
-            return -1;
-        s = *end == ',' ? end + 1 : end;
-    }
-    return *s ? -1 : k;
-}
-
 static int threads(void)
 {
 #ifdef _OPENMP
@@ -68,25 +55,26 @@ int main(int argc, char **argv)
     double ths[MAXL] = { 0, 40, 60, 70, 75, 80, 85 }, phs[MAXL] = { 0, 90 };
     int nw = 4, nl = 2, nt = 7, np = 2;
     const char *outpath = NULL;
-    for (int a = 1; a < argc; a++) {
-        const char *o = argv[a], *v = a + 1 < argc ? argv[a + 1] : NULL;
-        if (v == NULL || o[0] != '-' || strlen(o) != 2)
-            usage();
-        a++;
-        switch (o[1]) {
+    int opt_at = 1, opt, r;
+    const char *optv;
+    while ((r = mc_next_option(argc, argv, &opt_at, &opt, &optv)) > 0) {
+        const char *v = optv;
+        switch (opt) {
         case 'n': n = atoi(v); break;
         case 'l': ell = atof(v); break;
         case 's': seeds = atoi(v); break;
         case 'r': rays = atol(v); break;
         case 'S': seed0 = strtoul(v, NULL, 10); break;
-        case 'w': nw = parse_list(v, winds, MAXL); break;
-        case 'L': nl = parse_list(v, wls, MC_MAXWL); break;
-        case 't': nt = parse_list(v, ths, MAXL); break;
-        case 'p': np = parse_list(v, phs, MAXL); break;
+        case 'w': nw = mc_parse_list(v, winds, MAXL); break;
+        case 'L': nl = mc_parse_list(v, wls, MC_MAXWL); break;
+        case 't': nt = mc_parse_list(v, ths, MAXL); break;
+        case 'p': np = mc_parse_list(v, phs, MAXL); break;
         case 'o': outpath = v; break;
         default: usage();
         }
     }
+    if (r < 0)
+        usage();
     if (n < 8 || seeds < 2 || rays < 1 || nw < 1 || nl < 1 || nt < 1 || np < 1 || !(ell > 0))
         usage();
     sea_init();
