@@ -1671,6 +1671,23 @@ check_rc bake.sigterm 143
 check_match bake.sigterm_message "$SB_ERR" "interrupted by signal 15: the output directory is left"
 check_eq bake.sigterm_keeps "$(bake_state "$BDIR/inj/out")" "$inj_before"
 check_eq bake.sigterm_leftovers "$(find "$BDIR/inj" -maxdepth 1 -name 'out.*' | grep -c '')" 0
+# SIGTERM as soon as the temporary directory exists, while the scene is
+# being prepared (mast.ini: a tenth of a second and more): the signal is
+# already caught then, so the directory still goes (it stayed before).
+$SEABAKE_WRAPPER "$SEABAKE" bake "$top_srcdir/examples/mast.ini" -o "$BDIR/inj/early" \
+    --frames 0:99 --quiet >"$SB_TMP/out" 2>"$SB_TMP/err" &
+early_pid=$! n=0
+while ! find "$BDIR/inj" -maxdepth 1 -name 'early.tmp.*' | grep -q . && [ $n -lt 600 ]; do
+    sleep 0.02
+    n=$((n + 1))
+done
+kill -TERM "$early_pid"
+wait "$early_pid"
+SB_RC=$? SB_OUT=$(cat "$SB_TMP/out") SB_ERR=$(cat "$SB_TMP/err")
+SB_CMD="seabake bake examples/mast.ini --frames 0:99, SIGTERM during the preparation"
+check_rc bake.sigterm_prepare 143
+check_match bake.sigterm_prepare_message "$SB_ERR" "interrupted by signal 15: the output directory is left"
+check_eq bake.sigterm_prepare_leftovers "$(find "$BDIR/inj" -maxdepth 1 -name 'early*' | grep -c '')" 0
 # SIGKILL cannot be caught: DIR is untouched and the temporary directory
 # stays behind, until the next bake into DIR: it removes it (its owner's
 # flock is gone) with a note, and leaves nothing beside DIR.

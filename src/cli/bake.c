@@ -1839,6 +1839,10 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     /* under MPI rank 0 alone owns the directory (see bake_send_frames) */
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_status st = bake_parse(args, &s, err);
+    /* Signals are caught before the temporary directory exists, so that one
+     * during the preparation (seconds for a large scene) still removes it:
+     * the bake then stops at its first check. */
+    sea_cli_signals_catch();
     /* The temporary directory first: an unwritable or missing parent, or a
      * DIR that cannot be replaced, must not cost a whole bake. */
     if (st == SEA_OK && rank == 0)
@@ -1851,7 +1855,6 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     st = sea_cli_mpi_agree(st, 0, NULL, err);
     if (st == SEA_OK && s.explain && rank == 0)
         sea_cli_explain("bake", s.scene_path, r);
-    sea_cli_signals_catch();
     if (st == SEA_OK)
         st = rank == 0   ? bake_all(&s, r, od.tmp, &stats, err)
              : s.framed ? bake_send_frames(&s, r, err)
