@@ -43,8 +43,10 @@ CFLAGS="-g -O1 -std=gnu11 -Wall -Wno-unknown-pragmas $SAN -DHAVE_CONFIG_H \
 
 build() {
     mkdir -p "$FUZZ_DIR/obj"
-    lib_src="$top_srcdir/src/*.c $top_srcdir/exporters/*.c $top_builddir/src/water_data.c \
-$top_builddir/exporters/povray_inc.c $top_builddir/exporters/blender_py.c"
+    # (src/gen-*.c are programs that write sources, not the library)
+    lib_src="$(ls "$top_srcdir"/src/*.c | grep -v '/gen-[^/]*\.c$') $top_srcdir/exporters/*.c \
+$top_builddir/src/water_data.c $top_builddir/exporters/povray_inc.c \
+$top_builddir/exporters/blender_py.c"
     cli_src=$(ls "$top_srcdir"/src/cli/*.c | grep -v '/main\.c$')
     headers=$(ls "$top_srcdir"/src/*.h "$top_srcdir"/src/cli/*.h "$top_srcdir"/exporters/*.h \
         "$fz"/*.h "$top_builddir/config.h")
