@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "seabake.h"
+#include "internal.h"
 #include "textfile.h"
 
 static const long SEA_GRID_BYTES_MAX = 64L << 20;
@@ -100,6 +101,13 @@ static size_t index_of(const double *a, size_t n, double v)
             hi = mid;
     }
     return lo;
+}
+
+size_t sea_interval_of(const double *x, size_t n, double at)
+{
+    const size_t i = index_of(x, n, at);
+    const size_t lo = i == 0 ? 0 : i - 1;
+    return lo > n - 2 ? n - 2 : lo;
 }
 
 static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **out,

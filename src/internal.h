@@ -8,6 +8,8 @@
 #ifndef SEABAKE_INTERNAL_H
 #define SEABAKE_INTERNAL_H
 
+#include <stddef.h>
+
 #define SEA_INTERNAL __attribute__((visibility("hidden")))
 
 /* planck.c: the black body L(lambda, T) = a / expm1(b / T), a and b of lambda. */
@@ -18,6 +20,11 @@ SEA_INTERNAL void sea_planck_coefficients(double wavelength, double *a, double *
  * tests compare them with the portable loops. */
 struct sea_optics;
 SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
+
+/* gridtable.c: the interval [x[i], x[i + 1]] of an increasing x (n >= 2)
+ * that holds at, x[i] < at <= x[i + 1] inside, i clamped to [0, n - 2]
+ * outside (bisection). */
+SEA_INTERNAL size_t sea_interval_of(const double *x, size_t n, double at);
 
 /* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
  * the same values, the interpolation's rows in z found once. */

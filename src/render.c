@@ -135,14 +135,7 @@ static double response_at(const sea_response *resp, double wl)
         return 1.0;
     if (wl < resp->wavelength[0] || wl > resp->wavelength[resp->n - 1])
         return 0.0;
-    size_t lo = 0, hi = resp->n - 1;
-    while (hi - lo > 1) {
-        const size_t mid = (lo + hi) / 2;
-        if (resp->wavelength[mid] <= wl)
-            lo = mid;
-        else
-            hi = mid;
-    }
+    const size_t lo = sea_interval_of(resp->wavelength, resp->n, wl), hi = lo + 1;
     const double a = (wl - resp->wavelength[lo]) / (resp->wavelength[hi] - resp->wavelength[lo]);
     return (1.0 - a) * resp->value[lo] + a * resp->value[hi];
 }
@@ -307,13 +300,16 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
                                      r->sc.reflections, eps_all, err);
     if (s != SEA_OK)
         return s;
+    /* the sky the facets reflect, per sample */
+    double sky_all[SEA_SCENE_BAND_MAX];
+    for (size_t i = 0; i < r->nsamp; i++)
+        sky_all[i] = directional ? ksky_all[i] : (1.0 - eps_all[i]) * r->lsky[i];
     if (sun_up) {
         /* the glint is negligible where its radiance is below 1e-3 tolerance
          * of what the pixel has without it, at every sample */
         double negligible = INFINITY;
         for (size_t i = 0; i < r->nsamp; i++) {
-            const double sky = directional ? ksky_all[i] : (1.0 - eps_all[i]) * r->lsky[i];
-            const double other = eps_all[i] * r->lsea[i] + sky;
+            const double other = eps_all[i] * r->lsea[i] + sky_all[i];
             negligible = r->esun[i] > 0.0
                              ? fmin(negligible, SEA_GLINT_NEGLIGIBLE * r->sc.tolerance * other /
                                                     r->esun[i])
@@ -326,8 +322,7 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
     for (size_t i = 0; i < r->nsamp; i++) {
         const double eps = eps_all[i];
         const double rr = sun_up ? rr_all[i] : 0.0;
-        const double sky = directional ? ksky_all[i] : (1.0 - eps) * r->lsky[i];
-        const double Li = rr * r->esun[i] + sky + eps * r->lsea[i];
+        const double Li = rr * r->esun[i] + sky_all[i] + eps * r->lsea[i];
         if (Lk != NULL)
             Lk[i] = Li;
         sl += r->wt[i] * Li;
@@ -353,16 +348,11 @@ static double band_temperature(const sea_render *r, double L)
     double T;
     const double lnL = log(L);
     if (lnL > r->tb_lnL[1] && lnL < r->tb_lnL[SEA_TB_N - 2]) {
-        /* the table: the interval by bisection, then the cubic through
-         * four points (ln T as a function of ln L), within about 1e-7 */
-        int a = 1, b = SEA_TB_N - 2;
-        while (b - a > 1) {
-            const int m = (a + b) / 2;
-            if (r->tb_lnL[m] <= lnL)
-                a = m;
-            else
-                b = m;
-        }
+        /* the table: the interval holding ln L (within [1, N - 3], as ln L
+         * lies between the second and the next-to-last entries), then the
+         * cubic through four points (ln T as a function of ln L), within
+         * about 1e-7 */
+        const int a = (int)sea_interval_of(r->tb_lnL, SEA_TB_N, lnL);
         double lnT = 0.0;
         for (int p = a - 1; p <= a + 2; p++) {
             double w = 1.0;
