@@ -51,6 +51,7 @@ struct sea_render {
      * the brightness temperature's first guess */
     double tb_lnL[SEA_TB_N];
     sea_render_choices choices;
+    sea_two_scale_table *ts; /* scales = 2: what two scales add (NULL: nothing) */
 };
 
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err)
@@ -96,6 +97,7 @@ void sea_render_free(sea_render *r)
     sea_multires_free(r->mr);
     sea_water_free(r->water);
     sea_optics_free(r->optics);
+    sea_two_scale_table_free(r->ts);
     free(r->wl);
     free(r->wt);
     free(r->esun);
@@ -300,6 +302,19 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
                                      r->sc.reflections, eps_all, err);
     if (s != SEA_OK)
         return s;
+    if (r->ts != NULL) {
+        /* two scales (seabake-model(7), TWO SCALES): the emissivity gains
+         * what the longer waves' facets add; the sky is seen in the rest
+         * (a directional sky's reflection scaled by the reflectance's
+         * change, so that a uniform sky still closes) */
+        const double d = sea_two_scale_delta(r->ts, obs, st);
+        for (size_t i = 0; i < r->nsamp && d != 0.0; i++) {
+            const double e0 = eps_all[i], e1 = fmin(fmax(e0 + d, 0.0), 1.0);
+            if (directional)
+                ksky_all[i] = e0 < 1.0 ? ksky_all[i] * (1.0 - e1) / (1.0 - e0) : 0.0;
+            eps_all[i] = e1;
+        }
+    }
     /* the sky the facets reflect, per sample */
     double sky_all[SEA_SCENE_BAND_MAX];
     for (size_t i = 0; i < r->nsamp; i++)
@@ -525,6 +540,18 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
         }
     }
     TRY(set_samples(r, k, &resp, err));
+    if (sc->scales == 2) {
+        /* the two-scale table, at the band's middle sample */
+        sea_spectrum spec;
+        sea_cov2 res, sub, total;
+        double kh;
+        TRY(sea_spectrum_init(&spec, sc->wind_speed, sc->fetch, sc->wind_dir, err));
+        TRY(sea_spectrum_split_half(&spec, 0.0, &kh, &res, &sub, err));
+        total = (sea_cov2){ sub.xx + res.xx, sub.yy + res.yy, sub.xy + res.xy };
+        TRY(sea_two_scale_table_build(r->optics, r->N[r->nsamp / 2], sub, total, sc->wind_dir,
+                                      &r->ts, err));
+        r->choices.two_scale_split = 2.0 * M_PI / kh;
+    }
 #undef TRY
     sea_response_free(&resp);
     *out = r;

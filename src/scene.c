@@ -198,7 +198,7 @@ typedef enum {
     K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
     K_WAVELENGTH, K_BAND, K_RESPONSE, K_SAMPLES,
     K_METHOD, K_N, K_FINEST, K_GRID, K_EMISSIVITY, K_EARTH, K_WINDOWS, K_TOLERANCE,
-    K_REFLECTIONS, K_SHADOWING,
+    K_REFLECTIONS, K_SHADOWING, K_SCALES,
     K_COUNT
 } key_id;
 
@@ -333,6 +333,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_REFLECTIONS] = INT(SEC_MODEL, "reflections", 1, SEA_REFLECTIONS_MAX, 0, "", reflections),
     [K_SHADOWING] = CHOICE(SEC_MODEL, "shadowing", sea_shadowing_from_name, "smith, correlated",
                            shadowing),
+    [K_SCALES] = INT(SEC_MODEL, "scales", 1, 2, 0, "", scales),
 };
 
 #undef INF
@@ -948,6 +949,7 @@ void sea_scene_defaults(sea_scene *sc)
     sc->tolerance = 1e-3;
     sc->reflections = 1;
     sc->shadowing = SEA_SHADOW_CORRELATED;
+    sc->scales = 2;
     sc->sky_model = SEA_SKY_ISOTROPIC;
     sc->sky_zenith_emissivity = NAN;
     sc->air_temperature = NAN;

@@ -7,6 +7,11 @@
  *
  *   tests/mc_sea_oracle -o ../tests/data/mc_sea_emissivity.csv
  *
+ * and, with the longer waves (5 min of CPU), the two-scale table:
+ *
+ *   tests/mc_sea_oracle -n 8192 -d 0.04 -s 4 -r 50000 -w 5,10,15 -t 75,80,82,85 \
+ *       -p 0,90 -o ../tests/data/mc_sea_full_emissivity.csv
+ *
  * The one-scale surfaces of tests/mc_oracle.c have the Gaussian correlation
  * the correlated shadowing assumes; these have the sea's.  Heights: white
  * noise filtered (mc_filtered_noise) with the amplitude sqrt(Psi(k) dk^2) of the

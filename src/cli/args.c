@@ -446,6 +446,8 @@ sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_e
         st = sea_cli_opt_shadowing(args, SEA_SHADOW_CORRELATED, &s, err);
         out->shadowing = (int)s;
     }
+    if (st == SEA_OK)
+        st = sea_cli_opt_integer(args, "scales", 1, 2, 0, &out->scales, err);
     return st;
 }
 
@@ -468,6 +470,8 @@ void sea_cli_apply_model(const sea_cli_model *m, sea_scene *sc)
         sc->reflections = (int)m->reflections;
     if (m->shadowing >= 0)
         sc->shadowing = m->shadowing;
+    if (m->scales > 0)
+        sc->scales = (int)m->scales;
 }
 
 sea_status sea_cli_opt_list(const sea_cli_args *args, const char *name, const sea_cli_range *range,

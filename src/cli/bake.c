@@ -166,6 +166,8 @@ static const char BAKE_HELP[] =
     "                      reflections, as in seabake render\n"
     "  --shadowing S       correlated or smith: overrides the scene's [model]\n"
     "                      shadowing, as in seabake render\n"
+    "  --scales N          2 or 1: overrides the scene's [model] scales, as in\n"
+    "                      seabake render\n"
     "  --set SECTION.KEY=VALUE\n"
     "                      overrides a key of the scene file (as in seabake\n"
     "                      render); repeatable\n"
@@ -586,6 +588,7 @@ static cJSON *scene_json(const bake_setup *s)
     cJSON_AddNumberToObject(mod, "tolerance", sc->tolerance);
     cJSON_AddNumberToObject(mod, "reflections", sc->reflections);
     cJSON_AddStringToObject(mod, "shadowing", sea_shadowing_name((sea_shadowing)sc->shadowing));
+    cJSON_AddNumberToObject(mod, "scales", sc->scales);
     return o;
 }
 
@@ -1905,6 +1908,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"tolerance", 0},
     {"reflections", 0},
     {"shadowing", 0},
+    {"scales", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},
     {"quiet", SEA_CLI_OPT_FLAG}};
 

@@ -161,6 +161,7 @@ typedef struct {
     double tolerance;
     long reflections;
     int shadowing; /* a sea_shadowing, or -1: the scene's */
+    long scales;   /* 1 or 2, or 0: the scene's */
 } sea_cli_model;
 sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_error *err);
 /* The positional SCENE.ini of render and bake: present and not empty. */

@@ -35,6 +35,12 @@ static const char SEA_CLI_HELP_EMISSIVITY[] =
     "                      bring its emission (then --emissivity sets the first\n"
     "                      hit's rule only when N = 1)\n"
     SEA_CLI_HELP_SHADOWING
+    "  --scales N          1 (default: one Gaussian surface, the paper) or 2:\n"
+    "                      the slopes of the waves longer than the half-variance\n"
+    "                      split carry facets, each with its own Eq 7 (needs\n"
+    "                      --wind, --reflections 1; within 1.5e-3 of ray-traced\n"
+    "                      sea surfaces to 82 deg, 4.6e-3 at 85, where one\n"
+    "                      scale is 8e-3 and 20e-3 low)\n"
     SEA_CLI_HELP_WATER
     SEA_CLI_HELP_SLOPE_STATS
     "\n" SEA_CLI_HELP_LIST "\n"
@@ -63,7 +69,7 @@ static const char SEA_CLI_HELP_ENERGY[] =
 
 static const sea_cli_option SEA_CLI_EMISSIVITY_OPTIONS[] = {
     SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"reflections", 0},
-    {"shadowing", 0}};
+    {"shadowing", 0}, {"scales", 0}};
 static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
     SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"shadowing", 0}};
 
@@ -71,9 +77,48 @@ static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
  * with the quadrature plan differ only in the call and the last columns. */
 typedef enum { SEA_CLI_EMISSIVITY, SEA_CLI_ENERGY } sea_cli_quantity;
 
+/* --scales 2: the two bands of the sea's slopes (sea_spectrum_split_half
+ * of the waves the --facet leaves below it). */
+typedef struct {
+    int on;
+    sea_slope_stats sub;
+    sea_cov2 res;
+} two_scale;
+
+static sea_status two_scale_inputs(const sea_cli_args *args, const sea_cli_sea *sea, long scales,
+                                   long reflections, two_scale *ts, sea_error *err)
+{
+    ts->on = scales == 2;
+    if (!ts->on)
+        return SEA_OK;
+    if (sea_cli_args_get(args, "cov") != NULL || sea_cli_args_get(args, "wind") == NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--scales 2 splits the sea spectrum's slopes: give --wind, not --cov");
+    if (reflections != 1)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--scales 2 with --reflections %ld: two scales are single-bounce "
+                        "(allowed: --reflections 1)",
+                        reflections);
+    sea_spectrum spec;
+    double wind, fetch, facet, kc, kh;
+    sea_cov2 all;
+    sea_status st = sea_cli_sea_state(args, &spec, &wind, &fetch, err);
+    if (st == SEA_OK)
+        st = sea_cli_opt_number(args, "facet", &SEA_CLI_RANGE_FACET, 0.0, &facet, err);
+    if (st == SEA_OK)
+        st = sea_cli_facet_cov(&spec, facet, &kc, &all, err);
+    if (st != SEA_OK)
+        return st;
+    sea_error lib = {{0}};
+    if ((st = sea_spectrum_split_half(&spec, kc, &kh, &ts->res, &ts->sub.cov, &lib)) != SEA_OK)
+        return sea_fail(err, st, "--scales 2: %s", lib.msg);
+    ts->sub.mean = sea->stats.mean;
+    return SEA_OK;
+}
+
 static sea_status direction_row(FILE *out, sea_cli_quantity what, const sea_optics *optics,
-                                sea_emis_method method, int reflections, const sea_cli_sea *sea,
-                                double t, double f, sea_error *err)
+                                sea_emis_method method, int reflections, const two_scale *ts,
+                                const sea_cli_sea *sea, double t, double f, sea_error *err)
 {
     sea_dir v = sea_dir_fold(sea_cli_radians(t), sea_cli_radians(f));
     sea_error lib = {{0}};
@@ -83,8 +128,10 @@ static sea_status direction_row(FILE *out, sea_cli_quantity what, const sea_opti
     switch (what) {
     case SEA_CLI_EMISSIVITY:
         name = "emissivity";
-        st = sea_emissivity_multi_n(optics, method, NULL, &sea->N, 1, &sea->stats, v, reflections,
-                                    &e.emissivity, &lib);
+        st = ts->on ? sea_emissivity_two_scale(optics, sea->N, &ts->sub, ts->res, v,
+                                               &e.emissivity, &lib)
+                    : sea_emissivity_multi_n(optics, method, NULL, &sea->N, 1, &sea->stats, v,
+                                             reflections, &e.emissivity, &lib);
         break;
     case SEA_CLI_ENERGY:
     default:
@@ -111,7 +158,8 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
     sea_cli_list theta = {NULL, 0}, phi = {NULL, 0};
     sea_optics *optics = NULL;
     sea_emis_method method = SEA_EMIS_AUTO;
-    long reflections = 1;
+    long reflections = 1, scales = 1;
+    two_scale ts = { 0 };
     sea_cli_sea sea;
     sea_status st = sea_cli_direction_grid(args, &theta, &phi, err);
     if (st == SEA_OK)
@@ -121,8 +169,12 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
     sea_shadowing shadowing = SEA_SHADOW_CORRELATED;
     if (st == SEA_OK)
         st = sea_cli_opt_shadowing(args, SEA_SHADOW_CORRELATED, &shadowing, err);
+    if (st == SEA_OK && what == SEA_CLI_EMISSIVITY)
+        st = sea_cli_opt_integer(args, "scales", 1, 2, 1, &scales, err);
     if (st == SEA_OK)
         st = sea_cli_sea_inputs(args, &sea, err);
+    if (st == SEA_OK)
+        st = two_scale_inputs(args, &sea, scales, reflections, &ts, err);
     if (st == SEA_OK)
         st = sea_optics_alloc(&optics, err);
     if (st != SEA_OK)
@@ -136,8 +188,8 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
     for (size_t i = 0; i < theta.n && st == SEA_OK; ++i)
         for (size_t j = 0; j < phi.n && st == SEA_OK; ++j)
             st =
-                direction_row(out, what, optics, method, (int)reflections, &sea, theta.values[i],
-                              phi.values[j], err);
+                direction_row(out, what, optics, method, (int)reflections, &ts, &sea,
+                              theta.values[i], phi.values[j], err);
 done:
     sea_optics_free(optics);
     sea_cli_list_free(&theta);

@@ -144,6 +144,17 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
                 "%s: shadowing: smith (the paper's Eq 9c-9e, independent of the facet's "
                 "slope: the emissivity up to 12e-3 low at 75-85 deg, seabake-model(7))\n",
                 what);
+    if (sc->scales == 2)
+        fprintf(stderr,
+                "%s: scales: 2 (the slopes of the waves longer than %.3g m, half the slope "
+                "variance, count as facets under the level's own: low resolution within "
+                "1.5e-3 of ray-traced sea surfaces to 82 deg, seabake-model(7), TWO SCALES)\n",
+                what, ch.two_scale_split);
+    else
+        fprintf(stderr,
+                "%s: scales: 1 (one Gaussian surface, the paper: at 80-85 deg low resolution is "
+                "8-20e-3 below ray-traced sea surfaces and 1 m facets, seabake-model(7))\n",
+                what);
     if (ch.wave_count == 0)
         fprintf(stderr, "%s: waves: none (every level is low-resolution)\n", what);
     else if (ch.directions > 0)

@@ -101,6 +101,10 @@ static const char RENDER_HELP[] =
     "  --shadowing S       overrides the scene's [model] shadowing: correlated\n"
     "                      (default; within 1.1e-3 of ray tracing to 85 deg) or\n"
     "                      smith (the paper's, up to 12e-3 low at 75-85 deg)\n"
+    "  --scales N          overrides the scene's [model] scales: 2 (default: the\n"
+    "                      slopes of waves longer than the half-variance split\n"
+    "                      count as facets, every level agrees with low\n"
+    "                      resolution) or 1 (one Gaussian surface, the paper)\n"
     "  --threads N         OpenMP threads, 1 to 4 x the online CPUs (at most 1024);\n"
     "                      default: the OpenMP default\n"
     "  --quiet             no progress bar and no summary line\n"
@@ -948,6 +952,7 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"tolerance", 0},
     {"reflections", 0},
     {"shadowing", 0},
+    {"scales", 0},
     {"quiet", SEA_CLI_OPT_FLAG},
     {"explain", SEA_CLI_OPT_FLAG}};
 

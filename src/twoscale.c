@@ -1,0 +1,312 @@
+/* twoscale.c - the two-scale effective emissivity (an addition to the
+ * paper; seabake-model(7), TWO SCALES).
+ *
+ * The one-scale Eq 7 treats every slope of the sea as one Gaussian surface
+ * with one correlation scale.  The sea's slopes come from waves of many
+ * scales, and the long waves hide the short ones' troughs in a way the
+ * one-scale shadowing cannot see: ray-traced sea-spectrum surfaces are up
+ * to 0.02 above it at 85 degrees (tests/data/mc_sea_full_emissivity.csv).
+ * Here the slopes are split into a resolved band (the longer waves,
+ * covariance C_res) carrying facets and a sub-facet band (C_sub) on each
+ * facet: the facets' slopes m ~ N(m0, C_res) each count by their projected
+ * area g = 1 - m_X tan(theta) times the chance the longer waves leave them
+ * in view (the correlated function C(z, t) when the optics use it, else
+ * 1), and each shows its own eps~ (Eq 7 with mean m and covariance C_sub):
+ *
+ *   eps_2 = E[g C eps~(v; m, C_sub)] / E[g C]
+ *
+ * which is also what an image at facets of the split's size shows
+ * (multires.c): low resolution and the finest level then agree.  The
+ * quadrature: Gauss-Legendre over t = (m_X - m0_X)/s_X on [-6, min(z, 6)]
+ * (z = (cot theta - m0_X)/s_X: the facets the view does not turn away)
+ * and Gauss-Hermite over m_Y given m_X. */
+#include <gsl/gsl_integration.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include "seabake.h"
+
+enum { TS_NX = 24, TS_NY = 8 };      /* the reference's orders */
+enum { TAB_NX = 12, TAB_NY = 4 };    /* the table's (within 1e-4 of them, tests) */
+
+sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_half,
+                                   sea_cov2 *res, sea_cov2 *sub, sea_error *err)
+{
+    if (!(kc >= 0.0) || !isfinite(kc))
+        return sea_fail(err, SEA_ERR_DOMAIN, "cutoff wavenumber %g (allowed: finite, >= 0)", kc);
+    sea_cov2 all, c;
+    sea_status st = sea_spectrum_slope_cov(s, kc, &all, err);
+    if (st != SEA_OK)
+        return st;
+    const double half = 0.5 * (all.xx + all.yy);
+    /* bisection in log k: the slope variance of waves with |k| >= k
+     * decreases with k */
+    double lo = kc > 0.0 ? kc : 1e-4, hi = 1e5;
+    for (int it = 0; it < 80 && hi / lo > 1.0 + 1e-9; it++) {
+        const double k = sqrt(lo * hi);
+        if ((st = sea_spectrum_slope_cov(s, k, &c, err)) != SEA_OK)
+            return st;
+        if (c.xx + c.yy > half)
+            lo = k;
+        else
+            hi = k;
+    }
+    *k_half = sqrt(lo * hi);
+    if ((st = sea_spectrum_slope_cov(s, *k_half, sub, err)) != SEA_OK)
+        return st;
+    *res = (sea_cov2){ all.xx - sub->xx, all.yy - sub->yy, all.xy - sub->xy };
+    return SEA_OK;
+}
+
+static sea_status two_scale(const sea_optics *p, double complex N, const sea_slope_stats *sub,
+                            sea_cov2 res, sea_dir v, int nx, int ny, double *out, sea_error *err)
+{
+    sea_status st = sea_slope_stats_check(sub, err);
+    if (st != SEA_OK)
+        return st;
+    if (!(res.xx >= 0.0 && res.yy >= 0.0) || !isfinite(res.xx) || !isfinite(res.yy) ||
+        !isfinite(res.xy) || res.xy * res.xy > res.xx * res.yy * (1.0 + 1e-9))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "resolved slope covariance (%g, %g, %g) is not a covariance", res.xx,
+                        res.yy, res.xy);
+    if (!(v.theta >= 0.0 && v.theta < M_PI / 2.0) || !isfinite(v.phi))
+        return sea_fail(err, SEA_ERR_DOMAIN, "view zenith %g rad (allowed: [0, pi/2))", v.theta);
+    /* the resolved covariance in the view's frame: X along the view azimuth */
+    const double c = cos(v.phi), s = sin(v.phi);
+    const double vX = c * c * res.xx + 2.0 * c * s * res.xy + s * s * res.yy;
+    const double vY = s * s * res.xx - 2.0 * c * s * res.xy + c * c * res.yy;
+    const double cXY = (c * c - s * s) * res.xy + c * s * (res.yy - res.xx);
+    const double m0X = c * sub->mean.x + s * sub->mean.y;
+    const double tant = tan(v.theta), cott = 1.0 / tant;
+    const double sX = sqrt(vX);
+    const double z = sX > 0.0 ? (cott - m0X) / sX : INFINITY;
+    const double tb = fmin(z, 6.0);
+    if (!(vX > 1e-12 * (sub->cov.xx + sub->cov.yy)) || !(tb > -6.0))
+        /* no resolved band, or every facet turned away: one scale */
+        return sea_emissivity(p, SEA_EMIS_AUTO, N, sub, v, out, err);
+    const double slope = cXY / vX, sY = sqrt(fmax(vY - cXY * cXY / vX, 0.0));
+    const int correlated = sea_optics_shadowing(p) == SEA_SHADOW_CORRELATED;
+
+    gsl_integration_glfixed_table *gl = gsl_integration_glfixed_table_alloc((size_t)nx);
+    gsl_integration_fixed_workspace *gh =
+        gsl_integration_fixed_alloc(gsl_integration_fixed_hermite, (size_t)ny, 0.0, 0.5, 0.0, 0.0);
+    if (gl == NULL || gh == NULL) {
+        gsl_integration_glfixed_table_free(gl);
+        gsl_integration_fixed_free(gh);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the two-scale quadrature");
+    }
+    const double *y = gsl_integration_fixed_nodes(gh), *wy = gsl_integration_fixed_weights(gh);
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < nx && st == SEA_OK; i++) {
+        double t, wt;
+        gsl_integration_glfixed_point(-6.0, tb, (size_t)i, &t, &wt, gl);
+        const double mX = m0X + sX * t;
+        const double g = 1.0 - mX * tant;
+        const double V = correlated ? sea_shadow_correlated(z, t) : 1.0;
+        const double w = wt * exp(-0.5 * t * t) * g * V;
+        if (!(w > 0.0))
+            continue;
+        for (int j = 0; j < ny; j++) {
+            /* the facet's slope in the view frame, back to x, y */
+            const double dX = sX * t, dY = slope * dX + sY * y[j];
+            sea_slope_stats f = *sub;
+            f.mean.x += c * dX - s * dY;
+            f.mean.y += s * dX + c * dY;
+            double e;
+            if ((st = sea_emissivity(p, SEA_EMIS_AUTO, N, &f, v, &e, err)) != SEA_OK)
+                break;
+            num += w * wy[j] * e;
+            den += w * wy[j];
+        }
+    }
+    gsl_integration_glfixed_table_free(gl);
+    gsl_integration_fixed_free(gh);
+    if (st != SEA_OK)
+        return st;
+    if (!(den > 0.0))
+        return sea_emissivity(p, SEA_EMIS_AUTO, N, sub, v, out, err);
+    *out = num / den;
+    return SEA_OK;
+}
+
+sea_status sea_emissivity_two_scale(const sea_optics *p, double complex N,
+                                    const sea_slope_stats *sub, sea_cov2 res, sea_dir v,
+                                    double *out, sea_error *err)
+{
+    return two_scale(p, N, sub, res, v, TS_NX, TS_NY, out, err);
+}
+
+/* ------------------------------------------------------------------ table
+ *
+ * What two scales add to a facet's one-scale eps~, as a function of the
+ * view seen from the facet (its mean slope's plane), the view's azimuth to
+ * the wind and how much of the split's resolved band the facet's own
+ * covariance holds, f = (tr C - tr C_h) / (tr C_LR - tr C_h) in [0, 1]
+ * (C_h: the waves shorter than the split; f = 1 low resolution, 0 a facet
+ * no larger than the split).  A facet of mean slope m seen from v is taken
+ * as a level facet seen from v's direction in its own plane: against the
+ * two scales under the facet's mean slope this is within 5e-5 at 70-85 deg
+ * (seabake-model(7), TWO SCALES). */
+enum { TAB_NT = 45, TAB_NP = 5, TAB_NF = 5 };
+#define TAB_T0 (30.0 * M_PI / 180.0)
+#define TAB_T1 (96.0 * M_PI / 180.0)
+/* views beyond it from the facet's plane: a facet tilted away by the
+ * excess, seen from here */
+#define TAB_TV (85.0 * M_PI / 180.0)
+
+struct sea_two_scale_table {
+    double wind_dir;
+    double tr_h, tr_lr;
+    /* delta[(it * TAB_NP + ip) * TAB_NF + jf]: theta node it, azimuth
+     * ip 22.5 deg to the wind, f = jf / (TAB_NF - 1) */
+    double delta[TAB_NT * TAB_NP * TAB_NF];
+};
+
+sea_status sea_two_scale_table_build(const sea_optics *p, double complex N, sea_cov2 split_sub,
+                                     sea_cov2 total, double wind_dir,
+                                     sea_two_scale_table **out, sea_error *err)
+{
+    *out = NULL;
+    const double tr_h = split_sub.xx + split_sub.yy, tr_lr = total.xx + total.yy;
+    if (!(tr_h > 0.0 && tr_lr > tr_h) || !isfinite(tr_lr) || !isfinite(wind_dir))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "two-scale table: the split's covariance (trace %g) must be below the "
+                        "total's (%g), both positive and finite",
+                        tr_h, tr_lr);
+    sea_two_scale_table *t = calloc(1, sizeof *t);
+    if (t == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the two-scale table");
+    t->wind_dir = wind_dir;
+    t->tr_h = tr_h;
+    t->tr_lr = tr_lr;
+    int failed = 0;
+    sea_error first = { { 0 } };
+    const int n = TAB_NT * TAB_NP * (TAB_NF - 1);
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int q = 0; q < n; q++) {
+        if (failed)
+            continue;
+        const int it = q / (TAB_NP * (TAB_NF - 1)), ip = (q / (TAB_NF - 1)) % TAB_NP;
+        const int jf = 1 + q % (TAB_NF - 1);
+        const double f = (double)jf / (TAB_NF - 1);
+        const double tl = TAB_T0 + (TAB_T1 - TAB_T0) * it / (TAB_NT - 1);
+        const sea_dir v = { fmin(tl, TAB_TV), wind_dir + M_PI / 8.0 * ip };
+        const double tilt = tan(fmax(tl - TAB_TV, 0.0)); /* along the view, away */
+        const sea_vec2 m = { tilt * cos(v.phi), tilt * sin(v.phi) };
+        const sea_cov2 res = { f * (total.xx - split_sub.xx), f * (total.yy - split_sub.yy),
+                               f * (total.xy - split_sub.xy) };
+        const sea_slope_stats one = { m,
+                                      { split_sub.xx + res.xx, split_sub.yy + res.yy,
+                                        split_sub.xy + res.xy } };
+        const sea_slope_stats sub = { m, split_sub };
+        double e1, e2;
+        sea_error e;
+        sea_status st = sea_emissivity(p, SEA_EMIS_AUTO, N, &one, v, &e1, &e);
+        if (st == SEA_OK)
+            st = two_scale(p, N, &sub, res, v, TAB_NX, TAB_NY, &e2, &e);
+        if (st != SEA_OK) {
+#pragma omp critical(sea_two_scale_table)
+            {
+                if (!failed)
+                    first = e;
+                failed = 1;
+            }
+            continue;
+        }
+        t->delta[(it * TAB_NP + ip) * TAB_NF + jf] = e2 - e1;
+    }
+    if (failed) {
+        free(t);
+        if (err != NULL)
+            *err = first;
+        return SEA_ERR_NUMERIC;
+    }
+    *out = t;
+    return SEA_OK;
+}
+
+void sea_two_scale_table_free(sea_two_scale_table *t)
+{
+    free(t);
+}
+
+/* Catmull-Rom weights for the fraction u in [0, 1] between nodes 1 and 2
+ * of four. */
+static void cr_weights(double u, double w[4])
+{
+    const double u2 = u * u, u3 = u2 * u;
+    w[0] = 0.5 * (-u3 + 2.0 * u2 - u);
+    w[1] = 0.5 * (3.0 * u3 - 5.0 * u2 + 2.0);
+    w[2] = 0.5 * (-3.0 * u3 + 4.0 * u2 + u);
+    w[3] = 0.5 * (u3 - u2);
+}
+
+/* Four node indices around x in [0, n - 1] (clamped at the ends) and the
+ * fraction between the middle two. */
+static double cr_nodes(double x, int n, int k[4])
+{
+    int i = (int)floor(x);
+    if (i < 0)
+        i = 0;
+    if (i > n - 2)
+        i = n - 2;
+    for (int a = 0; a < 4; a++) {
+        int j = i - 1 + a;
+        k[a] = j < 0 ? 0 : j > n - 1 ? n - 1 : j;
+    }
+    return x - i;
+}
+
+double sea_two_scale_delta(const sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st)
+{
+    /* the view in the plane of the facet's mean slope: normal n, tangent
+     * axes the wind projected on the plane and n x that */
+    const double mx = st->mean.x, my = st->mean.y;
+    const double nn = sqrt(1.0 + mx * mx + my * my);
+    const double n[3] = { -mx / nn, -my / nn, 1.0 / nn };
+    const double d[3] = { sin(v.theta) * cos(v.phi), sin(v.theta) * sin(v.phi), cos(v.theta) };
+    const double ct = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+    if (!(ct < cos(TAB_T0)))
+        return 0.0; /* below the table's first angle (or not a number): nothing to add */
+    /* the wind's direction projected on the plane: the azimuth is read
+     * from it, whatever the scene's axes */
+    const double cw = cos(t->wind_dir), sw = sin(t->wind_dir);
+    const double wn = cw * n[0] + sw * n[1];
+    double ex[3] = { cw - wn * n[0], sw - wn * n[1], -wn * n[2] };
+    const double ne = sqrt(ex[0] * ex[0] + ex[1] * ex[1] + ex[2] * ex[2]);
+    for (int a = 0; a < 3; a++)
+        ex[a] /= ne;
+    const double ey[3] = { n[1] * ex[2] - n[2] * ex[1], n[2] * ex[0] - n[0] * ex[2],
+                           n[0] * ex[1] - n[1] * ex[0] };
+    const double px = d[0] * ex[0] + d[1] * ex[1] + d[2] * ex[2];
+    const double py = d[0] * ey[0] + d[1] * ey[1] + d[2] * ey[2];
+    const double theta = acos(fmax(ct, -1.0)); /* beyond 90: the facet's plane turned away */
+    const double phi = fabs(remainder(atan2(py, px), M_PI)); /* to the wind, [0, pi/2] */
+    double f = (st->cov.xx + st->cov.yy - t->tr_h) / (t->tr_lr - t->tr_h);
+    f = isfinite(f) ? fmin(fmax(f, 0.0), 1.0) : 0.0;
+
+    int kt[4], kf[4], kp[4];
+    double wt[4], wf[4], wp[4];
+    cr_weights(cr_nodes((fmin(theta, TAB_T1) - TAB_T0) / (TAB_T1 - TAB_T0) * (TAB_NT - 1),
+                        TAB_NT, kt),
+               wt);
+    cr_weights(cr_nodes(f * (TAB_NF - 1), TAB_NF, kf), wf);
+    /* the azimuth: the table is even about 0 and about 90 degrees (the
+     * sea's slopes are symmetric about the wind and across it), so the
+     * nodes beyond the ends are mirrored, not clamped */
+    const double xp = phi / (M_PI / 8.0);
+    int i0 = (int)floor(xp);
+    if (i0 > TAB_NP - 2)
+        i0 = TAB_NP - 2;
+    for (int a = 0; a < 4; a++) {
+        int j = i0 - 1 + a;
+        kp[a] = j < 0 ? -j : j > TAB_NP - 1 ? 2 * (TAB_NP - 1) - j : j;
+    }
+    cr_weights(xp - i0, wp);
+    double s = 0.0;
+    for (int p = 0; p < 4; p++)
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 4; j++)
+                s += wp[p] * wt[i] * wf[j] * t->delta[(kt[i] * TAB_NP + kp[p]) * TAB_NF + kf[j]];
+    return s;
+}
