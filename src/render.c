@@ -307,7 +307,9 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
          * what the longer waves' facets add; the sky is seen in the rest
          * (a directional sky's reflection scaled by the reflectance's
          * change, so that a uniform sky still closes) */
-        const double d = sea_two_scale_delta(r->ts, obs, st);
+        double d;
+        if ((s = sea_two_scale_delta(r->ts, obs, st, &d, err)) != SEA_OK)
+            return s;
         for (size_t i = 0; i < r->nsamp && d != 0.0; i++) {
             const double e0 = eps_all[i], e1 = fmin(fmax(e0 + d, 0.0), 1.0);
             if (directional)
@@ -541,14 +543,15 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     }
     TRY(set_samples(r, k, &resp, err));
     if (sc->scales == 2) {
-        /* the two-scale table, at the band's middle sample */
+        /* the two-scale table, at the band's middle sample (its rows
+         * computed as pixels need them) */
         sea_spectrum spec;
         sea_cov2 res, sub, total;
         double kh;
         TRY(sea_spectrum_init(&spec, sc->wind_speed, sc->fetch, sc->wind_dir, err));
         TRY(sea_spectrum_split_half(&spec, 0.0, &kh, &res, &sub, err));
         total = (sea_cov2){ sub.xx + res.xx, sub.yy + res.yy, sub.xy + res.xy };
-        TRY(sea_two_scale_table_build(r->optics, r->N[r->nsamp / 2], sub, total, sc->wind_dir,
+        TRY(sea_two_scale_table_alloc(r->optics, r->N[r->nsamp / 2], sub, total, sc->wind_dir,
                                       &r->ts, err));
         r->choices.two_scale_split = 2.0 * M_PI / kh;
     }

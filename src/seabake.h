@@ -444,26 +444,33 @@ sea_status sea_emissivity_two_scale(const sea_optics *p, double complex N,
 sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_half,
                                    sea_cov2 *res, sea_cov2 *sub, sea_error *err);
 
-/* What two scales add to a facet's one-scale emissivity, tabulated once
- * per scene (wavelength-independent to 3 percent of itself from 3 to 12
- * um: the table takes one index N).  split_sub: the covariance of the waves
+/* What two scales add to a facet's one-scale emissivity, tabulated per
+ * scene (wavelength-independent to 3 percent of itself from 3 to 12 um:
+ * the table takes one index N).  split_sub: the covariance of the waves
  * shorter than the split (sea_spectrum_split_half's sub), total: the
  * low-resolution covariance; both in the x, y frame, wind_dir the wind's
- * azimuth.  The table spans views from 30 to 96 degrees seen from the
- * facet's plane (none is added below 30; beyond 85 a facet tilted away by
- * the excess, seen from 85), azimuths to the wind and facets from the
- * split's size (nothing added) to low resolution; 900 nodes, each the
- * difference of sea_emissivity_two_scale (with orders 12 x 4) and
- * sea_emissivity.  OpenMP threads.  SEA_ERR_DOMAIN unless 0 < tr split_sub
- * < tr total; SEA_ERR_NUMERIC as the emissivity. */
+ * azimuth.  The table spans views from 50 to 96 degrees seen from the
+ * facet's plane (below 50 the addition is under 2e-6 up to 25 m/s and none
+ * is added; beyond 85 a facet tilted away by the excess, seen from 85),
+ * azimuths to the wind and facets from the split's size (nothing added)
+ * to low resolution: 32 rows of view angles of 20 nodes, each node the
+ * difference of sea_emissivity_two_scale (orders 12 x 4) and
+ * sea_emissivity.  _alloc computes nothing: a row is computed when a
+ * query first needs it (1-2 ms), by one thread while the others wait.
+ * p must outlive the table.  SEA_ERR_DOMAIN unless 0 < tr split_sub <
+ * tr total and N is finite. */
 typedef struct sea_two_scale_table sea_two_scale_table;
-sea_status sea_two_scale_table_build(const sea_optics *p, double complex N, sea_cov2 split_sub,
+sea_status sea_two_scale_table_alloc(const sea_optics *p, double complex N, sea_cov2 split_sub,
                                      sea_cov2 total, double wind_dir,
                                      sea_two_scale_table **out, sea_error *err);
-/* The addition for a facet of slope statistics st (its mean slope's plane,
- * its covariance's trace) seen from v, interpolated (Catmull-Rom in the
- * angle, the trace and the azimuth).  0 below 30 degrees; finite.  Pure. */
-double sea_two_scale_delta(const sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st);
+/* The addition *out for a facet of slope statistics st (its mean slope's
+ * plane, its covariance's trace) seen from v, interpolated (Catmull-Rom in
+ * the angle, the trace and the azimuth); 0 below 50 degrees.  Thread-safe;
+ * SEA_ERR_NUMERIC if a row's emissivity fails (then *out = 0). */
+sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
+                               double *out, sea_error *err);
+/* Rows of view angles computed so far.  Thread-safe. */
+size_t sea_two_scale_table_rows(const sea_two_scale_table *t);
 void sea_two_scale_table_free(sea_two_scale_table *t);
 
 /* The sky's radiance as a function of the zenith angle (Eq 22 instead of

@@ -146,83 +146,108 @@ sea_status sea_emissivity_two_scale(const sea_optics *p, double complex N,
  * no larger than the split).  A facet of mean slope m seen from v is taken
  * as a level facet seen from v's direction in its own plane: against the
  * two scales under the facet's mean slope this is within 5e-5 at 70-85 deg
- * (seabake-model(7), TWO SCALES). */
-enum { TAB_NT = 45, TAB_NP = 5, TAB_NF = 5 };
-#define TAB_T0 (30.0 * M_PI / 180.0)
+ * (seabake-model(7), TWO SCALES).  The rows of view angles are computed
+ * when a pixel first needs them: a view that never grazes computes none. */
+enum { TAB_NT = 32, TAB_NP = 5, TAB_NF = 5 };
+#define TAB_T0 (50.0 * M_PI / 180.0)
 #define TAB_T1 (96.0 * M_PI / 180.0)
 /* views beyond it from the facet's plane: a facet tilted away by the
  * excess, seen from here */
 #define TAB_TV (85.0 * M_PI / 180.0)
 
 struct sea_two_scale_table {
+    const sea_optics *p;
+    double complex N;
+    sea_cov2 split_sub, total;
     double wind_dir;
     double tr_h, tr_lr;
+    /* ready[it]: row it computed (read with acquire, written with release
+     * after its values) */
+    int ready[TAB_NT];
     /* delta[(it * TAB_NP + ip) * TAB_NF + jf]: theta node it, azimuth
      * ip 22.5 deg to the wind, f = jf / (TAB_NF - 1) */
     double delta[TAB_NT * TAB_NP * TAB_NF];
 };
 
-sea_status sea_two_scale_table_build(const sea_optics *p, double complex N, sea_cov2 split_sub,
+sea_status sea_two_scale_table_alloc(const sea_optics *p, double complex N, sea_cov2 split_sub,
                                      sea_cov2 total, double wind_dir,
                                      sea_two_scale_table **out, sea_error *err)
 {
     *out = NULL;
     const double tr_h = split_sub.xx + split_sub.yy, tr_lr = total.xx + total.yy;
-    if (!(tr_h > 0.0 && tr_lr > tr_h) || !isfinite(tr_lr) || !isfinite(wind_dir))
+    if (!(tr_h > 0.0 && tr_lr > tr_h) || !isfinite(tr_lr) || !isfinite(wind_dir) ||
+        !isfinite(creal(N)) || !isfinite(cimag(N)))
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "two-scale table: the split's covariance (trace %g) must be below the "
-                        "total's (%g), both positive and finite",
+                        "total's (%g), both positive and finite, and the index finite",
                         tr_h, tr_lr);
     sea_two_scale_table *t = calloc(1, sizeof *t);
     if (t == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the two-scale table");
+    t->p = p;
+    t->N = N;
+    t->split_sub = split_sub;
+    t->total = total;
     t->wind_dir = wind_dir;
     t->tr_h = tr_h;
     t->tr_lr = tr_lr;
-    int failed = 0;
-    sea_error first = { { 0 } };
-    const int n = TAB_NT * TAB_NP * (TAB_NF - 1);
-#pragma omp parallel for schedule(dynamic, 4)
-    for (int q = 0; q < n; q++) {
-        if (failed)
-            continue;
-        const int it = q / (TAB_NP * (TAB_NF - 1)), ip = (q / (TAB_NF - 1)) % TAB_NP;
-        const int jf = 1 + q % (TAB_NF - 1);
-        const double f = (double)jf / (TAB_NF - 1);
-        const double tl = TAB_T0 + (TAB_T1 - TAB_T0) * it / (TAB_NT - 1);
-        const sea_dir v = { fmin(tl, TAB_TV), wind_dir + M_PI / 8.0 * ip };
-        const double tilt = tan(fmax(tl - TAB_TV, 0.0)); /* along the view, away */
-        const sea_vec2 m = { tilt * cos(v.phi), tilt * sin(v.phi) };
-        const sea_cov2 res = { f * (total.xx - split_sub.xx), f * (total.yy - split_sub.yy),
-                               f * (total.xy - split_sub.xy) };
-        const sea_slope_stats one = { m,
-                                      { split_sub.xx + res.xx, split_sub.yy + res.yy,
-                                        split_sub.xy + res.xy } };
-        const sea_slope_stats sub = { m, split_sub };
-        double e1, e2;
-        sea_error e;
-        sea_status st = sea_emissivity(p, SEA_EMIS_AUTO, N, &one, v, &e1, &e);
-        if (st == SEA_OK)
-            st = two_scale(p, N, &sub, res, v, TAB_NX, TAB_NY, &e2, &e);
-        if (st != SEA_OK) {
-#pragma omp critical(sea_two_scale_table)
-            {
-                if (!failed)
-                    first = e;
-                failed = 1;
-            }
-            continue;
-        }
-        t->delta[(it * TAB_NP + ip) * TAB_NF + jf] = e2 - e1;
-    }
-    if (failed) {
-        free(t);
-        if (err != NULL)
-            *err = first;
-        return SEA_ERR_NUMERIC;
-    }
     *out = t;
     return SEA_OK;
+}
+
+/* Row it: every azimuth and facet size (f = 0 adds nothing). */
+static sea_status table_row(sea_two_scale_table *t, int it, sea_error *err)
+{
+    const double tl = TAB_T0 + (TAB_T1 - TAB_T0) * it / (TAB_NT - 1);
+    const double tilt = tan(fmax(tl - TAB_TV, 0.0)); /* along the view, away */
+    const sea_cov2 hs = t->split_sub, tot = t->total;
+    for (int ip = 0; ip < TAB_NP; ip++) {
+        const sea_dir v = { fmin(tl, TAB_TV), t->wind_dir + M_PI / 8.0 * ip };
+        const sea_vec2 m = { tilt * cos(v.phi), tilt * sin(v.phi) };
+        for (int jf = 1; jf < TAB_NF; jf++) {
+            const double f = (double)jf / (TAB_NF - 1);
+            const sea_cov2 res = { f * (tot.xx - hs.xx), f * (tot.yy - hs.yy),
+                                   f * (tot.xy - hs.xy) };
+            const sea_slope_stats one = { m, { hs.xx + res.xx, hs.yy + res.yy, hs.xy + res.xy } };
+            const sea_slope_stats sub = { m, hs };
+            double e1, e2;
+            sea_status st = sea_emissivity(t->p, SEA_EMIS_AUTO, t->N, &one, v, &e1, err);
+            if (st == SEA_OK)
+                st = two_scale(t->p, t->N, &sub, res, v, TAB_NX, TAB_NY, &e2, err);
+            if (st != SEA_OK)
+                return st;
+            t->delta[(it * TAB_NP + ip) * TAB_NF + jf] = e2 - e1;
+        }
+    }
+    return SEA_OK;
+}
+
+/* Rows k[0..3] computed, the first caller that needs one computing it
+ * while the others wait. */
+static sea_status table_rows(sea_two_scale_table *t, const int k[4], sea_error *err)
+{
+    sea_status st = SEA_OK;
+    for (int a = 0; a < 4 && st == SEA_OK; a++) {
+        if (__atomic_load_n(&t->ready[k[a]], __ATOMIC_ACQUIRE))
+            continue;
+#pragma omp critical(sea_two_scale_row)
+        {
+            if (!__atomic_load_n(&t->ready[k[a]], __ATOMIC_ACQUIRE)) {
+                st = table_row(t, k[a], err);
+                if (st == SEA_OK)
+                    __atomic_store_n(&t->ready[k[a]], 1, __ATOMIC_RELEASE);
+            }
+        }
+    }
+    return st;
+}
+
+size_t sea_two_scale_table_rows(const sea_two_scale_table *t)
+{
+    size_t n = 0;
+    for (int it = 0; it < TAB_NT; it++)
+        n += __atomic_load_n(&t->ready[it], __ATOMIC_ACQUIRE) != 0;
+    return n;
 }
 
 void sea_two_scale_table_free(sea_two_scale_table *t)
@@ -257,8 +282,10 @@ static double cr_nodes(double x, int n, int k[4])
     return x - i;
 }
 
-double sea_two_scale_delta(const sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st)
+sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
+                               double *out, sea_error *err)
 {
+    *out = 0.0;
     /* the view in the plane of the facet's mean slope: normal n, tangent
      * axes the wind projected on the plane and n x that */
     const double mx = st->mean.x, my = st->mean.y;
@@ -267,7 +294,7 @@ double sea_two_scale_delta(const sea_two_scale_table *t, sea_dir v, const sea_sl
     const double d[3] = { sin(v.theta) * cos(v.phi), sin(v.theta) * sin(v.phi), cos(v.theta) };
     const double ct = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
     if (!(ct < cos(TAB_T0)))
-        return 0.0; /* below the table's first angle (or not a number): nothing to add */
+        return SEA_OK; /* below the table's first angle (or not a number): nothing to add */
     /* the wind's direction projected on the plane: the azimuth is read
      * from it, whatever the scene's axes */
     const double cw = cos(t->wind_dir), sw = sin(t->wind_dir);
@@ -291,6 +318,9 @@ double sea_two_scale_delta(const sea_two_scale_table *t, sea_dir v, const sea_sl
                         TAB_NT, kt),
                wt);
     cr_weights(cr_nodes(f * (TAB_NF - 1), TAB_NF, kf), wf);
+    const sea_status status = table_rows(t, kt, err);
+    if (status != SEA_OK)
+        return status;
     /* the azimuth: the table is even about 0 and about 90 degrees (the
      * sea's slopes are symmetric about the wind and across it), so the
      * nodes beyond the ends are mirrored, not clamped */
@@ -308,5 +338,6 @@ double sea_two_scale_delta(const sea_two_scale_table *t, sea_dir v, const sea_sl
         for (int i = 0; i < 4; i++)
             for (int j = 0; j < 4; j++)
                 s += wp[p] * wt[i] * wf[j] * t->delta[(kt[i] * TAB_NP + kp[p]) * TAB_NF + kf[j]];
-    return s;
+    *out = s;
+    return SEA_OK;
 }

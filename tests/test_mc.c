@@ -570,7 +570,15 @@ static void test_two_scale_limits(void)
     CU_ASSERT_FATAL(sea_spectrum_split_half(&sp, 0.0, &kh, &res, &hsub, NULL) == SEA_OK);
     const sea_cov2 tot = { res.xx + hsub.xx, res.yy + hsub.yy, res.xy + hsub.xy };
     sea_two_scale_table *t = NULL;
-    CU_ASSERT_FATAL(sea_two_scale_table_build(PC, N4, hsub, tot, 0.5, &t, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_two_scale_table_alloc(PC, N4, hsub, tot, 0.5, &t, NULL) == SEA_OK);
+    /* nothing computed until asked; below 50 degrees nothing is */
+    CU_ASSERT_EQUAL(sea_two_scale_table_rows(t), 0);
+    const sea_slope_stats lr = { { 0, 0 }, tot };
+    double d0 = NAN;
+    CU_ASSERT(sea_two_scale_delta(t, (sea_dir){ 45 * DEG, 0.2 }, &lr, &d0, NULL) == SEA_OK);
+    CU_ASSERT(d0 == 0.0 && sea_two_scale_table_rows(t) == 0);
+    CU_ASSERT(sea_two_scale_delta(t, (sea_dir){ 70 * DEG, 0.2 }, &lr, &d0, NULL) == SEA_OK);
+    CU_ASSERT(d0 > 0.0 && sea_two_scale_table_rows(t) == 4);
     double worst[2] = { 0.0, 0.0 }; /* to 85 deg, beyond */
     const double facets[] = { 1.0, 8.0, 0.0 }; /* m; 0: low resolution */
     for (int l = 0; l < 3; l++) {
@@ -590,7 +598,8 @@ static void test_two_scale_limits(void)
                                     SEA_OK);
                     CU_ASSERT_FATAL(sea_emissivity_two_scale(PC, N4, &two, fres, v, &e2, NULL) ==
                                     SEA_OK);
-                    const double d = sea_two_scale_delta(t, v, &one);
+                    double d = NAN;
+                    CU_ASSERT(sea_two_scale_delta(t, v, &one, &d, NULL) == SEA_OK);
                     CU_ASSERT(isfinite(d));
                     const int k = th > 85.0;
                     worst[k] = fmax(worst[k], fabs(d - (e2 - e1)));
