@@ -26,6 +26,11 @@ SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
  * outside (bisection). */
 SEA_INTERNAL size_t sea_interval_of(const double *x, size_t n, double at);
 
+/* shadow.c: Catmull-Rom weights of the four nodes around the fraction f
+ * in [0, 1] between the middle two (the correlated function's table and
+ * twoscale.c's read them). */
+SEA_INTERNAL void sea_catmull_rom(double f, double w[4]);
+
 /* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
  * the same values, the interpolation's rows in z found once. */
 SEA_INTERNAL void sea_shadow_correlated_scale(double z, double mid, double half, const double *x,

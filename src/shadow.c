@@ -182,10 +182,7 @@ double sea_shadow_correlated_exact(double z, double t)
     return S * (1.0 + lambda);
 }
 
-#ifndef SEA_CS_GENERATOR /* (the generator computes the table) */
-#include "shadow_table.h"
-
-static void cs_catmull_rom(double f, double w[4])
+void sea_catmull_rom(double f, double w[4])
 {
     const double f2 = f * f, f3 = f2 * f;
     w[0] = 0.5 * (-f3 + 2.0 * f2 - f);
@@ -193,6 +190,9 @@ static void cs_catmull_rom(double f, double w[4])
     w[2] = 0.5 * (-3.0 * f3 + 4.0 * f2 + f);
     w[3] = 0.5 * (f3 - f2);
 }
+
+#ifndef SEA_CS_GENERATOR /* (the generator computes the table) */
+#include "shadow_table.h"
 
 static int cs_clamp(int i, int n) { return i < 0 ? 0 : i > n ? n : i; }
 
@@ -210,7 +210,7 @@ static void cs_rows_of(double z, cs_rows *r)
     a = a > SEA_CS_NZ ? SEA_CS_NZ : a;
     int i = (int)a;
     i = i >= SEA_CS_NZ ? SEA_CS_NZ - 1 : i;
-    cs_catmull_rom(a - i, r->wa);
+    sea_catmull_rom(a - i, r->wa);
     for (int p = 0; p < 4; p++)
         r->row[p] = cs_clamp(i - 1 + p, SEA_CS_NZ);
 }
@@ -225,7 +225,7 @@ static double cs_at(const cs_rows *r, double u)
     int j = (int)b;
     j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
     double wb[4];
-    cs_catmull_rom(b - j, wb);
+    sea_catmull_rom(b - j, wb);
     const int j0 = cs_clamp(j - 1, SEA_CS_NU), j1 = j, j2 = j + 1, j3 = cs_clamp(j + 2, SEA_CS_NU);
     double acc = 0.0;
     for (int p = 0; p < 4; p++) {

@@ -25,6 +25,7 @@
 #include <stdlib.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 enum { TS_NX = 24, TS_NY = 8 };      /* the reference's orders */
 enum { TAB_NX = 12, TAB_NY = 4 };    /* the table's (within 1e-4 of them, tests) */
@@ -255,17 +256,6 @@ void sea_two_scale_table_free(sea_two_scale_table *t)
     free(t);
 }
 
-/* Catmull-Rom weights for the fraction u in [0, 1] between nodes 1 and 2
- * of four. */
-static void cr_weights(double u, double w[4])
-{
-    const double u2 = u * u, u3 = u2 * u;
-    w[0] = 0.5 * (-u3 + 2.0 * u2 - u);
-    w[1] = 0.5 * (3.0 * u3 - 5.0 * u2 + 2.0);
-    w[2] = 0.5 * (-3.0 * u3 + 4.0 * u2 + u);
-    w[3] = 0.5 * (u3 - u2);
-}
-
 /* Four node indices around x in [0, n - 1] (clamped at the ends) and the
  * fraction between the middle two. */
 static double cr_nodes(double x, int n, int k[4])
@@ -314,10 +304,10 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
 
     int kt[4], kf[4], kp[4];
     double wt[4], wf[4], wp[4];
-    cr_weights(cr_nodes((fmin(theta, TAB_T1) - TAB_T0) / (TAB_T1 - TAB_T0) * (TAB_NT - 1),
+    sea_catmull_rom(cr_nodes((fmin(theta, TAB_T1) - TAB_T0) / (TAB_T1 - TAB_T0) * (TAB_NT - 1),
                         TAB_NT, kt),
                wt);
-    cr_weights(cr_nodes(f * (TAB_NF - 1), TAB_NF, kf), wf);
+    sea_catmull_rom(cr_nodes(f * (TAB_NF - 1), TAB_NF, kf), wf);
     const sea_status status = table_rows(t, kt, err);
     if (status != SEA_OK)
         return status;
@@ -332,7 +322,7 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
         int j = i0 - 1 + a;
         kp[a] = j < 0 ? -j : j > TAB_NP - 1 ? 2 * (TAB_NP - 1) - j : j;
     }
-    cr_weights(xp - i0, wp);
+    sea_catmull_rom(xp - i0, wp);
     double s = 0.0;
     for (int p = 0; p < 4; p++)
         for (int i = 0; i < 4; i++)

@@ -365,6 +365,40 @@ static void test_table(void)
     CU_ASSERT(worst_c2[0] <= 3.0e-3 && worst_c2[1] <= 4.0e-3 && worst_c2[2] <= 4.7e-3);
 }
 
+/* The sea-spectrum tables' rows grouped by direction (wind x[0], theta
+ * x[2], phi x[3]): two gaps per row, model - ray tracing, summed so that
+ * their means over the surfaces and standard errors can be read. */
+enum { DIRS_MAX = 32 };
+typedef struct {
+    double key[3], sum[2], sq[2];
+    int cnt;
+} dir_tally;
+
+static void tally_add(dir_tally *t, int *nd, const double *x, const double g[2])
+{
+    int d = 0;
+    while (d < *nd && !(t[d].key[0] == x[0] && t[d].key[1] == x[2] && t[d].key[2] == x[3]))
+        d++;
+    if (d == *nd) {
+        CU_ASSERT_FATAL(*nd < DIRS_MAX);
+        t[d] = (dir_tally){ { x[0], x[2], x[3] }, { 0.0, 0.0 }, { 0.0, 0.0 }, 0 };
+        (*nd)++;
+    }
+    for (int m = 0; m < 2; m++) {
+        t[d].sum[m] += g[m];
+        t[d].sq[m] += g[m] * g[m];
+    }
+    t[d].cnt++;
+}
+
+static void tally_mean(const dir_tally *t, double mean[2], double se[2])
+{
+    for (int m = 0; m < 2; m++) {
+        mean[m] = t->sum[m] / t->cnt;
+        se[m] = sqrt(fmax(t->sq[m] / t->cnt - mean[m] * mean[m], 0.0) / (t->cnt - 1));
+    }
+}
+
 /* The many-scale table (tests/mc_sea_oracle.c): every row's model columns
  * are today's model at the row's slope covariance (1e-6, as above), and
  * what it shows stays true: over sea-spectrum surfaces (many scales, where
@@ -377,10 +411,8 @@ static void test_sea_table(void)
     FILE *f = open_data("mc_sea_emissivity.csv");
     CU_ASSERT_FATAL(f != NULL);
     char line[1024];
-    int header = 0, rows = 0;
-    enum { ND = 16 };
-    double key[ND][3], sum[ND][2], sq[ND][2];
-    int cnt[ND], nd = 0;
+    int header = 0, rows = 0, nd = 0;
+    dir_tally tally[DIRS_MAX];
     while (fgets(line, sizeof line, f)) {
         if (line[0] == '#')
             continue;
@@ -399,40 +431,24 @@ static void test_sea_table(void)
         CU_ASSERT(sea_emissivity(PC, SEA_EMIS_AUTO, N4, &st, v, &ec, NULL) == SEA_OK);
         ASSERT_ABS(x[8], es, 1e-6);
         ASSERT_ABS(x[9], ec, 1e-6);
-        int d = 0;
-        while (d < nd && !(key[d][0] == x[0] && key[d][1] == x[2] && key[d][2] == x[3]))
-            d++;
-        if (d == nd) {
-            CU_ASSERT_FATAL(nd < ND);
-            key[d][0] = x[0], key[d][1] = x[2], key[d][2] = x[3];
-            sum[d][0] = sum[d][1] = sq[d][0] = sq[d][1] = 0.0;
-            cnt[d] = 0;
-            nd++;
-        }
-        for (int m = 0; m < 2; m++) {
-            const double g = x[8 + m] - x[7];
-            sum[d][m] += g;
-            sq[d][m] += g * g;
-        }
-        cnt[d]++;
+        const double g[2] = { x[8] - x[7], x[9] - x[7] };
+        tally_add(tally, &nd, x, g);
         rows++;
     }
     fclose(f);
     CU_ASSERT(header && rows >= 2 * nd && nd >= 8);
     for (int d = 0; d < nd; d++) {
         double mean[2], se[2];
-        for (int m = 0; m < 2; m++) {
-            mean[m] = sum[d][m] / cnt[d];
-            se[m] = sqrt(fmax(sq[d][m] / cnt[d] - mean[m] * mean[m], 0.0) / (cnt[d] - 1));
-        }
+        tally_mean(&tally[d], mean, se);
+        const double *key = tally[d].key;
         MEASURED("sea-spectrum surfaces, %g m/s, %g deg, phi %g: model - ray tracing: Smith's "
                  "%+.4f +- %.4f, correlated %+.4f +- %.4f\n",
-                 key[d][0], key[d][1], key[d][2], mean[0], se[0], mean[1], se[1]);
+                 key[0], key[1], key[2], mean[0], se[0], mean[1], se[1]);
         /* within 3 standard errors: correlated at least as close as Smith's,
          * and never above the truth by more than that */
         CU_ASSERT(fabs(mean[1]) <= fabs(mean[0]) + 3.0 * se[1]);
         CU_ASSERT(mean[1] <= 3.0 * se[1] + 5e-4);
-        if (key[d][1] >= 85.0)
+        if (key[1] >= 85.0)
             CU_ASSERT(mean[1] < -3.0 * se[1]); /* the gap that remains */
     }
 }
@@ -453,10 +469,8 @@ static void test_two_scale_table(void)
     CU_ASSERT_FATAL(f != NULL);
     const double kmin = 2.0 * M_PI / (8192 * 0.04); /* the surfaces' period */
     char line[1024];
-    int header = 0;
-    enum { ND = 32 };
-    double key[ND][3], sum[ND][2], sq[ND][2];
-    int cnt[ND], nd = 0;
+    int header = 0, nd = 0;
+    dir_tally tally[DIRS_MAX];
     while (fgets(line, sizeof line, f)) {
         if (line[0] == '#')
             continue;
@@ -485,35 +499,19 @@ static void test_two_scale_table(void)
         const sea_dir v = { x[2] * DEG, x[3] * DEG };
         double e2 = NAN;
         CU_ASSERT_FATAL(sea_emissivity_two_scale(PC, N4, &sub, res, v, &e2, NULL) == SEA_OK);
-        int d = 0;
-        while (d < nd && !(key[d][0] == x[0] && key[d][1] == x[2] && key[d][2] == x[3]))
-            d++;
-        if (d == nd) {
-            CU_ASSERT_FATAL(nd < ND);
-            key[d][0] = x[0], key[d][1] = x[2], key[d][2] = x[3];
-            sum[d][0] = sum[d][1] = sq[d][0] = sq[d][1] = 0.0;
-            cnt[d] = 0;
-            nd++;
-        }
         const double g[2] = { x[9] - x[7], e2 - x[7] };
-        for (int m = 0; m < 2; m++) {
-            sum[d][m] += g[m];
-            sq[d][m] += g[m] * g[m];
-        }
-        cnt[d]++;
+        tally_add(tally, &nd, x, g);
     }
     fclose(f);
     CU_ASSERT(header && nd == 24);
     for (int d = 0; d < nd; d++) {
         double mean[2], se[2];
-        for (int m = 0; m < 2; m++) {
-            mean[m] = sum[d][m] / cnt[d];
-            se[m] = sqrt(fmax(sq[d][m] / cnt[d] - mean[m] * mean[m], 0.0) / (cnt[d] - 1));
-        }
+        tally_mean(&tally[d], mean, se);
+        const double *key = tally[d].key;
         MEASURED("sea-spectrum surfaces to 328 m, %g m/s, %g deg, phi %g: model - ray tracing: "
                  "one scale %+.4f, two scales %+.4f +- %.4f\n",
-                 key[d][0], key[d][1], key[d][2], mean[0], mean[1], se[1]);
-        CU_ASSERT(fabs(mean[1]) <= (key[d][1] <= 82.0 ? 2e-3 : 6e-3) + 3.0 * se[1]);
+                 key[0], key[1], key[2], mean[0], mean[1], se[1]);
+        CU_ASSERT(fabs(mean[1]) <= (key[1] <= 82.0 ? 2e-3 : 6e-3) + 3.0 * se[1]);
         CU_ASSERT(fabs(mean[1]) <= fabs(mean[0]) + 3.0 * se[1]);
     }
 }
