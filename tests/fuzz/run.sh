@@ -11,7 +11,9 @@
 # top_builddir (holds config.h and the generated sources), FUZZ_DIR
 # (default $top_builddir/build-fuzz), FUZZ_CC (clang), FUZZ_SECONDS
 # (default 60), FUZZ_CPPFLAGS and FUZZ_LIBS (the dependencies' flags),
-# FUZZ_FLAGS (extra libFuzzer options, e.g. -jobs=1 -workers=1).
+# FUZZ_FLAGS (extra libFuzzer options, e.g. -jobs=1 -workers=1), FUZZ_JOBS
+# (targets built and fuzzed side by side, one process each; default: the
+# processors).
 #
 # Each target's corpus: $FUZZ_DIR/corpus/T (new inputs found by this run:
 # the first directory, the only one written), then the regression corpus
@@ -27,6 +29,7 @@ FUZZ_SECONDS=${FUZZ_SECONDS:-60}
 FUZZ_CPPFLAGS=${FUZZ_CPPFLAGS:-}
 FUZZ_LIBS=${FUZZ_LIBS:-}
 FUZZ_FLAGS=${FUZZ_FLAGS:-}
+FUZZ_JOBS=${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 1)}
 TARGETS="scene water response cli"
 fz=$top_srcdir/tests/fuzz
 
@@ -41,8 +44,26 @@ SAN="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-fram
 CFLAGS="-g -O1 -std=gnu11 -Wall -Wno-unknown-pragmas $SAN -DHAVE_CONFIG_H \
 -I$top_builddir -I$top_srcdir/src -I$top_builddir/src -I$top_srcdir/exporters $FUZZ_CPPFLAGS"
 
+# pool CMD...: runs CMD in the background, FUZZ_JOBS at a time; a failure
+# leaves a mark that pool_wait reports.
+pool_n=0
+pool() {
+    { "$@" || touch "$FUZZ_DIR/obj/failed"; } &
+    pool_n=$((pool_n + 1))
+    [ "$pool_n" -lt "$FUZZ_JOBS" ] || { wait; pool_n=0; }
+}
+pool_wait() {
+    wait
+    pool_n=0
+    if [ -f "$FUZZ_DIR/obj/failed" ]; then
+        echo "fuzz: building the targets failed" >&2
+        exit 1
+    fi
+}
+
 build() {
     mkdir -p "$FUZZ_DIR/obj"
+    rm -f "$FUZZ_DIR/obj/failed"
     # (src/gen-*.c are programs that write sources, not the library)
     lib_src="$(ls "$top_srcdir"/src/*.c | grep -v '/gen-[^/]*\.c$') $top_srcdir/exporters/*.c \
 $top_builddir/src/water_data.c $top_builddir/exporters/povray_inc.c \
@@ -60,20 +81,23 @@ $top_builddir/exporters/blender_py.c"
             for h in $headers; do [ "$h" -nt "$o" ] && stale=1; done
             if [ $stale = 1 ]; then
                 echo "  CC (fuzz) $(basename "$s")" >&2
+                rm -f "$o"
                 # shellcheck disable=SC2086
-                $FUZZ_CC $CFLAGS -fsanitize=fuzzer-no-link -c "$s" -o "$o"
+                pool $FUZZ_CC $CFLAGS -fsanitize=fuzzer-no-link -c "$s" -o "$o"
             fi
             if [ $kind = lib ]; then objs_lib="$objs_lib $o"; else objs_cli="$objs_cli $o"; fi
         done
     done
+    pool_wait
     for t in $TARGETS; do
         extra=""
         [ "$t" = cli ] && extra=$objs_cli
         echo "  CCLD (fuzz) fuzz_$t" >&2
         # shellcheck disable=SC2086
-        $FUZZ_CC $CFLAGS -fsanitize=fuzzer "$fz/fuzz_$t.c" $extra $objs_lib $FUZZ_LIBS \
+        pool $FUZZ_CC $CFLAGS -fsanitize=fuzzer "$fz/fuzz_$t.c" $extra $objs_lib $FUZZ_LIBS \
             -lpthread -lm -o "$FUZZ_DIR/fuzz_$t"
     done
+    pool_wait
 }
 
 # The seeds of target t, made into $FUZZ_DIR/seeds/t.
@@ -135,12 +159,28 @@ build) build ;;
 run)
     build
     only=${2:-}
+    # FUZZ_JOBS lanes take the targets in order, each the next one unclaimed
+    # (mkdir claims it atomically), and write its verdict to a file; scene,
+    # whose corpus replays small renders for about three minutes, comes first
+    res="$FUZZ_DIR/results"
+    rm -rf "$res" && mkdir -p "$res"
+    lane=0
+    while [ "$lane" -lt "$FUZZ_JOBS" ]; do
+        for t in $TARGETS; do
+            [ -z "$only" ] || [ "$only" = "$t" ] || continue
+            mkdir "$res/$t.claim" 2>/dev/null || continue
+            if run_one "$t" >"$res/$t.out"; then echo ok; else echo failed; fi >"$res/$t.rc"
+        done &
+        lane=$((lane + 1))
+    done
+    wait
     passed=0 failed=0
     for t in $TARGETS; do
-        [ -z "$only" ] || [ "$only" = "$t" ] || continue
-        if run_one "$t"; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+        [ -f "$res/$t.rc" ] || continue
+        cat "$res/$t.out"
+        if [ "$(cat "$res/$t.rc")" = ok ]; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
     done
     echo "fuzz: $passed passed, $failed failed" | tee "$FUZZ_DIR/fuzz.log"
-    [ "$failed" -eq 0 ] ;;
+    [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ] ;;
 *) echo "usage: $0 build | run [TARGET]" >&2; exit 2 ;;
 esac
