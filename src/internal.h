@@ -31,6 +31,10 @@ SEA_INTERNAL size_t sea_interval_of(const double *x, size_t n, double at);
  * twoscale.c's read them). */
 SEA_INTERNAL void sea_catmull_rom(double f, double w[4]);
 
+/* shadow.c: sea_shadow_visible and sea_shadow_hidden of (mu, m, s) at
+ * once, from one G (identical values). */
+SEA_INTERNAL void sea_shadow_split(double mu, double m, double s, double *visible,
+                                   double *hidden);
 /* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
  * the same values, the interpolation's rows in z found once. */
 SEA_INTERNAL void sea_shadow_correlated_scale(double z, double mid, double half, const double *x,

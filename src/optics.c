@@ -631,6 +631,14 @@ static const fresnel_table *fresnel_of(const sea_optics *pc, double complex N, s
     return found != NULL && found->usable ? found : NULL;
 }
 
+/* rho(psi) of index N at cos psi = c, from its table when it has one
+ * (hint as fresnel_of's). */
+static double fresnel_at(const sea_optics *p, double complex N, double c, size_t *hint)
+{
+    const fresnel_table *tb = fresnel_of(p, N, hint);
+    return tb != NULL ? fresnel_interp(tb, c) : sea_fresnel_unpolarized(c, N);
+}
+
 /* What the emissivity integrates: 1 - rho(psi) of index N, from its table
  * when it has one. */
 typedef struct {
@@ -1172,12 +1180,13 @@ static void mirror_geom_of(const sea_slope_stats *st, sea_dir inc, sea_dir obs, 
     m->g_over_D = 1.0;
     sea_slope_project(st, obs.phi, &m_o, &s_o);
     if (obs.theta >= SEA_NADIR_THETA) {
-        const double mu = 1.0 / tan(obs.theta);
+        const double tn = tan(obs.theta), mu = 1.0 / tn;
         const double mu_minus_gX = 0.5 * h2 / (sin(obs.theta) * cos_sum);
-        const double vis = sea_shadow_visible(mu, m_o, s_o);
+        double vis, hid;
+        sea_shadow_split(mu, m_o, s_o, &vis, &hid);
         if (!(vis > 0.0))
             return; /* D underflows: no facet seen from obs */
-        L_o = sea_shadow_lambda(obs.theta, m_o, s_o);
+        L_o = tn * hid; /* sea_shadow_lambda(obs.theta, m_o, s_o) */
         m->g_over_D = mu_minus_gX * (1.0 + L_o) / vis;
     }
     const double L_i = lambda_along(st, inc);
@@ -1575,7 +1584,15 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
                              const sea_slope_stats *st, sea_dir inc, sea_dir obs, double radius,
                              double skip_rel, double negligible, double *out)
 {
-    sea_reflectivity_n(N, n, st, inc, obs, out);
+    /* the point sun's rho~ (the geometry found once, for the disc too);
+     * rho(psi0) from the index's table (within 1e-10 of the formula) */
+    mirror_geom m;
+    mirror_geom_of(st, inc, obs, &m);
+    size_t slot = 0;
+    for (size_t i = 0; i < n; i++)
+        out[i] = m.zero ? 0.0
+                        : fresnel_at(p, N[i], m.cos_psi0, &slot) * m.pdf * m.g_over_D * m.S *
+                              m.J;
     if (!(radius > 0.0))
         return;
     double ui[3], uo[3], g0[2];
@@ -1643,8 +1660,6 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
      * rho g/D S Mass / Omega, Omega = pi a^2 (to a^4) */
     const double pdf0 = slope_pdf(st, g0[0], g0[1]);
     const double point_per = pdf0 * fabs(det); /* what out[] holds per rho g/D S */
-    mirror_geom m;
-    mirror_geom_of(st, inc, obs, &m);
     if (m.zero)
         return;
     const double second = radius * radius / 8.0 * lmax * (1.0 + d2);
@@ -1654,10 +1669,11 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
             : sea_disc_mass(p, Cu, mu, radius,
                             second <= 0.1 ? 16 : second <= 1.0 ? 24 : SEA_DISC_NODES) /
                   (M_PI * radius * radius);
+    slot = 0;
     for (size_t i = 0; i < n; i++) {
         if (point_per > 0.0 && out[i] > 0.0)
             out[i] *= disc_per / point_per;
         else
-            out[i] = sea_fresnel_unpolarized(m.cos_psi0, N[i]) * m.g_over_D * m.S * disc_per;
+            out[i] = fresnel_at(p, N[i], m.cos_psi0, &slot) * m.g_over_D * m.S * disc_per;
     }
 }

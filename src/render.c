@@ -363,6 +363,7 @@ static double band_temperature(const sea_render *r, double L)
         return sea_planck_brightness_temperature(r->wl[0], L / r->wt[0]);
     double lo = 1.0, hi = 1e5;
     double T;
+    int from_table = 0;
     const double lnL = log(L);
     if (lnL > r->tb_lnL[1] && lnL < r->tb_lnL[SEA_TB_N - 2]) {
         /* the table: the interval holding ln L (within [1, N - 3], as ln L
@@ -379,6 +380,7 @@ static double band_temperature(const sea_render *r, double L)
             lnT += w * (SEA_TB_LNT0 + p * SEA_TB_STEP);
         }
         T = exp(lnT);
+        from_table = 1;
     } else {
         T = sea_planck_brightness_temperature(r->wl[r->nsamp / 2], L / r->wsum);
     }
@@ -400,6 +402,12 @@ static double band_temperature(const sea_render *r, double L)
         if (!(Tn > lo && Tn < hi))
             Tn = 0.5 * (lo + hi);
         if (fabs(Tn - T) <= 1e-9 * T)
+            return Tn;
+        /* Newton's error after a step is (f''/2f') e^2, here at most
+         * (x / 2) (e / T)^2 T with x = b / T the largest (x <= 200 down to
+         * 30 K at 3 um): from the table's start a step of 1e-6 T or less
+         * leaves at most 1e-10 T, so it needs no second evaluation */
+        if (it == 0 && from_table && fabs(Tn - T) <= 1e-6 * T)
             return Tn;
         T = Tn;
     }

@@ -539,14 +539,17 @@ void sea_reflectivity_n(const double complex *N, size_t n, const sea_slope_stats
  * glint then has the width and the peak radiance rho L_sun of a mirror
  * image of the sun.  Where the slope density is nearly linear over the
  * disc's image in slope space (relative effect below skip_rel) it is the
- * point value of sea_reflectivity_n, bit for bit; radius 0 likewise.
+ * point value of sea_reflectivity_n; radius 0 likewise.  Its rho(psi) comes
+ * from p's table of each index (built on first use, under p's lock), within
+ * 1e-10 absolute of sea_fresnel_unpolarized's, as the emissivity's does.
  * So too where the disc's value is certainly below `negligible` (units of
  * out; 0: never): the point value times the largest ratio of the slope
  * density over the disc's image to its value at the centre, exp(a
  * sqrt(lambda_max) d), a the radius and d the centre's Mahalanobis
  * distance, bounds it.  A caller passes the reflectivity below which the
  * glint does not matter (the renderer: 1e-3 tolerance of the pixel's other
- * radiance over the sun's irradiance).  Reads p (its Gauss-Legendre nodes). */
+ * radiance over the sun's irradiance).  Reads p (its Gauss-Legendre nodes
+ * and Fresnel tables). */
 void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_t n,
                              const sea_slope_stats *st, sea_dir inc, sea_dir obs, double radius,
                              double skip_rel, double negligible, double *out);

@@ -70,6 +70,27 @@ double sea_shadow_visible(double mu, double m, double s)
     return (mu - m) + s * sea_shadow_G(z);
 }
 
+void sea_shadow_split(double mu, double m, double s, double *visible, double *hidden)
+{
+    if (s <= 0.0) {
+        *visible = fmax(mu - m, 0.0);
+        *hidden = fmax(m - mu, 0.0);
+        return;
+    }
+    /* one G for both: they differ by mu - m (the same operations as
+     * sea_shadow_visible and sea_shadow_hidden) */
+    const double z = (mu - m) / s;
+    if (z >= 0.0) {
+        const double sg = s * sea_shadow_G(z);
+        *hidden = sg;
+        *visible = z == 0.0 ? sg : (mu - m) + sg;
+    } else {
+        const double sg = s * sea_shadow_G(-z);
+        *visible = sg;
+        *hidden = (m - mu) + sg;
+    }
+}
+
 double sea_shadow_lambda(double theta, double m, double s)
 {
     if (theta < SEA_NADIR_THETA)
@@ -85,7 +106,9 @@ double sea_shadow_D(double theta, double m, double s)
     const double mu = 1.0 / t;
     /* D = (1 + Lambda - m tan) / (1 + Lambda) with the numerator written as
      * tan(theta) E[(mu - gamma)+], a sum of non-negative terms. */
-    return t * sea_shadow_visible(mu, m, s) / (1.0 + t * sea_shadow_hidden(mu, m, s));
+    double vis, hid;
+    sea_shadow_split(mu, m, s, &vis, &hid);
+    return t * vis / (1.0 + t * hid);
 }
 
 /* ------------------------------------------------ correlated shadowing */
