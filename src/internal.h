@@ -26,10 +26,17 @@ SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
  * outside (bisection). */
 SEA_INTERNAL size_t sea_interval_of(const double *x, size_t n, double at);
 
-/* shadow.c: Catmull-Rom weights of the four nodes around the fraction f
+/* Catmull-Rom weights of the four nodes around the fraction f
  * in [0, 1] between the middle two (the correlated function's table and
  * twoscale.c's read them). */
-SEA_INTERNAL void sea_catmull_rom(double f, double w[4]);
+static inline void sea_catmull_rom(double f, double w[4])
+{
+    const double f2 = f * f, f3 = f2 * f;
+    w[0] = 0.5 * (-f3 + 2.0 * f2 - f);
+    w[1] = 0.5 * (3.0 * f3 - 5.0 * f2 + 2.0);
+    w[2] = 0.5 * (-3.0 * f3 + 4.0 * f2 + f);
+    w[3] = 0.5 * (f3 - f2);
+}
 
 /* shadow.c: sea_shadow_visible and sea_shadow_hidden of (mu, m, s) at
  * once, from one G (identical values). */

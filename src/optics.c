@@ -700,6 +700,11 @@ typedef struct {
      * for every index, so found once (table_positions) when a table is used. */
     int tab_k[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX + 4];
     double tab_t[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX + 4];
+    /* Node q = i n_j + j's weight w_i w_j (0 where w_i is not positive),
+     * n_q of them, then zeros (with positions 0, 0) to a multiple of 4:
+     * the table sums run over every node at once (flat_sum). */
+    double w_q[SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX + 4];
+    int n_q;
     int positioned;        /* tab_k and tab_t are filled */
     int avx2;              /* the AVX2 loops (sea_optics.avx2) */
 } fixed_nodes;
@@ -754,55 +759,49 @@ __attribute__((target("avx2"))) static inline __m256d one_minus_cubic4(__m256d c
     return _mm256_sub_pd(one, v);
 }
 
-/* The sum over the row's n nodes of w_j (1 - rho) from table tb, four
- * nodes at a time (fresnel_eval's operations; each node's four
- * coefficients are one load, transposed), added in the order of j.  Reads
- * up to 3 positions past n (of the same arrays, as row_nodes_avx2 writes
- * them); a lane past n reads interval 0 and is not added. */
-__attribute__((target("avx2"))) static double row_sum_avx2(const fresnel_table *tb,
-                                                           const int *k, const double *t,
-                                                           const double *w, int n)
+/* The sum over the nodes of w_q (1 - rho) from table tb, four nodes at a
+ * time (fresnel_eval's operations; each node's four coefficients are one
+ * load, transposed): lane m adds the nodes q = m mod 4 in the order of q,
+ * and the lanes are added as (0 + 1) + (2 + 3), as flat_sum does. */
+__attribute__((target("avx2"))) static double flat_sum_avx2(const fresnel_table *tb,
+                                                            const fixed_nodes *nd)
 {
-    double acc = 0.0;
-    for (int j = 0; j < n; j += 4) {
-        const int r = n - j;
-        const __m256d c0 = _mm256_loadu_pd(tb->a[k[j]]);
-        const __m256d c1 = _mm256_loadu_pd(tb->a[r > 1 ? k[j + 1] : 0]);
-        const __m256d c2 = _mm256_loadu_pd(tb->a[r > 2 ? k[j + 2] : 0]);
-        const __m256d c3 = _mm256_loadu_pd(tb->a[r > 3 ? k[j + 3] : 0]);
-        const __m256d v = _mm256_mul_pd(_mm256_loadu_pd(w + j),
-                                        one_minus_cubic4(c0, c1, c2, c3, _mm256_loadu_pd(t + j)));
-        const __m128d lo = _mm256_castpd256_pd128(v), hi = _mm256_extractf128_pd(v, 1);
-        acc += _mm_cvtsd_f64(lo);
-        if (r > 1)
-            acc += _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo));
-        if (r > 2)
-            acc += _mm_cvtsd_f64(hi);
-        if (r > 3)
-            acc += _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi));
-    }
-    return acc;
-}
-#endif
-
-#ifdef SEA_OPTICS_AVX2
-/* row_sum of four tables at once, one table a lane: a node's four
- * coefficient rows, one from each table, transposed; each lane adds in
- * the order of j, as row_sum does. */
-__attribute__((target("avx2"))) static void row_sum4_avx2(const fresnel_table *const tb[4],
-                                                          const int *k, const double *t,
-                                                          const double *w, int n, double out[4])
-{
+    const int *k = nd->tab_k;
+    const double *t = nd->tab_t, *w = nd->w_q;
     __m256d acc = _mm256_setzero_pd();
-    for (int j = 0; j < n; j++) {
-        const int kj = k[j];
-        const __m256d c0 = _mm256_loadu_pd(tb[0]->a[kj]), c1 = _mm256_loadu_pd(tb[1]->a[kj]);
-        const __m256d c2 = _mm256_loadu_pd(tb[2]->a[kj]), c3 = _mm256_loadu_pd(tb[3]->a[kj]);
-        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_set1_pd(w[j]),
+    for (int q = 0; q < nd->n_q; q += 4) {
+        const __m256d c0 = _mm256_loadu_pd(tb->a[k[q]]), c1 = _mm256_loadu_pd(tb->a[k[q + 1]]);
+        const __m256d c2 = _mm256_loadu_pd(tb->a[k[q + 2]]), c3 = _mm256_loadu_pd(tb->a[k[q + 3]]);
+        acc = _mm256_add_pd(acc, _mm256_mul_pd(_mm256_loadu_pd(w + q),
                                                one_minus_cubic4(c0, c1, c2, c3,
-                                                                _mm256_set1_pd(t[j]))));
+                                                                _mm256_loadu_pd(t + q))));
     }
-    _mm256_storeu_pd(out, acc);
+    double l[4];
+    _mm256_storeu_pd(l, acc);
+    return (l[0] + l[1]) + (l[2] + l[3]);
+}
+
+/* flat_sum_avx2 of four tables at once, one table a lane: node q's four
+ * coefficient rows, one from each table, transposed, into accumulator
+ * q mod 4; each table's sums in flat_sum_avx2's order. */
+__attribute__((target("avx2"))) static void flat_sum4_avx2(const fresnel_table *const tb[4],
+                                                           const fixed_nodes *nd, double out[4])
+{
+    const int *k = nd->tab_k;
+    const double *t = nd->tab_t, *w = nd->w_q;
+    __m256d acc[4] = { _mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd(),
+                       _mm256_setzero_pd() };
+    for (int q = 0; q < nd->n_q; q += 4)
+        for (int m = 0; m < 4; m++) {
+            const int kq = k[q + m];
+            const __m256d c0 = _mm256_loadu_pd(tb[0]->a[kq]), c1 = _mm256_loadu_pd(tb[1]->a[kq]);
+            const __m256d c2 = _mm256_loadu_pd(tb[2]->a[kq]), c3 = _mm256_loadu_pd(tb[3]->a[kq]);
+            acc[m] = _mm256_add_pd(acc[m], _mm256_mul_pd(_mm256_set1_pd(w[q + m]),
+                                                         one_minus_cubic4(c0, c1, c2, c3,
+                                                                          _mm256_set1_pd(t[q + m]))));
+        }
+    _mm256_storeu_pd(out, _mm256_add_pd(_mm256_add_pd(acc[0], acc[1]),
+                                        _mm256_add_pd(acc[2], acc[3])));
 }
 #endif
 
@@ -850,19 +849,21 @@ __attribute__((target("avx2"))) static void rule_weights_avx2(const view_frame *
 }
 #endif
 
-/* The sum of w_j (1 - rho) over the n nodes of a row (positions k, t)
- * from table tb, in the order of j. */
-static double row_sum(const fixed_nodes *nd, const fresnel_table *tb, const int *k,
-                      const double *t, int n)
+/* The sum over the nodes of w_q (1 - rho) from table tb, in four running
+ * sums (node q into sum q mod 4) added as (0 + 1) + (2 + 3): the order of
+ * flat_sum_avx2's lanes, so both give the same bits.  A node of weight 0
+ * adds +0 there and nothing here (its positions may be unset). */
+static double flat_sum(const fixed_nodes *nd, const fresnel_table *tb)
 {
 #ifdef SEA_OPTICS_AVX2
     if (nd->avx2)
-        return row_sum_avx2(tb, k, t, nd->w_j, n);
+        return flat_sum_avx2(tb, nd);
 #endif
-    double acc = 0.0;
-    for (int j = 0; j < n; j++)
-        acc += nd->w_j[j] * (1.0 - fresnel_eval(tb, k[j], t[j]));
-    return acc;
+    double l[4] = { 0.0, 0.0, 0.0, 0.0 };
+    for (int q = 0; q < nd->n_q; q++)
+        if (nd->w_q[q] > 0.0)
+            l[q & 3] += nd->w_q[q] * (1.0 - fresnel_eval(tb, nd->tab_k[q], nd->tab_t[q]));
+    return (l[0] + l[1]) + (l[2] + l[3]);
 }
 
 static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, double gX, double mY,
@@ -892,11 +893,58 @@ static void inner_nodes(const sea_optics *p, const view_frame *f, int n_gh, doub
     }
 }
 
+#ifdef SEA_OPTICS_AVX2
+/* inner_nodes of every row (positive w_i or not) in one loop over the
+ * nodes, four at a time: node q = i n_gh + j's cos psi and table position,
+ * the same operations as row_nodes_avx2 (so the same bits), with each
+ * row's terms spread over its nodes first.  Writes up to 3 nodes past the
+ * last (the arrays have room). */
+__attribute__((target("avx2"))) static void all_nodes_avx2(const sea_optics *p,
+                                                           const view_frame *f, double mid,
+                                                           double half, const double *x,
+                                                           int n_gl, int n_gh, fixed_nodes *nd)
+{
+    enum { NQ = SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX + 4 };
+    double num[NQ], one[NQ], gy[NQ];
+    const double *xj = &p->gh_x[SEA_TRI(n_gh - 1)];
+    const double s = f->s_Y_given_X;
+    for (int i = 0; i < n_gl; i++) {
+        const double t = mid + half * x[i];
+        const double gX = f->m_X + f->s_X * t, mY = f->m_Y + f->b_YX * t;
+        const double nm = f->cos_th - gX * f->sin_th, on = 1.0 + gX * gX;
+        for (int j = 0; j < n_gh; j++) {
+            const int q = i * n_gh + j;
+            num[q] = nm;
+            one[q] = on;
+            gy[q] = mY + s * xj[j];
+        }
+    }
+    const int n = n_gl * n_gh;
+    for (int q = n; q < ((n + 3) & ~3); q++)
+        num[q] = 0.0, one[q] = 1.0, gy[q] = 0.0;
+    const __m256d zero = _mm256_setzero_pd(), vone = _mm256_set1_pd(1.0);
+    const __m256d M = _mm256_set1_pd((double)SEA_FRESNEL_INTERVALS);
+    const __m128i last = _mm_set1_epi32(SEA_FRESNEL_INTERVALS - 1);
+    for (int q = 0; q < n; q += 4) {
+        const __m256d gY = _mm256_loadu_pd(gy + q);
+        const __m256d c = _mm256_div_pd(
+            _mm256_loadu_pd(num + q),
+            _mm256_sqrt_pd(_mm256_add_pd(_mm256_loadu_pd(one + q), _mm256_mul_pd(gY, gY))));
+        const __m256d u = _mm256_mul_pd(_mm256_min_pd(_mm256_max_pd(c, zero), vone), M);
+        const __m128i ki = _mm_min_epi32(_mm256_cvttpd_epi32(u), last);
+        _mm256_storeu_pd(nd->cos_psi + q, c);
+        _mm256_storeu_pd(nd->tab_t + q, _mm256_sub_pd(u, _mm256_cvtepi32_pd(ki)));
+        _mm_storeu_si128((__m128i *)(nd->tab_k + q), ki);
+    }
+}
+#endif
+
 static void table_positions(fixed_nodes *nd);
 
 static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, fixed_nodes *nd)
 {
     nd->zero = nd->plain = 0;
+    nd->n_q = 0;
     nd->avx2 = p->avx2;
     nd->positioned = p->avx2 && r.n_gh > 0;
     nd->n_j = r.n_gh > 0 ? r.n_gh : 1;
@@ -933,13 +981,37 @@ static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, 
     }
     if (f->corr)
         sea_shadow_correlated_scale(f->z, mid, half, x, r.n_gl, nd->w_i);
-    for (int i = 0; i < r.n_gl; i++) {
-        if (nd->w_i[i] > 0.0) {
-            const double t = mid + half * x[i];
-            inner_nodes(p, f, r.n_gh, f->m_X + f->s_X * t, f->m_Y + f->b_YX * t, nd, i);
+#ifdef SEA_OPTICS_AVX2
+    if (p->avx2 && r.n_gh > 0) {
+        all_nodes_avx2(p, f, mid, half, x, r.n_gl, r.n_gh, nd);
+    } else
+#endif
+    {
+        for (int i = 0; i < r.n_gl; i++) {
+            if (nd->w_i[i] > 0.0) {
+                const double t = mid + half * x[i];
+                inner_nodes(p, f, r.n_gh, f->m_X + f->s_X * t, f->m_Y + f->b_YX * t, nd, i);
+            }
         }
     }
-    table_positions(nd); /* (the AVX2 rows found them already) */
+    table_positions(nd); /* (the AVX2 loop found them already) */
+    if (r.n_gh > 0) {
+        /* the nodes' weights for the table sums (w_i >= 0: clamped, or
+         * scaled by the correlated function), zeros to a multiple of 4 */
+        const int n = r.n_gl * r.n_gh;
+        for (int i = 0; i < r.n_gl; i++) {
+            double *wq = &nd->w_q[i * r.n_gh];
+            const double wi = nd->w_i[i];
+            for (int j = 0; j < r.n_gh; j++)
+                wq[j] = wi * nd->w_j[j];
+        }
+        nd->n_q = (n + 3) & ~3;
+        for (int q = n; q < nd->n_q; q++) {
+            nd->w_q[q] = 0.0;
+            nd->tab_k[q] = 0;
+            nd->tab_t[q] = 0.0;
+        }
+    }
 }
 
 /* 1 - rho averaged over the nodes: the inner sums weighted by w_i over the
@@ -954,6 +1026,14 @@ static double emissivity_of_nodes(const fixed_nodes *nd, const emis_ctx *ec)
     if (nd->zero)
         return 0.0;
     double num = 0.0, den = 0.0;
+    if (!nd->plain && nd->n_j > 1 && e->table != NULL) {
+        /* the table at the positions found once for every index, over
+         * every node at once */
+        for (int i = 0; i < nd->n_i; i++)
+            if (nd->w_i[i] > 0.0)
+                den += nd->w_i[i];
+        return den > 0.0 ? flat_sum(nd, e->table) / den : 0.0;
+    }
     for (int i = 0; i < nd->n_i; i++) {
         const double w = nd->w_i[i];
         if (!nd->plain && w <= 0.0)
@@ -962,10 +1042,6 @@ static double emissivity_of_nodes(const fixed_nodes *nd, const emis_ctx *ec)
         double acc;
         if (nd->n_j == 1 && nd->w_j[0] == 1.0) {
             acc = one_minus_rho(e, c[0]);
-        } else if (e->table != NULL) {
-            /* the table at the positions found once for every index */
-            acc = row_sum(nd, e->table, &nd->tab_k[i * nd->n_j], &nd->tab_t[i * nd->n_j],
-                          nd->n_j);
         } else {
             acc = 0.0;
             for (int j = 0; j < nd->n_j; j++)
@@ -986,37 +1062,21 @@ static double emissivity_of_nodes(const fixed_nodes *nd, const emis_ctx *ec)
 static void emissivity_of_nodes4(const fixed_nodes *nd, const fresnel_table *const tb[4],
                                  double out[4])
 {
-    double n0 = 0.0, n1 = 0.0, n2 = 0.0, n3 = 0.0, den = 0.0;
-    for (int i = 0; i < nd->n_i; i++) {
-        const double w = nd->w_i[i];
-        if (w <= 0.0)
-            continue;
-        const int *k = &nd->tab_k[i * nd->n_j];
-        const double *t = &nd->tab_t[i * nd->n_j];
-        double a0, a1, a2, a3;
+    double den = 0.0, a[4];
+    for (int i = 0; i < nd->n_i; i++)
+        if (nd->w_i[i] > 0.0)
+            den += nd->w_i[i];
 #ifdef SEA_OPTICS_AVX2
-        if (nd->avx2) {
-            double a[4];
-            row_sum4_avx2(tb, k, t, nd->w_j, nd->n_j, a);
-            a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3];
-        } else
+    if (nd->avx2) {
+        flat_sum4_avx2(tb, nd, a);
+    } else
 #endif
-        {
-            a0 = row_sum(nd, tb[0], k, t, nd->n_j);
-            a1 = row_sum(nd, tb[1], k, t, nd->n_j);
-            a2 = row_sum(nd, tb[2], k, t, nd->n_j);
-            a3 = row_sum(nd, tb[3], k, t, nd->n_j);
-        }
-        n0 += w * a0;
-        n1 += w * a1;
-        n2 += w * a2;
-        n3 += w * a3;
-        den += w;
+    {
+        for (int m = 0; m < 4; m++)
+            a[m] = flat_sum(nd, tb[m]);
     }
-    out[0] = den > 0.0 ? n0 / den : 0.0;
-    out[1] = den > 0.0 ? n1 / den : 0.0;
-    out[2] = den > 0.0 ? n2 / den : 0.0;
-    out[3] = den > 0.0 ? n3 / den : 0.0;
+    for (int m = 0; m < 4; m++)
+        out[m] = den > 0.0 ? a[m] / den : 0.0;
 }
 
 /* The table positions of the nodes emissivity_of_nodes reads through a

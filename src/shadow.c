@@ -205,15 +205,6 @@ double sea_shadow_correlated_exact(double z, double t)
     return S * (1.0 + lambda);
 }
 
-void sea_catmull_rom(double f, double w[4])
-{
-    const double f2 = f * f, f3 = f2 * f;
-    w[0] = 0.5 * (-f3 + 2.0 * f2 - f);
-    w[1] = 0.5 * (3.0 * f3 - 5.0 * f2 + 2.0);
-    w[2] = 0.5 * (-3.0 * f3 + 4.0 * f2 + f);
-    w[3] = 0.5 * (f3 - f2);
-}
-
 #ifndef SEA_CS_GENERATOR /* (the generator computes the table) */
 #include "shadow_table.h"
 
