@@ -1194,10 +1194,41 @@ static void pixel_choice(const sea_multires *mr, const sea_pixel_geom *g, mr_pix
     }
 }
 
-static int compare_double(const void *a, const void *b)
+/* The k-th smallest of v[0..n) (k < n), v reordered: Hoare's selection
+ * with the median of three as pivot, O(n) on average; the value is the
+ * one a sort would put at k. */
+static double select_kth(double *v, size_t n, size_t k)
 {
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
+    size_t lo = 0, hi = n - 1;
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        double a = v[lo], b = v[mid], c = v[hi];
+        const double pivot = a < b ? (b < c ? b : a < c ? c : a) : (a < c ? a : b < c ? c : b);
+        size_t i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot)
+                i++;
+            while (v[j] > pivot)
+                j--;
+            if (i <= j) {
+                const double t = v[i];
+                v[i] = v[j];
+                v[j] = t;
+                i++;
+                if (j == 0)
+                    break;
+                j--;
+            }
+        }
+        /* v[lo..j] <= pivot <= v[i..hi], and v[j+1..i-1] == pivot */
+        if (k <= j && j != (size_t)-1)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return v[k];
+    }
+    return v[k];
 }
 
 /* Median x and y of the ground points of the pixels that want level l
@@ -1223,10 +1254,8 @@ static sea_status median_point(const sea_multires *mr, int l, double *mx, double
         *mx = *my = 0.0;
         return SEA_OK;
     }
-    qsort(v, n, sizeof(double), compare_double);
-    qsort(v + mr->npix, n, sizeof(double), compare_double);
-    *mx = v[n / 2];
-    *my = v[mr->npix + n / 2];
+    *mx = select_kth(v, n, n / 2);
+    *my = select_kth(v + mr->npix, n, n / 2);
     free(v);
     return SEA_OK;
 }
@@ -1311,9 +1340,13 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
      * a level, capped at grid x grid facets around their centre.  Pixels
      * outside a window, or in its fading edge, read the next coarser level
      * too, so that level's window covers them. */
-    for (size_t q = 0; q < mr->npix; q++)
+    /* (and the levels some pixel reads: a level none reads is not scanned) */
+    uint32_t needed = 0;
+    for (size_t q = 0; q < mr->npix; q++) {
+        needed |= mr->px[q].need;
         if (mr->px[q].hit)
             mr->lev[mr->px[q].level].pixels++;
+    }
     size_t fft_cells = 2;
     int any_hr = 0;
     /* The centre of clipmap windows: where the optical axis meets the sea,
@@ -1331,7 +1364,7 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         sea_clip_level *lv = &mr->lev[l];
         const uint32_t bit = (uint32_t)1 << l;
         double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
-        for (size_t q = 0; q < mr->npix; q++) {
+        for (size_t q = 0; q < mr->npix && (needed & bit); q++) {
             const mr_pixel *p = &mr->px[q];
             if (!(p->need & bit))
                 continue;
@@ -1412,11 +1445,13 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         const size_t ext = (lv->nx > lv->ny ? lv->nx : lv->ny) << l;
         while (fft_cells < ext)
             fft_cells *= 2;
-        if (l < LEVEL_MAX) {
+        if (l < LEVEL_MAX && (needed & bit)) {
             for (size_t q = 0; q < mr->npix; q++) {
                 mr_pixel *p = &mr->px[q];
-                if ((p->need & bit) && edge_weight(lv, p->x, p->y) < 1.0)
+                if ((p->need & bit) && edge_weight(lv, p->x, p->y) < 1.0) {
                     p->need |= bit << 1;
+                    needed |= bit << 1;
+                }
             }
         }
     }
