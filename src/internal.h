@@ -26,6 +26,11 @@ SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
  * outside (bisection). */
 SEA_INTERNAL size_t sea_interval_of(const double *x, size_t n, double at);
 
+/* multires.c: the k-th smallest of v[0..n) (k < n), v reordered: Hoare's
+ * selection with the median of three as pivot, O(n) on average; the value
+ * a sort would put at k. */
+SEA_INTERNAL double sea_select_kth(double *v, size_t n, size_t k);
+
 /* Catmull-Rom weights of the four nodes around the fraction f
  * in [0, 1] between the middle two (the correlated function's table and
  * twoscale.c's read them). */

@@ -93,6 +93,7 @@
 #include <string.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 /* Half-width, in log2 of the footprint, of the band around a level
  * midpoint where two levels are blended. */
@@ -1194,10 +1195,7 @@ static void pixel_choice(const sea_multires *mr, const sea_pixel_geom *g, mr_pix
     }
 }
 
-/* The k-th smallest of v[0..n) (k < n), v reordered: Hoare's selection
- * with the median of three as pivot, O(n) on average; the value is the
- * one a sort would put at k. */
-static double select_kth(double *v, size_t n, size_t k)
+double sea_select_kth(double *v, size_t n, size_t k)
 {
     size_t lo = 0, hi = n - 1;
     while (lo < hi) {
@@ -1254,8 +1252,8 @@ static sea_status median_point(const sea_multires *mr, int l, double *mx, double
         *mx = *my = 0.0;
         return SEA_OK;
     }
-    *mx = select_kth(v, n, n / 2);
-    *my = select_kth(v + mr->npix, n, n / 2);
+    *mx = sea_select_kth(v, n, n / 2);
+    *my = sea_select_kth(v + mr->npix, n, n / 2);
     free(v);
     return SEA_OK;
 }

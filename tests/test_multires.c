@@ -5,9 +5,11 @@
  * function for the render and the bake, and heights stand along the local
  * vertical of the sphere; and the mean emissivity of grazing images at
  * 1 m facets against the low-resolution value. */
+#include <gsl/gsl_rng.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "internal.h"
 #include "unit.h"
 
 /* The moments of a facet centred at (x, y) on the surface z(x, y) with
@@ -521,12 +523,57 @@ static void test_grazing_mean(void)
         }
 }
 
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The plan's median (sea_select_kth) against a sort: every k of arrays of
+ * 1-40 values and some k of arrays of 2000, drawn with many ties, sorted,
+ * reversed, organ-pipe and constant; exact (a selection moves values, it
+ * computes none). */
+static void test_select_kth(void)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 5);
+    static double v[2000], w[2000];
+    int wrong = 0, cases = 0;
+    for (int it = 0; it < 3000; it++) {
+        const size_t n = it < 200 ? 2000 : 1 + (size_t)gsl_rng_uniform_int(rng, 40);
+        const int kind = it % 5;
+        for (size_t q = 0; q < n; q++)
+            v[q] = kind == 0   ? (double)gsl_rng_uniform_int(rng, 3)
+                   : kind == 1 ? (double)q
+                   : kind == 2 ? (double)(n - q)
+                   : kind == 3 ? (double)(q < n / 2 ? q : n - q)
+                               : gsl_rng_uniform(rng) - 0.5;
+        if (it % 50 == 49)
+            for (size_t q = 0; q < n; q++)
+                v[q] = 7.0;
+        memcpy(w, v, n * sizeof *v);
+        qsort(w, n, sizeof *w, cmp_double);
+        const size_t ks = n <= 40 ? n : 8;
+        for (size_t a = 0; a < ks; a++) {
+            const size_t k = n <= 40 ? a : (size_t)gsl_rng_uniform_int(rng, n);
+            double u[2000];
+            memcpy(u, v, n * sizeof *v);
+            wrong += sea_select_kth(u, n, k) != w[k];
+            cases++;
+        }
+    }
+    MEASURED("select_kth: %d of %d selections differ from the sort\n", wrong, cases);
+    CU_ASSERT_EQUAL(wrong, 0);
+    gsl_rng_free(rng);
+}
+
 int test_multires_register(void)
 {
     CU_pSuite s = CU_add_suite("multires", NULL, NULL);
     if (s == NULL)
         return 1;
     return !CU_add_test(s, "tilted plane: projected area", test_plane_projected_area) ||
+           !CU_add_test(s, "the plan's median: selection against a sort", test_select_kth) ||
            !CU_add_test(s, "sinusoid: the tangent construction's shadow",
                         test_sinusoid_occlusion) ||
            !CU_add_test(s, "heightfield errors", test_heightfield_errors) ||
