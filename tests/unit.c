@@ -1,6 +1,11 @@
-/* unit.c - runs every CUnit suite; exits non-zero on any failure. */
+/* unit.c - runs every CUnit suite, or only those SEA_UNIT_SUITES names, or
+ * all but those SEA_UNIT_SKIP names (commas between names: check-valgrind
+ * runs the suites as two processes side by side, tests/unit_half.sh);
+ * exits non-zero on any failure. */
 #include <CUnit/Basic.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "unit.h"
 
@@ -17,6 +22,30 @@ int main(void)
         fprintf(stderr, "unit: cannot register the suites: %s\n", CU_get_error_msg());
         CU_cleanup_registry();
         return 2;
+    }
+    /* SEA_UNIT_SUITES: only the suites it names; SEA_UNIT_SKIP: all but
+     * those (names separated by commas); a name that is no suite is an
+     * error (a typo must not pass by running nothing, or everything) */
+    const char *lists[2] = { getenv("SEA_UNIT_SUITES"), getenv("SEA_UNIT_SKIP") };
+    for (int k = 0; k < 2; k++) {
+        if (lists[k] == NULL || lists[k][0] == '\0')
+            continue;
+        if (k == 0)
+            for (CU_pSuite s = CU_get_registry()->pSuite; s != NULL; s = s->pNext)
+                CU_set_suite_active(s, CU_FALSE);
+        char names[1024];
+        snprintf(names, sizeof names, "%s", lists[k]);
+        for (char *save = NULL, *n = strtok_r(names, ",", &save); n != NULL;
+             n = strtok_r(NULL, ",", &save)) {
+            CU_pSuite s = CU_get_suite(n);
+            if (s == NULL) {
+                fprintf(stderr, "unit: %s names \"%s\", which is no suite\n",
+                        k == 0 ? "SEA_UNIT_SUITES" : "SEA_UNIT_SKIP", n);
+                CU_cleanup_registry();
+                return 2;
+            }
+            CU_set_suite_active(s, k == 0 ? CU_TRUE : CU_FALSE);
+        }
     }
     CU_basic_set_mode(CU_BRM_VERBOSE);
     CU_basic_run_tests();
