@@ -1,7 +1,8 @@
 # tests/unit_half.sh - sourced by tests/unit_a.sh and tests/unit_b.sh with
 # HALF set: the unit suites in two processes, for check-valgrind (Makefile.am),
-# where tests/unit alone took 23.5 min on one core while the other core
-# finished the shell tests in 14.  Half a runs the suites named below, half b
+# where tests/unit was one 680 s process (valgrind runs a program on one
+# core); its halves take 289 and 343 s side by side.  Half a runs the suites
+# named below, half b
 # every other one (SEA_UNIT_SKIP), so a new suite is never left out.  Each
 # half's log ends in its own "unit: N passed, M failed" line.
 # Split by their time (SEA_UNIT_QUICK, native): optics 2.7 s, render 2.2 s
