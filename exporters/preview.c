@@ -13,6 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "internal.h"
 #include "preview.h"
 
 /* libpng reports errors through longjmp; the message is kept here. */
@@ -273,42 +274,6 @@ double sea_png_tone_map(const sea_png_tone *t, double v)
 
 /* ------------------------------------------------------------- quantiles */
 
-/* Puts the k-th smallest of v[0..m) at v[k], smaller-or-equal values
- * before it and greater-or-equal after (as C++ nth_element): Hoare
- * partitions around a median of three. */
-static void select_kth(float *v, size_t m, size_t k)
-{
-    size_t lo = 0, hi = m - 1;
-    while (hi > lo) {
-        const size_t mid = lo + (hi - lo) / 2;
-        float a = v[lo], b = v[mid], c = v[hi];
-        const float pivot = a < b ? (b < c ? b : (a < c ? c : a)) : (a < c ? a : (b < c ? c : b));
-        size_t i = lo, j = hi;
-        while (i <= j) {
-            while (v[i] < pivot)
-                i++;
-            while (v[j] > pivot)
-                j--;
-            if (i <= j) {
-                const float t = v[i];
-                v[i] = v[j];
-                v[j] = t;
-                i++;
-                if (j == 0)
-                    break;
-                j--;
-            }
-        }
-        /* now v[lo..j] <= pivot <= v[i..hi], and j < i */
-        if (k <= j)
-            hi = j;
-        else if (k >= i)
-            lo = i;
-        else
-            return; /* j < k < i: v[k] == pivot */
-    }
-}
-
 /* The finite values of data in a fresh array; *m of them.  NULL without
  * memory. */
 static float *finite_copy(const float *data, size_t n, size_t *m)
@@ -329,7 +294,7 @@ static void select_sorted(float *v, size_t m, const size_t *idx, size_t k, doubl
     size_t base = 0;
     for (size_t i = 0; i < k; i++) {
         if (i == 0 || idx[i] != idx[i - 1]) {
-            select_kth(v + base, m - base, idx[i] - base);
+            sea_select_kth_f(v + base, m - base, idx[i] - base);
             base = idx[i];
         }
         out[i] = v[idx[i]];

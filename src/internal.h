@@ -26,10 +26,47 @@ SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
  * outside (bisection). */
 SEA_INTERNAL size_t sea_interval_of(const double *x, size_t n, double at);
 
-/* multires.c: the k-th smallest of v[0..n) (k < n), v reordered: Hoare's
- * selection with the median of three as pivot, O(n) on average; the value
- * a sort would put at k. */
-SEA_INTERNAL double sea_select_kth(double *v, size_t n, size_t k);
+/* Puts the k-th smallest of v[0..m) (k < m) at v[k], smaller-or-equal
+ * values before it and greater-or-equal after (as C++ nth_element): Hoare
+ * partitions around a median of three, O(m) on average.  One body for the
+ * preview's float maps (sea_select_kth_f) and the plan's double ground
+ * points (sea_select_kth_d). */
+#define SEA_SELECT_KTH(name, T)                                                                \
+    static inline void name(T *v, size_t m, size_t k)                                          \
+    {                                                                                          \
+        size_t lo = 0, hi = m - 1;                                                             \
+        while (hi > lo) {                                                                      \
+            const size_t mid = lo + (hi - lo) / 2;                                             \
+            T a = v[lo], b = v[mid], c = v[hi];                                                \
+            const T pivot =                                                                    \
+                a < b ? (b < c ? b : (a < c ? c : a)) : (a < c ? a : (b < c ? c : b));        \
+            size_t i = lo, j = hi;                                                             \
+            while (i <= j) {                                                                   \
+                while (v[i] < pivot)                                                           \
+                    i++;                                                                       \
+                while (v[j] > pivot)                                                           \
+                    j--;                                                                       \
+                if (i <= j) {                                                                  \
+                    const T t = v[i];                                                          \
+                    v[i] = v[j];                                                               \
+                    v[j] = t;                                                                  \
+                    i++;                                                                       \
+                    if (j == 0)                                                                \
+                        break;                                                                 \
+                    j--;                                                                       \
+                }                                                                              \
+            }                                                                                  \
+            /* now v[lo..j] <= pivot <= v[i..hi], and j < i */                                 \
+            if (k <= j)                                                                        \
+                hi = j;                                                                        \
+            else if (k >= i)                                                                   \
+                lo = i;                                                                        \
+            else                                                                               \
+                return; /* j < k < i: v[k] == pivot */                                         \
+        }                                                                                      \
+    }
+SEA_SELECT_KTH(sea_select_kth_f, float)
+SEA_SELECT_KTH(sea_select_kth_d, double)
 
 /* Catmull-Rom weights of the four nodes around the fraction f
  * in [0, 1] between the middle two (the correlated function's table and

@@ -1195,40 +1195,6 @@ static void pixel_choice(const sea_multires *mr, const sea_pixel_geom *g, mr_pix
     }
 }
 
-double sea_select_kth(double *v, size_t n, size_t k)
-{
-    size_t lo = 0, hi = n - 1;
-    while (lo < hi) {
-        const size_t mid = lo + (hi - lo) / 2;
-        double a = v[lo], b = v[mid], c = v[hi];
-        const double pivot = a < b ? (b < c ? b : a < c ? c : a) : (a < c ? a : b < c ? c : b);
-        size_t i = lo, j = hi;
-        while (i <= j) {
-            while (v[i] < pivot)
-                i++;
-            while (v[j] > pivot)
-                j--;
-            if (i <= j) {
-                const double t = v[i];
-                v[i] = v[j];
-                v[j] = t;
-                i++;
-                if (j == 0)
-                    break;
-                j--;
-            }
-        }
-        /* v[lo..j] <= pivot <= v[i..hi], and v[j+1..i-1] == pivot */
-        if (k <= j && j != (size_t)-1)
-            hi = j;
-        else if (k >= i)
-            lo = i;
-        else
-            return v[k];
-    }
-    return v[k];
-}
-
 /* Median x and y of the ground points of the pixels that want level l
  * (of those that read it, if none wants it). */
 static sea_status median_point(const sea_multires *mr, int l, double *mx, double *my,
@@ -1252,8 +1218,10 @@ static sea_status median_point(const sea_multires *mr, int l, double *mx, double
         *mx = *my = 0.0;
         return SEA_OK;
     }
-    *mx = sea_select_kth(v, n, n / 2);
-    *my = sea_select_kth(v + mr->npix, n, n / 2);
+    sea_select_kth_d(v, n, n / 2);
+    sea_select_kth_d(v + mr->npix, n, n / 2);
+    *mx = v[n / 2];
+    *my = v[mr->npix + n / 2];
     free(v);
     return SEA_OK;
 }
