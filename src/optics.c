@@ -300,7 +300,11 @@ static void view_frame_init(const sea_optics *p, const sea_slope_stats *st, sea_
     }
     view_window(f, SEA_T_CUT, &f->t_lo, &f->t_hi);
     f->t_ref = fmin(f->z, 0.0);
-    f->corr = p != NULL && p->shadowing == SEA_SHADOW_CORRELATED && isfinite(f->z);
+    /* the correlated function is a visibility from above the surface: a
+     * view from below (a facet met again, MULTIPLE REFLECTIONS) counts by
+     * its projected area alone */
+    f->corr = p != NULL && p->shadowing == SEA_SHADOW_CORRELATED && isfinite(f->z) &&
+              f->cos_th > 0.0;
 }
 
 /* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant.

@@ -359,7 +359,9 @@ static void test_table(void)
     CU_ASSERT(single[0][2] > 0.01); /* what it corrects */
     /* reflections = 2 with it: the second hit (Smith's bistatic complement)
      * now adds to a first hit that is no longer low, and overshoots: measured
-     * 2.5e-3 to 75 deg, 3.4e-3 at 80, 4.1e-3 at 85 (seabake-model(7)) */
+     * (2026-11-24, the facets met counted by projected area alone) 2.43e-3
+     * to 75 deg, 3.35e-3 at 80, 4.08e-3 at 85; the excess is what the
+     * facets met emit (seabake-model(7), MULTIPLE REFLECTIONS) */
     MEASURED("correlated shadowing, reflections 2: worst |model - eps| %.2e (60-75 deg), "
              "%.2e (80), %.2e (85)\n", worst_c2[0], worst_c2[1], worst_c2[2]);
     CU_ASSERT(worst_c2[0] <= 3.0e-3 && worst_c2[1] <= 4.0e-3 && worst_c2[2] <= 4.7e-3);
