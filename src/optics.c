@@ -248,6 +248,7 @@ const char *sea_emis_method_name(sea_emis_method m)
  * standardised visibility limit. */
 typedef struct {
     double cos_th, sin_th, phi;
+    double cos_phi, sin_phi;
     double m_X, m_Y;      /* mean */
     double s_X;           /* std of gamma_X */
     double b_YX;          /* regression of gamma_Y on t: C_XY / s_X */
@@ -271,14 +272,18 @@ static void view_window(const view_frame *f, double t_cut, double *t_lo, double 
     *t_lo = isinf(f->z) ? -t_cut : fmin(-t_cut, f->z - (sqrt(az * az + t_cut * t_cut) - az));
 }
 
-static void view_frame_init(const sea_optics *p, const sea_slope_stats *st, sea_dir v,
-                            view_frame *f)
+/* The frame from the view's cosines (cos_th, sin_th >= 0; azimuth phi of
+ * cosine c, sine s); nadir: the view is the zenith (no shadowing). */
+static void view_frame_init_cs(const sea_optics *p, const sea_slope_stats *st, double cos_th,
+                               double sin_th, double phi, double c, double s, int nadir,
+                               view_frame *f)
 {
-    const double c = cos(v.phi), s = sin(v.phi);
     const sea_cov2 *C = &st->cov;
-    f->cos_th = cos(v.theta);
-    f->sin_th = sin(v.theta);
-    f->phi = v.phi;
+    f->cos_th = cos_th;
+    f->sin_th = sin_th;
+    f->phi = phi;
+    f->cos_phi = c;
+    f->sin_phi = s;
     f->m_X = st->mean.x * c + st->mean.y * s;
     f->m_Y = -st->mean.x * s + st->mean.y * c;
     f->c_XX = fmax(C->xx * c * c + 2.0 * C->xy * s * c + C->yy * s * s, 0.0);
@@ -293,7 +298,7 @@ static void view_frame_init(const sea_optics *p, const sea_slope_stats *st, sea_
         f->b_YX = f->c_XY / f->s_X;
         f->s_Y_given_X = sqrt(fmax(f->c_YY - f->b_YX * f->b_YX, 0.0));
     }
-    if (v.theta < SEA_NADIR_THETA || f->delta) {
+    if (nadir || f->delta) {
         f->z = INFINITY;
     } else {
         f->z = (f->cos_th / f->sin_th - f->m_X) / f->s_X;
@@ -305,6 +310,13 @@ static void view_frame_init(const sea_optics *p, const sea_slope_stats *st, sea_
      * its projected area alone */
     f->corr = p != NULL && p->shadowing == SEA_SHADOW_CORRELATED && isfinite(f->z) &&
               f->cos_th > 0.0;
+}
+
+static void view_frame_init(const sea_optics *p, const sea_slope_stats *st, sea_dir v,
+                            view_frame *f)
+{
+    view_frame_init_cs(p, st, cos(v.theta), sin(v.theta), v.phi, cos(v.phi), sin(v.phi),
+                       v.theta < SEA_NADIR_THETA, f);
 }
 
 /* Projected-area weight (cos th - gamma_X sin th)+ phi(t), up to a constant.
@@ -1367,10 +1379,58 @@ enum { SEA_MULTI_BLOCK = 32 };
  * 1e-4 against the full orders, at half the cost. */
 static const double SEA_MULTI_INNER_SCALE = 0.5;
 enum { SEA_MULTI_INNER_GL_MIN = 4, SEA_MULTI_INNER_GH_MIN = 2 };
+/* A mirror ray that meets the surface again with a probability below this
+ * escapes: what it would bring, at most P times one, is dropped from E_R,
+ * and from K_R alike (the closure holds), and the facets it would meet are
+ * not computed. */
+static const double SEA_MULTI_P_NEGLIGIBLE = 1e-9;
+/* So is one whose node's share of the average times P is below this (the
+ * far nodes of a rule, a steep facet whose mirror ray falls): at most 1e-11
+ * each, 1e-8 over the largest rule. */
+static const double SEA_MULTI_SHARE_NEGLIGIBLE = 1e-11;
 
-static sea_dir frame_dir_to_global(const view_frame *f, double x, double y, double z)
+/* The frame's direction (x, y, z) (x along the view's azimuth, y across;
+ * any length) in the sea's axes, normalised, g[0..2]. */
+static void frame_vec_to_global(const view_frame *f, double x, double y, double z, double g[3])
 {
-    return (sea_dir){ atan2(hypot(x, y), z), f->phi + atan2(y, x) };
+    const double l = 1.0 / sqrt(x * x + y * y + z * z);
+    g[0] = (x * f->cos_phi - y * f->sin_phi) * l;
+    g[1] = (x * f->sin_phi + y * f->cos_phi) * l;
+    g[2] = z * l;
+}
+
+/* The view frame toward the unit vector g (any zenith angle). */
+static void view_frame_of_vec(const sea_optics *p, const sea_slope_stats *st, const double g[3],
+                              view_frame *f)
+{
+    const double h = sqrt(g[0] * g[0] + g[1] * g[1]); /* a unit vector: no overflow */
+    const double c = h > 0.0 ? g[0] / h : 1.0, s = h > 0.0 ? g[1] / h : 0.0;
+    view_frame_init_cs(p, st, g[2], h, atan2(g[1], g[0]), c, s,
+                       g[2] > 0.0 && h < SEA_NADIR_THETA, f);
+}
+
+/* Smith's Lambda toward the unit vector g, g[2] > 0 (sea_shadow_lambda
+ * without angles), or 0 where it is certainly below SEA_MULTI_P_NEGLIGIBLE,
+ * which bounds P: there Lambda = s G(t) / mu with t = (mu - m) / s > 0,
+ * and G(t) < phi(t) / (1 + t^2) (the Mills ratio's lower bound
+ * Q(t) > phi(t) t / (1 + t^2)), so the exact value, at one exp, is not
+ * needed. */
+static double lambda_toward(const sea_slope_stats *st, const double g[3])
+{
+    const double h = sqrt(g[0] * g[0] + g[1] * g[1]);
+    if (!(h >= SEA_NADIR_THETA))
+        return 0.0;
+    const double c = g[0] / h, s = g[1] / h, mu = g[2] / h;
+    const sea_cov2 *C = &st->cov;
+    const double var = C->xx * c * c + 2.0 * C->xy * s * c + C->yy * s * s;
+    const double m = st->mean.x * c + st->mean.y * s, sd = sqrt(var > 0.0 ? var : 0.0);
+    if (sd > 0.0) {
+        const double t = (mu - m) / sd;
+        if (t > 0.0 && sd * 0.39894228040143267794 * exp(-0.5 * t * t) / ((1.0 + t * t) * mu) <
+                           SEA_MULTI_P_NEGLIGIBLE)
+            return 0.0;
+    }
+    return sea_shadow_hidden(mu, m, sd) / mu;
 }
 
 double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith)
@@ -1402,13 +1462,12 @@ double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith)
  * first: d is the sensor's direction and *r0 the rule of its facets (the
  * one reflections = 1 uses); otherwise d looks at facets met again, by the
  * auto rule with halved orders. */
-static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, sea_dir d,
-                           const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
+static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
+                           double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
                            const sea_sky *sky, size_t k0, double *out, double *kout)
 {
     const int first = r0 != NULL;
-    view_frame f;
-    view_frame_init(p, st, d, &f);
+    const view_frame f = *fd;
     fixed_rule a;
     if (first) {
         a = *r0;
@@ -1428,12 +1487,18 @@ static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, sea_d
         }
         return;
     }
-    const double L_in = first ? lambda_along(st, d) : 0.0;
     /* the rule's abscissae, as nodes_fixed placed them */
     double t_lo, t_hi;
     view_window(&f, a.t_cut, &t_lo, &t_hi);
     const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
     double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+    /* the weights' sums: a node's share of the average is w_i w_j / (sum_i sum_j) */
+    double sum_i = 0.0, sum_j = 0.0;
+    for (int i = 0; i < nd.n_i; i++)
+        sum_i += nd.plain || nd.w_i[i] > 0.0 ? nd.w_i[i] : 0.0;
+    for (int j = 0; j < nd.n_j; j++)
+        sum_j += nd.w_j[j];
+    const double share_min = SEA_MULTI_SHARE_NEGLIGIBLE * sum_i * sum_j;
     for (int i = 0; i < nd.n_i; i++) {
         const double wi = nd.w_i[i];
         if (!nd.plain && wi <= 0.0)
@@ -1452,22 +1517,31 @@ static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, sea_d
             const double two_c = 2.0 * cpsi * inv_norm;
             const double rx = -two_c * gX - f.sin_th, ry = -two_c * gY,
                          rz = two_c - f.cos_th;
-            /* the mirror ray's zenith cosine (the sky depends on no more) */
-            const double cz = rz / sqrt(rx * rx + ry * ry + rz * rz);
+            /* the mirror ray in the sea's axes; its zenith cosine (the sky
+             * depends on no more) */
+            double g[3];
+            frame_vec_to_global(&f, rx, ry, rz, g);
+            const double cz = g[2];
             double P = 0.0;
             if (R >= 2) {
                 P = 1.0;
                 if (rz > 0.0) {
-                    const double L_r = lambda_along(st, frame_dir_to_global(&f, rx, ry, rz));
+                    const double L_r = lambda_toward(st, g);
                     P = L_r / (1.0 + L_in + L_r);
+                    if (P < SEA_MULTI_P_NEGLIGIBLE)
+                        P = 0.0;
                 }
+                if (P * wi * nd.w_j[j] < share_min)
+                    P = 0.0;
             }
             double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK];
             const int hit = P > 0.0;
             if (hit) {
                 /* seen from o = -r */
-                const sea_dir o = frame_dir_to_global(&f, -rx, -ry, -rz);
-                emis_multi_rec(p, st, o, ec, n, R - 1, NULL, sky, k0, eB,
+                const double o[3] = { -g[0], -g[1], -g[2] };
+                view_frame fo;
+                view_frame_of_vec(p, st, o, &fo);
+                emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, eB,
                                sky != NULL ? kB : NULL);
             }
             for (size_t k = 0; k < n; k++) {
@@ -1524,13 +1598,16 @@ static sea_status emissivity_general(const sea_optics *p, sea_emis_method method
     view_frame f;
     view_frame_init(p, st, v, &f);
     const fixed_rule r0 = fixed_rule_of(&f, method, rule);
+    /* the sensor's facets are seen: the mirror ray's chance is conditioned
+     * on it (Eq 14c); the facets met again were met from below */
+    const double L_in = lambda_along(st, v);
     for (size_t k0 = 0; k0 < n; k0 += SEA_MULTI_BLOCK) {
         const size_t m = n - k0 < SEA_MULTI_BLOCK ? n - k0 : SEA_MULTI_BLOCK;
         emis_ctx ec[SEA_MULTI_BLOCK];
         size_t slot = 0;
         for (size_t k = 0; k < m; k++)
             ec[k] = (emis_ctx){ N[k0 + k], fresnel_of(p, N[k0 + k], &slot) };
-        emis_multi_rec(p, st, v, ec, m, reflections, &r0, sky, k0, &out[k0],
+        emis_multi_rec(p, st, &f, L_in, ec, m, reflections, &r0, sky, k0, &out[k0],
                        sky != NULL ? &sky_out[k0] : NULL);
     }
     return SEA_OK;

@@ -414,7 +414,9 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
  * below the horizon when the ray rises (seabake-model(7), MULTIPLE
  * REFLECTIONS).  The sky then sees 1 - out[i].  The facets the sensor sees
  * take the nodes reflections = 1 takes (method or rule; the auto rule for
- * SEA_EMIS_FULL), the facets met again the auto rule with halved orders.
+ * SEA_EMIS_FULL), the facets met again the auto rule with halved orders; a
+ * mirror ray escapes where P < 1e-9 or its node's share times P < 1e-11
+ * (out[i] moves by less than 1e-8; the closure stays exact).
  * Same errors as sea_emissivity_n, and SEA_ERR_DOMAIN for reflections out
  * of range; reads p. */
 enum { SEA_REFLECTIONS_MAX = 3 };

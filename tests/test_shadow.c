@@ -44,6 +44,23 @@ static void test_G_tail_and_identity(void)
         ASSERT_REL(sea_shadow_G(x) - sea_shadow_G(-x), -x, 1e-13, 1e-3);
 }
 
+/* The bound that lets multiple reflections skip a mirror ray without
+ * computing its Lambda (optics.c, lambda_toward): G(t) < phi(t) / (1 + t^2)
+ * for t > 0 (the Mills ratio's Q(t) > phi(t) t / (1 + t^2)), and not loose:
+ * within a factor 2 beyond t = 1.5 and 1.1 beyond t = 6 (G ~ phi / t^2), so
+ * the skip drops nearly every ray it could. */
+static void test_G_mills_bound(void)
+{
+    for (double t = 1e-3; t < 37.0; t *= 1.05) {
+        const double phi = exp(-0.5 * t * t) / sqrt(2 * M_PI), b = phi / (1.0 + t * t);
+        CU_ASSERT(sea_shadow_G(t) < b);
+        if (t > 1.5)
+            CU_ASSERT(sea_shadow_G(t) > 0.5 * b);
+        if (t > 6.0)
+            CU_ASSERT(sea_shadow_G(t) > b / 1.1);
+    }
+}
+
 typedef struct { double theta, m, s; } lam_args;
 static double lambda_integrand(double g, void *p)
 {
@@ -281,6 +298,7 @@ int test_shadow_register(void)
         return 1;
     return !CU_add_test(s, "G vs quadrature", test_G_vs_quadrature) ||
            !CU_add_test(s, "G tail and identity", test_G_tail_and_identity) ||
+           !CU_add_test(s, "G below the Mills bound", test_G_mills_bound) ||
            !CU_add_test(s, "Lambda vs quadrature", test_lambda_vs_quadrature) ||
            !CU_add_test(s, "Lambda zero-mean classic", test_lambda_zero_mean_classic) ||
            !CU_add_test(s, "Lambda and D sweep to 89.99 deg", test_lambda_sweep) ||
