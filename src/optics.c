@@ -58,9 +58,12 @@ static const double SEA_T_CUT = 10.0;
 static const double SEA_RULE_T_CUT = 6.0;
 /* Orders of the default rule as functions of the slope spreads (see
  * sea_emissivity_auto_rule): Gauss-Legendre nodes n_gl = ceil(A + B s_X),
- * Gauss-Hermite nodes n_gh = ceil(C + D s + E s^2), s = s_Y|X. */
-static const double SEA_AUTO_GL_A = 16.0, SEA_AUTO_GL_B = 12.0;
-static const double SEA_AUTO_GH_C = 2.0, SEA_AUTO_GH_D = 6.0, SEA_AUTO_GH_E = 16.0;
+ * Gauss-Hermite nodes n_gh = ceil(C + D s + E s^2), s = s_Y|X.  Refitted
+ * for 1e-6 (the orders 16 + 12 s_X and 2 + 6 s + 16 s^2 reached 1.3e-6 on
+ * the bench's 896 conditions and 3.0e-6 on random ones, the cross-slope
+ * rule short where s_Y|X is 0.2-0.45). */
+static const double SEA_AUTO_GL_A = 17.0, SEA_AUTO_GL_B = 12.0;
+static const double SEA_AUTO_GH_C = 2.0, SEA_AUTO_GH_D = 8.0, SEA_AUTO_GH_E = 20.0;
 /* A slope standard deviation below this is a delta distribution: the
  * rules could not resolve a narrower one in double precision. */
 static const double SEA_S_DELTA = 1e-13;
@@ -1388,6 +1391,12 @@ static const double SEA_MULTI_P_NEGLIGIBLE = 1e-9;
  * far nodes of a rule, a steep facet whose mirror ray falls): at most 1e-11
  * each, 1e-8 over the largest rule. */
 static const double SEA_MULTI_SHARE_NEGLIGIBLE = 1e-11;
+/* The second hits' split rule (second_hit): a piece of the window takes
+ * this times n_gl nodes times its share of the window, at least MIN.
+ * Against the same rule at orders 128 x 16 (3, 10, 15 m/s, 60-85 deg):
+ * within 8.7e-6 at the default orders (1.3e-6 with 1 and 4, at 1.7 times
+ * the cost); the unsplit rule was 1.7e-3 off. */
+static const double SEA_MULTI_SPLIT_SCALE = 0.5, SEA_MULTI_SPLIT_MIN = 3.0;
 
 /* The frame's direction (x, y, z) (x along the view's azimuth, y across;
  * any length) in the sea's axes, normalised, g[0..2]. */
@@ -1407,6 +1416,9 @@ static void view_frame_of_vec(const sea_optics *p, const sea_slope_stats *st, co
     const double c = h > 0.0 ? g[0] / h : 1.0, s = h > 0.0 ? g[1] / h : 0.0;
     view_frame_init_cs(p, st, g[2], h, atan2(g[1], g[0]), c, s,
                        g[2] > 0.0 && h < SEA_NADIR_THETA, f);
+    /* a facet met again counts by its projected area along the ray alone
+     * (the rate at which the ray meets it), whatever the shadowing */
+    f->corr = 0;
 }
 
 /* Smith's Lambda toward the unit vector g, g[2] > 0 (sea_shadow_lambda
@@ -1453,15 +1465,164 @@ double sea_sky_radiance(const sea_sky *sky, size_t k, double cos_zenith)
     }
 }
 
+/* The mirror ray of the facet of slope (gX, gY) (frame f, cos psi cpsi >
+ * 0) in the sea's axes, g (unit): r = 2 (n.v) n - v. */
+static void mirror_of_node(const view_frame *f, double gX, double gY, double cpsi, double g[3])
+{
+    const double two_c = 2.0 * cpsi / sqrt(1.0 + gX * gX + gY * gY);
+    frame_vec_to_global(f, -two_c * gX - f->sin_th, -two_c * gY, two_c - f->cos_th, g);
+}
+
+/* The chance that the mirror ray g meets the sea again (1 when it falls),
+ * 0 where negligible (SEA_MULTI_P_NEGLIGIBLE; or its node's share of the
+ * average, share, times it below SEA_MULTI_SHARE_NEGLIGIBLE). */
+static double hit_chance(const sea_slope_stats *st, const double g[3], double L_in, double share)
+{
+    double P = 1.0;
+    if (g[2] > 0.0) {
+        const double L_r = lambda_toward(st, g);
+        P = L_r / (1.0 + L_in + L_r);
+        if (P < SEA_MULTI_P_NEGLIGIBLE)
+            P = 0.0;
+    }
+    return P * share < SEA_MULTI_SHARE_NEGLIGIBLE ? 0.0 : P;
+}
+
+static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
+                           double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
+                           const sea_sky *sky, size_t k0, double *out, double *kout);
+
+/* What the mirror rays that meet the sea again add (R >= 2), per index k:
+ *     T_k = E_w[rho_k P E_(R-1),k(-r)],
+ *     D_k = E_w[rho_k P (K_(R-1),k(-r) - L_sky,k(r))]   (sky not NULL),
+ * over the facets seen from f, with the emission's weight.  P has a kink
+ * where the mirror ray is horizontal (1 where it falls; above, Lambda /
+ * (1 + Lambda_v + Lambda) tends to 1 with a finite slope), and a product
+ * Gauss rule across a kink converges only as its order squared (n_gl = 20
+ * left E_2 up to 1.7e-3 from its converged value).  So for each
+ * cross-slope node the Gauss-Legendre part in t is split where r_z = 0 (a
+ * quadratic in t: gamma_X and gamma_Y are linear in it), each piece taking
+ * SEA_MULTI_SPLIT_SCALE n_gl nodes times its share of the window (at least
+ * SEA_MULTI_SPLIT_MIN).  Each
+ * cross-slope node's average is normalised by its own weights (the same
+ * integral), and the delta case (no spread along the view) has no t.
+ * w_tot: the integral of the weight (rule a's estimate), for the nodes'
+ * shares of the average. */
+static void second_hit(const sea_optics *p, const sea_slope_stats *st, const view_frame *f,
+                       double L_in, const emis_ctx *ec, size_t n, int R, fixed_rule a,
+                       double w_tot, const sea_sky *sky, size_t k0, double *T, double *D)
+{
+    for (size_t k = 0; k < n; k++)
+        T[k] = D[k] = 0.0;
+    const int nj = a.n_gh > 0 ? a.n_gh : 1;
+    const double *xj = a.n_gh > 0 ? &p->gh_x[SEA_TRI(a.n_gh - 1)] : NULL;
+    const double *wj = a.n_gh > 0 ? &p->gh_w[SEA_TRI(a.n_gh - 1)] : NULL;
+    double t_lo = 0.0, t_hi = 0.0;
+    if (!f->delta)
+        view_window(f, a.t_cut, &t_lo, &t_hi);
+    for (int j = 0; j < nj; j++) {
+        const double w_j = wj != NULL ? wj[j] : 1.0;
+        const double x_j = xj != NULL ? xj[j] : 0.0;
+        /* gamma_X = aX + bX t, gamma_Y = aY + bY t (Eq 12: gamma_Y = m_Y) */
+        const double aX = f->m_X, bX = f->delta ? 0.0 : f->s_X;
+        const double aY = a.n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
+        const double bY = a.n_gh == 0 || f->delta ? 0.0 : f->b_YX;
+        /* the pieces of the window between the roots of r_z = 0:
+         * c (1 + gX^2 + gY^2) - 2 (c - gX s) = 0 */
+        double cut[4];
+        int nc = 0;
+        cut[nc++] = t_lo;
+        if (!f->delta) {
+            const double c = f->cos_th, s = f->sin_th;
+            const double qa = c * (bX * bX + bY * bY);
+            const double qb = 2.0 * c * (aX * bX + aY * bY) + 2.0 * s * bX;
+            const double qc = c * (aX * aX + aY * aY - 1.0) + 2.0 * s * aX;
+            double roots[2];
+            int nr = 0;
+            if (fabs(qa) > 0.0) {
+                const double disc = qb * qb - 4.0 * qa * qc;
+                if (disc > 0.0) {
+                    /* the stable pair of roots */
+                    const double q = -0.5 * (qb + copysign(sqrt(disc), qb));
+                    roots[nr++] = q / qa;
+                    if (q != 0.0)
+                        roots[nr++] = qc / q;
+                }
+            } else if (qb != 0.0) {
+                roots[nr++] = -qc / qb;
+            }
+            if (nr == 2 && roots[1] < roots[0]) {
+                const double x = roots[0];
+                roots[0] = roots[1];
+                roots[1] = x;
+            }
+            for (int r = 0; r < nr; r++)
+                if (roots[r] > cut[nc - 1] && roots[r] < t_hi)
+                    cut[nc++] = roots[r];
+        }
+        cut[nc++] = t_hi;
+        double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+        for (int piece = 0; piece + 1 < nc; piece++) {
+            const double ta = cut[piece], tb = cut[piece + 1];
+            /* the delta case: one node, weight 1 */
+            const int m = f->delta ? 1
+                                   : (int)fmin(SEA_EMIS_GL_MAX,
+                                               fmax(SEA_MULTI_SPLIT_MIN,
+                                                    ceil(SEA_MULTI_SPLIT_SCALE * a.n_gl * (tb - ta) /
+                                                         (t_hi - t_lo))));
+            const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
+            for (int i = 0; i < m; i++) {
+                const double t = f->delta ? 0.0 : mid + half * p->gl_x[SEA_TRI(m - 1) + i];
+                double w = f->delta ? 1.0 : half * p->gl_w[SEA_TRI(m - 1) + i] * rule_weight(f, t);
+                if (f->corr && w > 0.0)
+                    w *= sea_shadow_correlated(f->z, t);
+                if (!(w > 0.0))
+                    continue;
+                den += w;
+                const double gX = aX + bX * t, gY = aY + bY * t;
+                const double cpsi = cos_psi_of(f, gX, gY);
+                if (!(cpsi > 0.0))
+                    continue;
+                double g[3];
+                mirror_of_node(f, gX, gY, cpsi, g);
+                const double P = hit_chance(st, g, L_in, w_j * w / w_tot);
+                if (P == 0.0)
+                    continue;
+                double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK];
+                const double o[3] = { -g[0], -g[1], -g[2] };
+                view_frame fo;
+                view_frame_of_vec(p, st, o, &fo);
+                emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, eB,
+                               sky != NULL ? kB : NULL);
+                for (size_t k = 0; k < n; k++) {
+                    const emis_ctx exact = { ec[k].N, NULL };
+                    const double rho = 1.0 - one_minus_rho(f->delta ? &exact : &ec[k], cpsi);
+                    num[k] += w * rho * P * eB[k];
+                    if (sky != NULL)
+                        knum[k] += w * rho * P * (kB[k] - sea_sky_radiance(sky, k0 + k, g[2]));
+                }
+            }
+        }
+        if (den > 0.0)
+            for (size_t k = 0; k < n; k++) {
+                T[k] += w_j * num[k] / den;
+                D[k] += w_j * knum[k] / den;
+            }
+    }
+}
+
 /* E_R toward d (zenith in [0, pi)) for indices N[0..n), n <= SEA_MULTI_BLOCK,
  * and, when sky is not NULL, the sky's radiance that reaches d by
  * reflections, K_R (indices k0 .. k0 + n of the sky's arrays):
- *     K_R(v) = E_w[rho_A ((1 - P_A) L_sky(r_A) + P_A K_(R-1)(-r_A))],
+ *     E_R(v) = E_1(v) + E_w[rho_A P_A E_(R-1)(-r_A)],
+ *     K_R(v) = E_w[rho_A L_sky(r_A)] + E_w[rho_A P_A (K_(R-1)(-r_A) - L_sky(r_A))],
  *     K_1(v) = E_w[rho_A L_sky(r_A)]   (a falling r_A: the horizon's sky),
- * so that E_R + K_R / L = 1 under a uniform sky of radiance L, at every R.
- * first: d is the sensor's direction and *r0 the rule of its facets (the
- * one reflections = 1 uses); otherwise d looks at facets met again, by the
- * auto rule with halved orders. */
+ * so that E_R + K_R / L = 1 under a uniform sky of radiance L, at every R:
+ * E_1 and K_1 by the rule a (emissivity_of_nodes, as reflections = 1), the
+ * second hits by second_hit's split rule of the same orders.  first: fd is
+ * the sensor's frame and *r0 the rule of its facets (the one reflections =
+ * 1 uses); otherwise fd looks at facets met again, by the auto rule with
+ * halved orders. */
 static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
                            double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
                            const sea_sky *sky, size_t k0, double *out, double *kout)
@@ -1479,100 +1640,62 @@ static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const
     }
     fixed_nodes nd;
     nodes_fixed(p, &f, a, &nd);
-    if (nd.zero || (R <= 1 && sky == NULL)) {
-        for (size_t k = 0; k < n; k++) {
-            out[k] = emissivity_of_nodes(&nd, &ec[k]);
-            if (kout != NULL)
-                kout[k] = 0.0;
-        }
-        return;
+    for (size_t k = 0; k < n; k++) {
+        out[k] = emissivity_of_nodes(&nd, &ec[k]);
+        if (kout != NULL)
+            kout[k] = 0.0;
     }
-    /* the rule's abscissae, as nodes_fixed placed them */
-    double t_lo, t_hi;
-    view_window(&f, a.t_cut, &t_lo, &t_hi);
-    const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
-    double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
-    /* the weights' sums: a node's share of the average is w_i w_j / (sum_i sum_j) */
-    double sum_i = 0.0, sum_j = 0.0;
-    for (int i = 0; i < nd.n_i; i++)
-        sum_i += nd.plain || nd.w_i[i] > 0.0 ? nd.w_i[i] : 0.0;
-    for (int j = 0; j < nd.n_j; j++)
-        sum_j += nd.w_j[j];
-    const double share_min = SEA_MULTI_SHARE_NEGLIGIBLE * sum_i * sum_j;
-    for (int i = 0; i < nd.n_i; i++) {
-        const double wi = nd.w_i[i];
-        if (!nd.plain && wi <= 0.0)
-            continue;
-        double acc[SEA_MULTI_BLOCK] = { 0.0 }, kacc[SEA_MULTI_BLOCK] = { 0.0 };
-        for (int j = 0; j < nd.n_j; j++) {
-            const double cpsi = nd.cos_psi[i * nd.n_j + j];
-            /* the node's slope, from the rule's abscissae */
+    if (nd.zero || (R <= 1 && sky == NULL))
+        return;
+    if (sky != NULL) {
+        /* K_1: the sky toward each facet's mirror ray, over the rule's nodes */
+        double t_lo, t_hi;
+        view_window(&f, a.t_cut, &t_lo, &t_hi);
+        const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
+        double knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+        for (int i = 0; i < nd.n_i; i++) {
+            const double wi = nd.w_i[i];
+            if (!nd.plain && wi <= 0.0)
+                continue;
             const double tt = nd.plain ? 0.0 : mid + half * p->gl_x[SEA_TRI(a.n_gl - 1) + i];
             const double gX = nd.plain ? f.m_X : f.m_X + f.s_X * tt;
-            /* Eq 12 (n_gh = 0): gamma_Y = m_Y, as inner_nodes */
-            const double gY = a.n_gh == 0 ? f.m_Y
-                                          : f.m_Y + (nd.plain ? 0.0 : f.b_YX * tt) +
-                                                f.s_Y_given_X * p->gh_x[SEA_TRI(a.n_gh - 1) + j];
-            const double inv_norm = 1.0 / sqrt(1.0 + gX * gX + gY * gY);
-            const double two_c = 2.0 * cpsi * inv_norm;
-            const double rx = -two_c * gX - f.sin_th, ry = -two_c * gY,
-                         rz = two_c - f.cos_th;
-            /* the mirror ray in the sea's axes; its zenith cosine (the sky
-             * depends on no more) */
-            double g[3];
-            frame_vec_to_global(&f, rx, ry, rz, g);
-            const double cz = g[2];
-            double P = 0.0;
-            if (R >= 2) {
-                P = 1.0;
-                if (rz > 0.0) {
-                    const double L_r = lambda_toward(st, g);
-                    P = L_r / (1.0 + L_in + L_r);
-                    if (P < SEA_MULTI_P_NEGLIGIBLE)
-                        P = 0.0;
-                }
-                if (P * wi * nd.w_j[j] < share_min)
-                    P = 0.0;
-            }
-            double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK];
-            const int hit = P > 0.0;
-            if (hit) {
-                /* seen from o = -r */
-                const double o[3] = { -g[0], -g[1], -g[2] };
-                view_frame fo;
-                view_frame_of_vec(p, st, o, &fo);
-                emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, eB,
-                               sky != NULL ? kB : NULL);
-            }
-            for (size_t k = 0; k < n; k++) {
-                /* a facet without spread: the formula, as emissivity_of_nodes */
-                const emis_ctx exact = { ec[k].N, NULL };
-                const double rho = 1.0 - one_minus_rho(nd.plain ? &exact : &ec[k], cpsi);
-                acc[k] += nd.w_j[j] * ((1.0 - rho) + (hit ? rho * P * eB[k] : 0.0));
-                if (sky != NULL) {
-                    const double Ls = P < 1.0 ? sea_sky_radiance(sky, k0 + k, cz) : 0.0;
-                    kacc[k] += nd.w_j[j] * rho * ((1.0 - P) * Ls + (hit ? P * kB[k] : 0.0));
+            for (int j = 0; j < nd.n_j; j++) {
+                const double cpsi = nd.cos_psi[i * nd.n_j + j];
+                /* Eq 12 (n_gh = 0): gamma_Y = m_Y, as inner_nodes */
+                const double gY = a.n_gh == 0 ? f.m_Y
+                                              : f.m_Y + (nd.plain ? 0.0 : f.b_YX * tt) +
+                                                    f.s_Y_given_X * p->gh_x[SEA_TRI(a.n_gh - 1) + j];
+                double g[3];
+                mirror_of_node(&f, gX, gY, cpsi, g);
+                for (size_t k = 0; k < n; k++) {
+                    const emis_ctx exact = { ec[k].N, NULL };
+                    const double rho = 1.0 - one_minus_rho(nd.plain ? &exact : &ec[k], cpsi);
+                    knum[k] += (nd.plain ? 1.0 : wi) * nd.w_j[j] * rho *
+                               sea_sky_radiance(sky, k0 + k, g[2]);
                 }
             }
+            den += nd.plain ? 1.0 : wi;
         }
-        if (nd.plain) {
-            for (size_t k = 0; k < n; k++) {
-                out[k] = acc[k];
-                if (kout != NULL)
-                    kout[k] = kacc[k];
-            }
-            return;
-        }
-        for (size_t k = 0; k < n; k++) {
-            num[k] += wi * acc[k];
-            knum[k] += wi * kacc[k];
-        }
-        den += wi;
-    }
-    for (size_t k = 0; k < n; k++) {
-        out[k] = den > 0.0 ? num[k] / den : 0.0;
-        if (kout != NULL)
+        for (size_t k = 0; k < n; k++)
             kout[k] = den > 0.0 ? knum[k] / den : 0.0;
+    }
+    if (R >= 2) {
+        /* the weight's integral, as rule a estimates it */
+        double w_tot = 1.0;
+        if (!nd.plain) {
+            double t_lo, t_hi, s = 0.0;
+            view_window(&f, a.t_cut, &t_lo, &t_hi);
+            for (int i = 0; i < nd.n_i; i++)
+                s += nd.w_i[i] > 0.0 ? nd.w_i[i] : 0.0;
+            w_tot = 0.5 * (t_hi - t_lo) * s;
+        }
+        double T[SEA_MULTI_BLOCK], D[SEA_MULTI_BLOCK];
+        second_hit(p, st, &f, L_in, ec, n, R, a, w_tot, sky, k0, T, D);
+        for (size_t k = 0; k < n; k++) {
+            out[k] += T[k];
+            if (kout != NULL)
+                kout[k] += D[k];
+        }
     }
 }
 

@@ -375,13 +375,13 @@ sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double co
 
 /* The rule SEA_EMIS_AUTO uses for st seen from v.  With s_X the spread of
  * gamma_X along the view azimuth and s the spread of gamma_Y given gamma_X:
- *     n_gl = ceil(16 + 12 s_X),  n_gh = ceil(2 + 6 s + 16 s^2),
+ *     n_gl = ceil(17 + 12 s_X),  n_gh = ceil(2 + 8 s + 20 s^2),
  * each capped at its maximum.  The view angle enters through the window
- * (cut at the visibility limit), not the orders.  Fitted, with a margin, to
- * the orders that reach 1e-5 of SEA_EMIS_FULL on a sweep of theta 0-89.99
- * deg, |m| <= 2, variances 1e-5..1 with correlation and anisotropy to 20:1;
- * the default is within 1e-4 of SEA_EMIS_FULL (measured: 2e-5) for theta
- * <= 85 deg, |m| <= 2 and slope variances up to 1 (tests/test_optics.c).
+ * (cut at the visibility limit), not the orders.  Fitted so that the
+ * default is within 1e-6 of SEA_EMIS_FULL, with either shadowing, for
+ * theta <= 85 deg, |m| <= 2 and slope variances 1e-5..1 with correlation
+ * and anisotropy to 20:1 (measured: at most 6.8e-7 over the bench's 896
+ * conditions and 9000 random ones; tests/test_optics.c checks 800).
  * st must satisfy sea_slope_stats_check and theta be in [0, pi/2).  Pure. */
 sea_emis_rule sea_emissivity_auto_rule(const sea_slope_stats *st, sea_dir v);
 
@@ -414,9 +414,12 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
  * below the horizon when the ray rises (seabake-model(7), MULTIPLE
  * REFLECTIONS).  The sky then sees 1 - out[i].  The facets the sensor sees
  * take the nodes reflections = 1 takes (method or rule; the auto rule for
- * SEA_EMIS_FULL), the facets met again the auto rule with halved orders; a
- * mirror ray escapes where P < 1e-9 or its node's share times P < 1e-11
- * (out[i] moves by less than 1e-8; the closure stays exact).
+ * SEA_EMIS_FULL), the facets met again the auto rule with halved orders
+ * (by their projected area alone, whatever the shadowing); the second hits
+ * a rule split where the mirror ray is horizontal (P's kink), within
+ * 8.7e-6 of its converged value; a mirror ray escapes where P < 1e-9 or
+ * its node's share times P < 1e-11 (out[i] moves by less than 1e-8; the
+ * closure stays exact).
  * Same errors as sea_emissivity_n, and SEA_ERR_DOMAIN for reflections out
  * of range; reads p. */
 enum { SEA_REFLECTIONS_MAX = 3 };

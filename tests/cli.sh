@@ -867,13 +867,15 @@ else
     check_eq bench.no_reflectivity_error \
         "$(printf '%s\n' "$SB_OUT" | awk -F, '$1 == "reflectivity" { print $5 $6 }')" ""
     err_of() { printf '%s\n' "$SB_OUT" | awk -F, -v q="$1" -v m="$2" -v s="${3-}" \
-        '$1 == q && $2 == m && (s == "" || $3 == s) { print $5 }'; }
-    # The reference against itself is exact; the default meets its 1e-4 and
-    # Eq 12 does not (its own approximation); more nodes do not do worse.
+        '$1 == q && $2 == m && (s == "" || index($3, s) == 1) { print $5 }'; }
+    # The reference against itself is exact; the default meets its 1e-6 with
+    # either shadowing (issue 14; its orders, in the settings, depend on the
+    # conditions) and Eq 12 does not (its own approximation); more nodes do
+    # not do worse.  A setting names the row by its beginning.
     check_eq bench.full_exact "$(err_of emissivity full | sort -u)" 0
-    num_check bench.auto_accurate 'e >= 0 && e <= 1e-4' \
-        e="$(err_of emissivity auto 'Eq 7 default: GL 17-21 x GH 3-9 from the spreads')"
-    num_check bench.auto_correlated_accurate 'e >= 0 && e <= 1e-4' \
+    num_check bench.auto_accurate 'e >= 0 && e <= 1e-6' \
+        e="$(err_of emissivity auto 'Eq 7 default: GL ')"
+    num_check bench.auto_correlated_accurate 'e >= 0 && e <= 1e-6' \
         e="$(err_of emissivity auto "Eq 7 default with correlated shadowing (the program's)")"
     num_check bench.fast_approximate 'e > 1e-3' e="$(err_of emissivity fast)"
     num_check bench.rules_converge 'a > b' a="$(err_of emissivity rule 'Eq 7 GL 8 x GH 4')" \

@@ -330,8 +330,9 @@ static void test_table(void)
     CU_ASSERT(header && rows > 0);
     CU_ASSERT(need == 12);
     /* Multiple reflections against the ray-traced truth with every hit
-     * (eps): 3-15 m/s, 4 and 10 um, both azimuths.  Measured (2026-11-23)
-     * for reflections = 2: 1.5e-3 up to 75 deg, 2.5e-3 at 80, 5.4e-3 at 85;
+     * (eps): 3-15 m/s, 4 and 10 um, both azimuths.  Measured (2026-11-24,
+     * the second hits by their split rule) for reflections = 2: 0.55e-3 up
+     * to 75 deg, 1.82e-3 at 80, 4.66e-3 at 85;
      * the paper's single reflection: 33e-3, 35e-3, 32e-3.  Bounds: the
      * measured worst plus 0.5e-3, the oracle's own bias (a finer mesh moves
      * eps by up to 0.41e-3 at 85 deg, 4 standard errors of the table are
@@ -340,9 +341,9 @@ static void test_table(void)
     for (int r = 0; r < 2; r++)
         MEASURED("reflections %d: worst |model - eps| %.2e (<= 75 deg), %.2e (80), %.2e (85)\n",
                  r + 1, worst[r][0], worst[r][1], worst[r][2]);
-    CU_ASSERT(worst[1][0] <= 2.0e-3);
-    CU_ASSERT(worst[1][1] <= 3.0e-3);
-    CU_ASSERT(worst[1][2] <= 6.0e-3);
+    CU_ASSERT(worst[1][0] <= 1.1e-3);
+    CU_ASSERT(worst[1][1] <= 2.4e-3);
+    CU_ASSERT(worst[1][2] <= 5.2e-3);
     CU_ASSERT(worst[0][1] > 0.02); /* the gap that multiple reflections close */
     /* Single bounce against the ray tracer's first hit (eps1), 60-85 deg:
      * Smith's shadowing measured (2026-11-23) 4.8e-3 to 75 deg, 8.5e-3 at 80,
@@ -357,14 +358,14 @@ static void test_table(void)
     CU_ASSERT(single[1][1] <= 0.9e-3);
     CU_ASSERT(single[1][2] <= 1.6e-3);
     CU_ASSERT(single[0][2] > 0.01); /* what it corrects */
-    /* reflections = 2 with it: the second hit (Smith's bistatic complement)
-     * now adds to a first hit that is no longer low, and overshoots: measured
-     * (2026-11-24, the facets met counted by projected area alone) 2.43e-3
-     * to 75 deg, 3.35e-3 at 80, 4.08e-3 at 85; the excess is what the
-     * facets met emit (seabake-model(7), MULTIPLE REFLECTIONS) */
+    /* reflections = 2 with it, the program's most accurate: measured
+     * (2026-11-24, the second hits by their split rule) 0.93e-3 to 75 deg,
+     * 1.87e-3 at 80, 2.54e-3 at 85, above the truth from 75 deg (the facets
+     * met emit too much: seabake-model(7), MULTIPLE REFLECTIONS).  Bounds:
+     * measured plus 0.5e-3 up to 80 deg, and at 85 the issue's 3e-3. */
     MEASURED("correlated shadowing, reflections 2: worst |model - eps| %.2e (60-75 deg), "
              "%.2e (80), %.2e (85)\n", worst_c2[0], worst_c2[1], worst_c2[2]);
-    CU_ASSERT(worst_c2[0] <= 3.0e-3 && worst_c2[1] <= 4.0e-3 && worst_c2[2] <= 4.7e-3);
+    CU_ASSERT(worst_c2[0] <= 1.5e-3 && worst_c2[1] <= 2.4e-3 && worst_c2[2] <= 3.0e-3);
 }
 
 /* The sea-spectrum tables' rows grouped by direction (wind x[0], theta
@@ -621,7 +622,8 @@ static void test_two_scale_limits(void)
  * bit; a flat sea's mirror ray never meets the sea again (Lambda = 0), so
  * every R gives 1 - rho(theta) exactly; E_1 <= E_2 <= E_3 (a hit again only
  * adds emission: the same halved rule serves the facets met again at R = 2
- * and 3, so the inequality holds to rounding); and the extra emission is
+ * and 3, so the inequality holds to rounding, 1e-15: where no mirror ray
+ * may meet the sea, E_2 is E_1 summed in another order); and the extra emission is
  * at most the energy the single-scattering balance (Eq 21) loses, the
  * energy the mirror rays bring back to the sea: 0 <= E_2 - E_1 <= 1 - total
  * (tolerance 2e-5: the reflectance's adaptive quadrature, 1e-5, and the
@@ -647,7 +649,7 @@ static void test_multi(void)
                                                    NULL) == SEA_OK);
             for (int q = 0; q < 2; q++) {
                 CU_ASSERT(r1[q] == e1[q]);
-                CU_ASSERT(e2[q] >= e1[q] && e3[q] >= e2[q] - 1e-15 && e3[q] <= 1.0);
+                CU_ASSERT(e2[q] >= e1[q] - 1e-15 && e3[q] >= e2[q] - 1e-15 && e3[q] <= 1.0);
                 if (a == 1 && ths[i] >= 70 && ths[i] <= 85) {
                     sea_energy en;
                     CU_ASSERT_FATAL(sea_energy_balance(P, SEA_EMIS_AUTO, N[q], &st, v, &en,

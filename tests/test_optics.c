@@ -95,7 +95,7 @@ static void test_correlated_shadowing(void)
     gsl_rng_free(rng);
     MEASURED("correlated shadowing: auto vs adaptive reference, %d conditions to 89.9 deg: max "
              "|diff| %.2g at theta %.2f |m| %.2f var %.2g\n", n, worst, at[0], at[1], at[2]);
-    CU_ASSERT(worst <= 2e-6); /* measured 6.6e-7 */
+    CU_ASSERT(worst <= 1e-6); /* measured 4.7e-7 (6.6e-7 with the orders before 2026-11-24) */
     sea_slope_stats lr = { { 0, 0 }, { 0.0360422, 0.0251592, 0 } };
     double es, ec;
     CU_ASSERT(sea_emissivity(P, SEA_EMIS_AUTO, N4, &lr, (sea_dir){ 85 * DEG, 0 }, &es, NULL) == SEA_OK);
@@ -289,43 +289,54 @@ static void test_eq12_vs_eq7_paper_example(void)
 /* The default against the adaptive reference over a deterministic sample of
  * the domain the default is sized for: theta <= 85 deg, any azimuth, |m| <= 2,
  * slope variances 1e-5..1 (log-uniform) with anisotropy to 20:1 and
- * correlation |r| <= 0.9, at 4 and 10 um.  Tolerance 1e-4, the accuracy the
- * default promises (issue 6); its orders were fitted to reach 1e-5 (see
- * sea_emissivity_auto_rule), so this fails on a regression of 6x or more
- * while leaving room for conditions between the fitting sweep's points. */
+ * correlation |r| <= 0.9, at 4 and 10 um, with Smith's and with the
+ * correlated shadowing.  Tolerance 1e-6, the accuracy issue 14 asks of the
+ * default: its orders were refitted for it (sea_emissivity_auto_rule;
+ * measured here 5.7e-7 with Smith's shadowing, 6.8e-7 correlated; at most
+ * 6.6e-7 over the bench's 896 conditions and 9000 random ones, correlated,
+ * and 4000 with Smith's, where the orders before reached 3.0e-6). */
 static void test_auto_vs_full(void)
 {
-    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(rng, 6);
-    const int n = UNIT_QUICK ? 12 : 400;
-    double worst = 0.0, at[5] = { 0 };
-    for (int k = 0; k < n; k++) {
-        const double th = 85 * DEG * gsl_rng_uniform(rng), ph = 2 * M_PI * gsl_rng_uniform(rng);
-        const double mm = 2.0 * gsl_rng_uniform(rng), ma = 2 * M_PI * gsl_rng_uniform(rng);
-        const double var = pow(10.0, -5.0 + 5.0 * gsl_rng_uniform(rng));
-        const double ratio = pow(20.0, gsl_rng_uniform(rng)), r = 0.9 * (2 * gsl_rng_uniform(rng) - 1);
-        const double cr = cos(2 * M_PI * gsl_rng_uniform(rng)), sr = sqrt(1 - cr * cr);
-        /* Principal variances var and var/ratio, rotated, then correlated
-         * by at most r (positive semi-definite by construction). */
-        const double a = var, b = var / ratio;
-        sea_slope_stats st = { { mm * cos(ma), mm * sin(ma) },
-                               { a * cr * cr + b * sr * sr, a * sr * sr + b * cr * cr, 0 } };
-        st.cov.xy = (a - b) * cr * sr + r * 0.1 * sqrt(st.cov.xx * st.cov.yy);
-        double complex N = k % 2 ? N10 : N4;
-        double e_auto, e_full;
-        sea_dir v = { th, ph };
-        CU_ASSERT_FATAL(sea_emissivity(P, SEA_EMIS_AUTO, N, &st, v, &e_auto, NULL) == SEA_OK);
-        CU_ASSERT_FATAL(sea_emissivity(P, SEA_EMIS_FULL, N, &st, v, &e_full, NULL) == SEA_OK);
-        if (fabs(e_auto - e_full) > worst) {
-            worst = fabs(e_auto - e_full);
-            at[0] = th / DEG, at[1] = ph / DEG, at[2] = mm, at[3] = var, at[4] = ratio;
+    sea_optics *pc = NULL;
+    CU_ASSERT_FATAL(sea_optics_alloc(&pc, NULL) == SEA_OK);
+    sea_optics_set_shadowing(pc, SEA_SHADOW_CORRELATED);
+    for (int corr = 0; corr < 2; corr++) {
+        const sea_optics *p = corr ? pc : P;
+        gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+        gsl_rng_set(rng, 6);
+        const int n = UNIT_QUICK ? 12 : 400;
+        double worst = 0.0, at[5] = { 0 };
+        for (int k = 0; k < n; k++) {
+            const double th = 85 * DEG * gsl_rng_uniform(rng), ph = 2 * M_PI * gsl_rng_uniform(rng);
+            const double mm = 2.0 * gsl_rng_uniform(rng), ma = 2 * M_PI * gsl_rng_uniform(rng);
+            const double var = pow(10.0, -5.0 + 5.0 * gsl_rng_uniform(rng));
+            const double ratio = pow(20.0, gsl_rng_uniform(rng)),
+                         r = 0.9 * (2 * gsl_rng_uniform(rng) - 1);
+            const double cr = cos(2 * M_PI * gsl_rng_uniform(rng)), sr = sqrt(1 - cr * cr);
+            /* Principal variances var and var/ratio, rotated, then correlated
+             * by at most r (positive semi-definite by construction). */
+            const double a = var, b = var / ratio;
+            sea_slope_stats st = { { mm * cos(ma), mm * sin(ma) },
+                                   { a * cr * cr + b * sr * sr, a * sr * sr + b * cr * cr, 0 } };
+            st.cov.xy = (a - b) * cr * sr + r * 0.1 * sqrt(st.cov.xx * st.cov.yy);
+            double complex N = k % 2 ? N10 : N4;
+            double e_auto, e_full;
+            sea_dir v = { th, ph };
+            CU_ASSERT_FATAL(sea_emissivity(p, SEA_EMIS_AUTO, N, &st, v, &e_auto, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_emissivity(p, SEA_EMIS_FULL, N, &st, v, &e_full, NULL) == SEA_OK);
+            if (fabs(e_auto - e_full) > worst) {
+                worst = fabs(e_auto - e_full);
+                at[0] = th / DEG, at[1] = ph / DEG, at[2] = mm, at[3] = var, at[4] = ratio;
+            }
         }
+        gsl_rng_free(rng);
+        MEASURED("auto vs adaptive reference (%s shadowing), %d sampled conditions (theta <= 85 "
+                 "deg): max |diff| %.3g at theta %.1f phi %.0f |m| %.2f var %.2g anisotropy "
+                 "%.1f\n",
+                 corr ? "correlated" : "Smith's", n, worst, at[0], at[1], at[2], at[3], at[4]);
+        CU_ASSERT(worst <= 1e-6);
     }
-    gsl_rng_free(rng);
-    MEASURED("auto vs adaptive reference, %d sampled conditions (theta <= 85 deg): max |diff| %.3g "
-             "at theta %.1f phi %.0f |m| %.2f var %.2g anisotropy %.1f\n",
-             n, worst, at[0], at[1], at[2], at[3], at[4]);
-    CU_ASSERT(worst <= 1e-4);
+    sea_optics_free(pc);
 }
 
 /* A fixed product rule of 64 x 8 nodes (the previous default) within 1e-6 of
@@ -763,7 +774,7 @@ int test_optics_register(void)
            !CU_add_test(s, "unit index -> emissivity 1", test_unit_index) ||
            !CU_add_test(s, "fast/full vs the paper's Eq 12/7", test_against_paper_formulas) ||
            !CU_add_test(s, "Eq 12 vs Eq 7 within 1 % (paper example)", test_eq12_vs_eq7_paper_example) ||
-           !CU_add_test(s, "auto vs adaptive reference (1e-4)", test_auto_vs_full) ||
+           !CU_add_test(s, "auto vs adaptive reference (1e-6)", test_auto_vs_full) ||
            !CU_add_test(s, "fixed product rules, the default's orders", test_fixed_rules) ||
            !CU_add_test(s, "default and fixed rules at stress points", test_rule_stress) ||
            !CU_add_test(s, "mirror symmetry, signed zenith", test_symmetry) ||
