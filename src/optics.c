@@ -1488,9 +1488,9 @@ static double hit_chance(const sea_slope_stats *st, const double g[3], double L_
     return P * share < SEA_MULTI_SHARE_NEGLIGIBLE ? 0.0 : P;
 }
 
-static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
-                           double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
-                           const sea_sky *sky, size_t k0, double *out, double *kout);
+static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
+                          double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
+                          const sea_sky *sky, size_t k0, double *out, double *kout);
 
 /* What the mirror rays that meet the sea again add (R >= 2), per index k:
  *     T_k = E_w[rho_k P E_(R-1),k(-r)],
@@ -1592,8 +1592,12 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                 const double o[3] = { -g[0], -g[1], -g[2] };
                 view_frame fo;
                 view_frame_of_vec(p, st, o, &fo);
-                emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, eB,
-                               sky != NULL ? kB : NULL);
+                /* no facet turned toward the ray (a slope distribution
+                 * without spread, tilted): there is nothing to meet, and
+                 * the ray escapes (so the closure holds) */
+                if (!emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, eB,
+                                    sky != NULL ? kB : NULL))
+                    continue;
                 for (size_t k = 0; k < n; k++) {
                     const emis_ctx exact = { ec[k].N, NULL };
                     const double rho = 1.0 - one_minus_rho(f->delta ? &exact : &ec[k], cpsi);
@@ -1622,10 +1626,11 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
  * second hits by second_hit's split rule of the same orders.  first: fd is
  * the sensor's frame and *r0 the rule of its facets (the one reflections =
  * 1 uses); otherwise fd looks at facets met again, by the auto rule with
- * halved orders. */
-static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
-                           double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
-                           const sea_sky *sky, size_t k0, double *out, double *kout)
+ * halved orders.  Returns 0 when no facet is turned toward fd (then out and
+ * kout are 0), else 1. */
+static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
+                          double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
+                          const sea_sky *sky, size_t k0, double *out, double *kout)
 {
     const int first = r0 != NULL;
     const view_frame f = *fd;
@@ -1645,8 +1650,10 @@ static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const
         if (kout != NULL)
             kout[k] = 0.0;
     }
-    if (nd.zero || (R <= 1 && sky == NULL))
-        return;
+    if (nd.zero)
+        return 0;
+    if (R <= 1 && sky == NULL)
+        return 1;
     if (sky != NULL) {
         /* K_1: the sky toward each facet's mirror ray, over the rule's nodes */
         double t_lo, t_hi;
@@ -1697,6 +1704,7 @@ static void emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const
                 kout[k] += D[k];
         }
     }
+    return 1;
 }
 
 /* The common part of sea_emissivity_multi_n and sea_emissivity_sky_n. */
@@ -1730,7 +1738,7 @@ static sea_status emissivity_general(const sea_optics *p, sea_emis_method method
         size_t slot = 0;
         for (size_t k = 0; k < m; k++)
             ec[k] = (emis_ctx){ N[k0 + k], fresnel_of(p, N[k0 + k], &slot) };
-        emis_multi_rec(p, st, &f, L_in, ec, m, reflections, &r0, sky, k0, &out[k0],
+        (void)emis_multi_rec(p, st, &f, L_in, ec, m, reflections, &r0, sky, k0, &out[k0],
                        sky != NULL ? &sky_out[k0] : NULL);
     }
     return SEA_OK;

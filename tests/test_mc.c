@@ -706,6 +706,34 @@ static void test_multi(void)
         CU_ASSERT(sea_emissivity_sky_n(P, SEA_EMIS_AUTO, NULL, N, 2, &st10, (sea_dir){ 1, 0 }, 1,
                                        &bad, e, k, NULL) == SEA_ERR_DOMAIN);
     }
+    /* A slope distribution without spread but tilted (a facet seen from
+     * afar on a glassy sea): a mirror ray that falls, or rises below the
+     * tilt, "meets the sea again" in Smith's terms, but no facet of that
+     * distribution faces it; it escapes, so the closure holds (up to 0.95
+     * of the energy vanished before; the fuzzing of 20000 random conditions,
+     * variances 0 to 2, |m| to 3, 0-89.99 deg, R 1-3, that found it now
+     * finds nothing above 1.4e-15) */
+    {
+        /* mean slope x, y; zenith (deg), azimuth (rad) */
+        const double tilt[3][4] = { { -1.73229, -1.21914, 29.4276, 2.2475 },
+                                    { -0.454923, 0.725688, 45.7160, 1.6197 },
+                                    { 2.04836, 1.1981, 58.2060, 5.4947 } };
+        const double L[2] = { 2.0, 3.0 };
+        const sea_sky black = { SEA_SKY_CLEAR, 1.0, L, 0, NULL };
+        for (int c = 0; c < 3; c++)
+            for (int R = 1; R <= SEA_REFLECTIONS_MAX; R++) {
+                const sea_slope_stats glassy = { { tilt[c][0], tilt[c][1] }, { 0, 0, 0 } };
+                double e[2], k[2];
+                CU_ASSERT_FATAL(sea_emissivity_sky_n(P, SEA_EMIS_AUTO, NULL, N, 2, &glassy,
+                                                     (sea_dir){ tilt[c][2] * DEG, tilt[c][3] },
+                                                     R, &black,
+                                                     e, k, NULL) == SEA_OK);
+                for (int q = 0; q < 2; q++) {
+                    CU_ASSERT(e[q] > 0.0 && e[q] < 1.0);
+                    ASSERT_ABS(e[q] + k[q] / L[q], 1.0, 1e-12);
+                }
+            }
+    }
     sea_slope_stats flat = { { 0, 0 }, { 0, 0, 0 } };
     for (int i = 1; i < 6; i++) {
         const sea_dir v = { ths[i] * DEG, 0.4 };
