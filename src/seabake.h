@@ -381,7 +381,8 @@ sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double co
  * default is within 1e-6 of SEA_EMIS_FULL, with either shadowing, for
  * theta <= 85 deg, |m| <= 2 and slope variances 1e-5..1 with correlation
  * and anisotropy to 20:1 (measured: at most 6.8e-7 over the bench's 896
- * conditions and 9000 random ones; tests/test_optics.c checks 800).
+ * conditions and 9000 random ones, tests/emis_rule_check; tests/test_optics.c
+ * checks 800).
  * st must satisfy sea_slope_stats_check and theta be in [0, pi/2).  Pure. */
 sea_emis_rule sea_emissivity_auto_rule(const sea_slope_stats *st, sea_dir v);
 

@@ -294,7 +294,8 @@ static void test_eq12_vs_eq7_paper_example(void)
  * default: its orders were refitted for it (sea_emissivity_auto_rule;
  * measured here 5.7e-7 with Smith's shadowing, 6.8e-7 correlated; at most
  * 6.6e-7 over the bench's 896 conditions and 9000 random ones, correlated,
- * and 4000 with Smith's, where the orders before reached 3.0e-6). */
+ * and 4000 with Smith's, where the orders before reached 3.0e-6:
+ * tests/emis_rule_check reproduces those). */
 static void test_auto_vs_full(void)
 {
     sea_optics *pc = NULL;
