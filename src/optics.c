@@ -58,12 +58,11 @@ static const double SEA_T_CUT = 10.0;
 static const double SEA_RULE_T_CUT = 6.0;
 /* Orders of the default rule as functions of the slope spreads (see
  * sea_emissivity_auto_rule): Gauss-Legendre nodes n_gl = ceil(A + B s_X),
- * Gauss-Hermite nodes n_gh = ceil(C + D s + E s^2), s = s_Y|X.  Refitted
+ * Gauss-Hermite nodes n_gh = ceil(C + D s + E s^2), s = s_Y|X (the
+ * SEA_EMIS_AUTO_* coefficients of seabake.h).  Refitted
  * for 1e-6 (the orders 16 + 12 s_X and 2 + 6 s + 16 s^2 reached 1.3e-6 on
  * the bench's 896 conditions and 3.0e-6 on random ones, the cross-slope
  * rule short where s_Y|X is 0.2-0.45). */
-static const double SEA_AUTO_GL_A = 17.0, SEA_AUTO_GL_B = 12.0;
-static const double SEA_AUTO_GH_C = 2.0, SEA_AUTO_GH_D = 8.0, SEA_AUTO_GH_E = 20.0;
 /* A slope standard deviation below this is a delta distribution: the
  * rules could not resolve a narrower one in double precision. */
 static const double SEA_S_DELTA = 1e-13;
@@ -534,8 +533,9 @@ done:
 static sea_emis_rule auto_rule(const view_frame *f)
 {
     const double s = f->s_Y_given_X;
-    const double n_gl = ceil(SEA_AUTO_GL_A + SEA_AUTO_GL_B * f->s_X);
-    const double n_gh = ceil(SEA_AUTO_GH_C + SEA_AUTO_GH_D * s + SEA_AUTO_GH_E * s * s);
+    const double n_gl = ceil(SEA_EMIS_AUTO_GL_A + SEA_EMIS_AUTO_GL_B * f->s_X);
+    const double n_gh =
+        ceil(SEA_EMIS_AUTO_GH_C + SEA_EMIS_AUTO_GH_D * s + SEA_EMIS_AUTO_GH_E * s * s);
     return (sea_emis_rule){ (int)fmin(n_gl, SEA_EMIS_GL_MAX), (int)fmin(n_gh, SEA_EMIS_GH_MAX) };
 }
 

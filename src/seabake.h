@@ -385,6 +385,12 @@ sea_status sea_emissivity(const sea_optics *p, sea_emis_method method, double co
  * checks 800).
  * st must satisfy sea_slope_stats_check and theta be in [0, pi/2).  Pure. */
 sea_emis_rule sea_emissivity_auto_rule(const sea_slope_stats *st, sea_dir v);
+/* The rule's coefficients: n_gl = ceil(A + B s_X), n_gh = ceil(C + D s + E s^2). */
+#define SEA_EMIS_AUTO_GL_A 17.0
+#define SEA_EMIS_AUTO_GL_B 12.0
+#define SEA_EMIS_AUTO_GH_C 2.0
+#define SEA_EMIS_AUTO_GH_D 8.0
+#define SEA_EMIS_AUTO_GH_E 20.0
 
 /* Emissivity toward v by the fixed product rule `rule` (Eq 7, or Eq 12 when
  * rule.n_gh = 0): in [0, 1] whatever the orders.  SEA_ERR_DOMAIN for orders

@@ -1208,6 +1208,9 @@ check_match render.tolerance_lr "$SB_ERR" "less than the tolerance 0.1$"
 sb_run render "$RDIR/sea2n.ini" -o "$RDIR/tol2.exr" --explain --quiet --png none
 check_match render.tolerance_computed "$SB_ERR" "of the slope variance: computed, at least the tolerance"
 check_match render.tolerance_default_emissivity "$SB_ERR" "emissivity: auto rule, orders x 1 \(the full rule"
+# the orders printed are the library's (seabake.h SEA_EMIS_AUTO_*), not a copy
+check_match render.default_emissivity_orders "$SB_ERR" \
+    "n_gl = ceil\(1 \(17 \+ 12 s_X\)\), n_gh = ceil\(1 \(2 \+ 8 s \+ 20 s\^2\)\)"
 
 # Scene-file errors: FILE:LINE, exit 2, no output file.
 render_error() {

@@ -88,13 +88,14 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     const sea_render_choices ch = sea_render_choices_of(r);
     if (sc->emissivity_method == SEA_EMIS_AUTO)
         fprintf(stderr,
-                "%s: emissivity: auto rule, orders x %g (%s): n_gl = ceil(%g (16 + 12 s_X)), "
-                "n_gh = ceil(%g (2 + 6 s + 16 s^2))\n", what,
+                "%s: emissivity: auto rule, orders x %g (%s): n_gl = ceil(%g (%g + %g s_X)), "
+                "n_gh = ceil(%g (%g + %g s + %g s^2))\n", what,
                 ch.emis_scale,
                 ch.emis_scale < 1.0 ? "scaled down: the tolerance allows an emissivity error "
                                       "of a tenth of it"
-                                    : "the full rule, about 1e-5",
-                ch.emis_scale, ch.emis_scale);
+                                    : "the full rule, within 1e-6 of the adaptive Eq 7",
+                ch.emis_scale, SEA_EMIS_AUTO_GL_A, SEA_EMIS_AUTO_GL_B, ch.emis_scale,
+                SEA_EMIS_AUTO_GH_C, SEA_EMIS_AUTO_GH_D, SEA_EMIS_AUTO_GH_E);
     else
         fprintf(stderr, "%s: emissivity: %s (not scaled by the tolerance)\n", what,
                 sea_emis_method_name((sea_emis_method)sc->emissivity_method));
