@@ -85,9 +85,11 @@ static inline void sea_catmull_rom(double f, double w[4])
 SEA_INTERNAL void sea_shadow_split(double mu, double m, double s, double *visible,
                                    double *hidden);
 /* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
- * the same values, the interpolation's rows in z found once. */
+ * the same values (to rounding: the interpolation's rows in z are combined
+ * once), in AVX2 when avx2 is non-zero and the CPU has it (the same bits
+ * as without). */
 SEA_INTERNAL void sea_shadow_correlated_scale(double z, double mid, double half, const double *x,
-                                              int n, double *w);
+                                              int n, double *w, int avx2);
 
 /* optics.c, the sun's disc: the probability of N(mu, Cu) over the disc
  * |u| <= radius by quadrature, and the mean over it of a Gaussian density

@@ -999,7 +999,7 @@ static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, 
         }
     }
     if (f->corr)
-        sea_shadow_correlated_scale(f->z, mid, half, x, r.n_gl, nd->w_i);
+        sea_shadow_correlated_scale(f->z, mid, half, x, r.n_gl, nd->w_i, p->avx2);
 #ifdef SEA_OPTICS_AVX2
     if (p->avx2 && r.n_gh > 0) {
         all_nodes_avx2(p, f, mid, half, x, r.n_gl, r.n_gh, nd);

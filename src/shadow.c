@@ -12,6 +12,13 @@
 
 #include <math.h>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+/* sea_shadow_correlated_scale's node loop in AVX2 when the caller asks
+ * (sea_optics decides at run time; never required at build time). */
+#define SEA_SHADOW_AVX2 1
+#endif
+
 #include "seabake.h"
 #include "internal.h"
 
@@ -229,6 +236,15 @@ static void cs_rows_of(double z, cs_rows *r)
         r->row[p] = cs_clamp(i - 1 + p, SEA_CS_NZ);
 }
 
+/* The table column interval of u > 0 (as cs_at finds it). */
+static int cs_column(double u)
+{
+    double b = SEA_CS_NU * sqrt(u / SEA_CS_U_MAX);
+    b = b > SEA_CS_NU ? SEA_CS_NU : b;
+    const int j = (int)b;
+    return j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
+}
+
 /* C at u = z - t > 0 from the rows (Catmull-Rom in both index coordinates:
  * continuous slopes, so the emissivity's Gauss-Legendre rules see no
  * kinks; one-sided at the grid's ends). */
@@ -261,16 +277,114 @@ double sea_shadow_correlated(double z, double t)
     return cs_at(&r, u);
 }
 
+/* The same C at many u for one z: the z part of the interpolation is done
+ * once, as one row (the four rows' combination over the columns the nodes
+ * reach), and each node reads four values of it. */
+/* w[k] *= C(u_k) for one node from the combined row (the scalar loop's
+ * arithmetic). */
+static inline double cs_comb_at(const double *comb, double u)
+{
+    double b = SEA_CS_NU * sqrt(u / SEA_CS_U_MAX);
+    b = b > SEA_CS_NU ? SEA_CS_NU : b;
+    int j = (int)b;
+    j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
+    double wb[4];
+    sea_catmull_rom(b - j, wb);
+    const int j0 = cs_clamp(j - 1, SEA_CS_NU), j3 = cs_clamp(j + 2, SEA_CS_NU);
+    return wb[0] * comb[j0] + wb[1] * comb[j] + wb[2] * comb[j + 1] + wb[3] * comb[j3];
+}
+
+#ifdef SEA_SHADOW_AVX2
+/* Four nodes at a time: the same IEEE operations in the same order as
+ * cs_comb_at (no fused multiply-add), so the same bits.  Nodes with u <= 0
+ * get 0; their lanes read the row at ulo (> 0), inside what was combined. */
+__attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, double z, double mid,
+                                                         double half, const double *x, int n,
+                                                         double ulo, double *w)
+{
+    const __m256d vz = _mm256_set1_pd(z), vmid = _mm256_set1_pd(mid), vhalf = _mm256_set1_pd(half);
+    const __m256d vlo = _mm256_set1_pd(ulo), zero = _mm256_setzero_pd();
+    const __m256d umax = _mm256_set1_pd(SEA_CS_U_MAX), nu = _mm256_set1_pd(SEA_CS_NU);
+    const __m256d sign = _mm256_set1_pd(-0.0), half1 = _mm256_set1_pd(0.5);
+    const __m256d two = _mm256_set1_pd(2.0), three = _mm256_set1_pd(3.0);
+    const __m256d four = _mm256_set1_pd(4.0), five = _mm256_set1_pd(5.0);
+    const __m128i one = _mm_set1_epi32(1), top = _mm_set1_epi32(SEA_CS_NU);
+    const __m128i last = _mm_set1_epi32(SEA_CS_NU - 1), zi = _mm_setzero_si128();
+    int k = 0;
+    for (; k + 4 <= n; k += 4) {
+        const __m256d u =
+            _mm256_sub_pd(vz, _mm256_add_pd(vmid, _mm256_mul_pd(vhalf, _mm256_loadu_pd(x + k))));
+        const __m256d pos = _mm256_cmp_pd(u, zero, _CMP_GT_OQ);
+        const __m256d uu = _mm256_blendv_pd(vlo, u, pos);
+        __m256d b = _mm256_mul_pd(nu, _mm256_sqrt_pd(_mm256_div_pd(uu, umax)));
+        b = _mm256_min_pd(b, nu);
+        __m128i j = _mm256_cvttpd_epi32(b);
+        j = _mm_min_epi32(j, last);
+        const __m256d f = _mm256_sub_pd(b, _mm256_cvtepi32_pd(j));
+        const __m256d f2 = _mm256_mul_pd(f, f), f3 = _mm256_mul_pd(f2, f);
+        const __m256d w0 = _mm256_mul_pd(
+            half1, _mm256_sub_pd(_mm256_add_pd(_mm256_xor_pd(f3, sign), _mm256_mul_pd(two, f2)), f));
+        const __m256d w1 = _mm256_mul_pd(
+            half1,
+            _mm256_add_pd(_mm256_sub_pd(_mm256_mul_pd(three, f3), _mm256_mul_pd(five, f2)), two));
+        const __m256d w2 = _mm256_mul_pd(
+            half1, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_xor_pd(three, sign), f3),
+                                               _mm256_mul_pd(four, f2)),
+                                 f));
+        const __m256d w3 = _mm256_mul_pd(half1, _mm256_sub_pd(f3, f2));
+        const __m128i j0 = _mm_max_epi32(_mm_sub_epi32(j, one), zi);
+        const __m128i j2 = _mm_add_epi32(j, one);
+        const __m128i j3 = _mm_min_epi32(_mm_add_epi32(j2, one), top);
+        const __m256d c0 = _mm256_i32gather_pd(comb, j0, 8), c1 = _mm256_i32gather_pd(comb, j, 8);
+        const __m256d c2 = _mm256_i32gather_pd(comb, j2, 8), c3 = _mm256_i32gather_pd(comb, j3, 8);
+        const __m256d v = _mm256_add_pd(
+            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(w0, c0), _mm256_mul_pd(w1, c1)),
+                          _mm256_mul_pd(w2, c2)),
+            _mm256_mul_pd(w3, c3));
+        _mm256_storeu_pd(w + k, _mm256_and_pd(pos, _mm256_mul_pd(_mm256_loadu_pd(w + k), v)));
+    }
+    return k;
+}
+#endif
+
 void sea_shadow_correlated_scale(double z, double mid, double half, const double *x, int n,
-                                 double *w)
+                                 double *w, int avx2)
 {
     if (!(z <= SEA_CS_Z_MAX))
         return;
     cs_rows r;
     cs_rows_of(z, &r);
+    /* the columns the nodes reach, from the smallest and largest u > 0 */
+    double ulo = INFINITY, uhi = 0.0;
     for (int k = 0; k < n; k++) {
         const double u = z - (mid + half * x[k]);
-        w[k] = u > 0.0 ? w[k] * cs_at(&r, u) : 0.0;
+        if (u > 0.0) {
+            ulo = u < ulo ? u : ulo;
+            uhi = u > uhi ? u : uhi;
+        }
+    }
+    if (!(uhi > 0.0)) {
+        for (int k = 0; k < n; k++)
+            w[k] = 0.0;
+        return;
+    }
+    const int jlo = cs_clamp(cs_column(ulo) - 1, SEA_CS_NU);
+    const int jhi = cs_clamp(cs_column(uhi) + 2, SEA_CS_NU);
+    double comb[SEA_CS_NU + 1];
+    const double *r0 = sea_cs_table[r.row[0]], *r1 = sea_cs_table[r.row[1]];
+    const double *r2 = sea_cs_table[r.row[2]], *r3 = sea_cs_table[r.row[3]];
+    for (int j = jlo; j <= jhi; j++)
+        comb[j] = r.wa[0] * r0[j] + r.wa[1] * r1[j] + r.wa[2] * r2[j] + r.wa[3] * r3[j];
+    int k = 0;
+#ifdef SEA_SHADOW_AVX2
+    if (avx2)
+        k = cs_scale_avx2(comb, z, mid, half, x, n, ulo, w);
+#else
+    (void)avx2;
+#endif
+    for (; k < n; k++) {
+        const double u = z - (mid + half * x[k]);
+        w[k] = u > 0.0 ? w[k] * cs_comb_at(comb, u) : 0.0;
     }
 }
 #endif

@@ -642,7 +642,8 @@ static void test_emissivity_n(void)
 
 /* The AVX2 loops of the emissivity (where the processor has them) give the
  * portable loops' values to the bit: one index and a band of 16 (four a
- * lane), over random stats, directions and rules. */
+ * lane), over random stats, directions and rules, with Smith's and the
+ * correlated shadowing (every other case). */
 static void test_emissivity_simd(void)
 {
     sea_optics *q = NULL;
@@ -671,6 +672,7 @@ static void test_emissivity_simd(void)
                                      (int)(17 * gsl_rng_uniform(rng)) };
         const sea_emis_rule *r = c % 2 ? &rule : NULL;
         const size_t n = c % 3 == 0 ? 1 : 16;
+        sea_optics_set_shadowing(q, c % 4 < 2 ? SEA_SHADOW_SMITH : SEA_SHADOW_CORRELATED);
         for (int on = 1; on >= 0; on--) {
             sea_optics_set_simd(q, on);
             CU_ASSERT_FATAL(sea_emissivity_n(q, SEA_EMIS_AUTO, r, N, n, &st, v,

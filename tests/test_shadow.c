@@ -5,8 +5,10 @@
 #include <gsl/gsl_randist.h>
 #include <fftw3.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "unit.h"
+#include "internal.h"
 
 static double Q_fn(double u, void *p)
 {
@@ -172,6 +174,50 @@ static void test_correlated_table(void)
     CU_ASSERT(sea_shadow_correlated_exact(0.0, -1.0) == 0.0);
 }
 
+/* The emissivity's node loop, sea_shadow_correlated_scale, against
+ * sea_shadow_correlated node by node: the z rows are combined once there
+ * (another order of the same sums), so 1e-14 relative; the AVX2 loop gives
+ * the portable loop's bits.  Windows of nodes across u = 0 (nodes with
+ * nothing seen), across the table's columns and past its end, odd counts
+ * (the vector loop's tail). */
+static void test_correlated_scale(void)
+{
+    double x[40];
+    for (int k = 0; k < 40; k++)
+        x[k] = -1.0 + 2.0 * (k + 0.5) / 40.0 + 0.01 * sin(k); /* unsorted a little */
+    const double zs[] = { 0.005, 0.03, 0.4, 1.7, 3.3, 5.99, 6.0 };
+    const double mids[] = { -4.0, -0.5, 0.0, 1.0, 2.5 }, halves[] = { 0.02, 0.7, 3.0, 9.0 };
+    const int ns[] = { 1, 3, 4, 7, 20, 40 };
+    double worst = 0.0;
+    int mismatches = 0, zero_wrong = 0;
+    for (size_t a = 0; a < sizeof zs / sizeof zs[0]; a++)
+        for (size_t b = 0; b < sizeof mids / sizeof mids[0]; b++)
+            for (size_t c = 0; c < sizeof halves / sizeof halves[0]; c++)
+                for (size_t d = 0; d < sizeof ns / sizeof ns[0]; d++) {
+                    const double z = zs[a], mid = mids[b], half = halves[c];
+                    const int n = ns[d];
+                    double w0[40], w1[40];
+                    for (int k = 0; k < n; k++)
+                        w0[k] = w1[k] = 0.5 + 0.01 * k;
+                    sea_shadow_correlated_scale(z, mid, half, x, n, w0, 0);
+                    sea_shadow_correlated_scale(z, mid, half, x, n, w1, 1);
+                    mismatches += memcmp(w0, w1, (size_t)n * sizeof w0[0]) != 0;
+                    for (int k = 0; k < n; k++) {
+                        const double t = mid + half * x[k];
+                        const double want = (0.5 + 0.01 * k) * sea_shadow_correlated(z, t);
+                        if (!(z - t > 0.0))
+                            zero_wrong += w0[k] != 0.0;
+                        else
+                            worst = fmax(worst, fabs(w0[k] - want) / fmax(fabs(want), 1e-300));
+                    }
+                }
+    MEASURED("correlated shadowing over a rule's nodes: max relative difference from the "
+             "pointwise value %.1e\n", worst);
+    CU_ASSERT(worst <= 1e-14);
+    CU_ASSERT_EQUAL(zero_wrong, 0);
+    CU_ASSERT_EQUAL(mismatches, 0);
+}
+
 /* Properties: a facet turned further from the ray is seen less (C falls
  * as t rises toward z, on every row of the table); for z >= 4 the slopes
  * that carry the weight (t <= z - 2) are Smith's to 1e-3; the mean of C
@@ -304,6 +350,7 @@ int test_shadow_register(void)
            !CU_add_test(s, "Lambda and D sweep to 89.99 deg", test_lambda_sweep) ||
            !CU_add_test(s, "correlated shadowing: table", test_correlated_table) ||
            !CU_add_test(s, "correlated shadowing: properties", test_correlated_properties) ||
+           !CU_add_test(s, "correlated shadowing over a rule's nodes", test_correlated_scale) ||
            !CU_add_test(s, "correlated shadowing against ray-traced profiles",
                         test_correlated_vs_profiles);
 }
