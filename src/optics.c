@@ -671,6 +671,16 @@ static inline double one_minus_rho(const emis_ctx *e, double cos_psi)
                                    : sea_fresnel_unpolarized(cos_psi, e->N));
 }
 
+/* rho(psi) of e as 1 - one_minus_rho(e, cos_psi) gives it (the same bits),
+ * with the table position (k, t) of cos_psi found once for every index;
+ * exact: the formula, whatever the table. */
+static inline double rho_at(const emis_ctx *e, int exact, int k, double t, double cos_psi)
+{
+    if (exact || e->table == NULL)
+        return 1.0 - (1.0 - sea_fresnel_unpolarized(cos_psi, e->N));
+    return 1.0 - (1.0 - fresnel_eval(e->table, k, t));
+}
+
 static double emissivity_fn(const view_frame *f, double gX, double gY, double cos_psi,
                             void *ctx)
 {
@@ -1113,6 +1123,36 @@ static void table_positions(fixed_nodes *nd)
     }
 }
 
+/* Indices whose tables are looked up at once by sea_emissivity_n. */
+enum { SEA_EMIS_BLOCK = 32 };
+
+/* emissivity_of_nodes of n indices, four with tables at once where the
+ * nodes allow (emissivity_of_nodes4: the same values). */
+static void emissivity_of_nodes_n(const fixed_nodes *nd, const emis_ctx *ec, size_t n,
+                                  double *out)
+{
+    const int general = !nd->zero && !nd->plain && nd->n_j > 1;
+    for (size_t i = 0; i < n;) {
+        const fresnel_table *tb[4] = { ec[i].table };
+        size_t g = 1;
+        while (general && ec[i].table != NULL && g < 4 && i + g < n &&
+               (tb[g] = ec[i + g].table) != NULL)
+            g++;
+        if (g < 2) {
+            out[i] = emissivity_of_nodes(nd, &ec[i]);
+            i++;
+            continue;
+        }
+        for (size_t m = g; m < 4; m++)
+            tb[m] = tb[g - 1];
+        double o4[4];
+        emissivity_of_nodes4(nd, tb, o4);
+        for (size_t m = 0; m < g; m++)
+            out[i + m] = o4[m];
+        i += g;
+    }
+}
+
 /* The fixed rule of a call: the given orders, Eq 12's 64 nodes (fast), or
  * the default's orders from the view frame (auto, and full where a fixed
  * rule is needed). */
@@ -1154,26 +1194,12 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
     fixed_nodes nd;
     nodes_fixed(p, &f, r, &nd);
     size_t slot = 0; /* where the next index's table is looked for first */
-    const int general = !nd.zero && !nd.plain && nd.n_j > 1;
-    for (size_t i = 0; i < n;) {
-        const emis_ctx e = { N[i], fresnel_of(p, N[i], &slot) };
-        /* four samples with tables at once (the last repeated to fill) */
-        const fresnel_table *tb[4] = { e.table };
-        size_t g = 1;
-        while (general && e.table != NULL && g < 4 && i + g < n &&
-               (tb[g] = fresnel_of(p, N[i + g], &slot)) != NULL)
-            g++;
-        if (g < 2) {
-            out[i++] = emissivity_of_nodes(&nd, &e);
-            continue;
-        }
-        for (size_t m = g; m < 4; m++)
-            tb[m] = tb[g - 1];
-        double o4[4];
-        emissivity_of_nodes4(&nd, tb, o4);
-        for (size_t m = 0; m < g; m++)
-            out[i + m] = o4[m];
-        i += g;
+    for (size_t i0 = 0; i0 < n; i0 += SEA_EMIS_BLOCK) {
+        const size_t m = n - i0 < SEA_EMIS_BLOCK ? n - i0 : SEA_EMIS_BLOCK;
+        emis_ctx ec[SEA_EMIS_BLOCK];
+        for (size_t k = 0; k < m; k++)
+            ec[k] = (emis_ctx){ N[i0 + k], fresnel_of(p, N[i0 + k], &slot) };
+        emissivity_of_nodes_n(&nd, ec, m, &out[i0]);
     }
     return SEA_OK;
 }
@@ -1598,9 +1624,10 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                 if (!emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, eB,
                                     sky != NULL ? kB : NULL))
                     continue;
+                int tk;
+                const double tt = fresnel_pos(cpsi, &tk);
                 for (size_t k = 0; k < n; k++) {
-                    const emis_ctx exact = { ec[k].N, NULL };
-                    const double rho = 1.0 - one_minus_rho(f->delta ? &exact : &ec[k], cpsi);
+                    const double rho = rho_at(&ec[k], f->delta, tk, tt, cpsi);
                     num[k] += w * rho * P * eB[k];
                     if (sky != NULL)
                         knum[k] += w * rho * P * (kB[k] - sea_sky_radiance(sky, k0 + k, g[2]));
@@ -1645,11 +1672,10 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
     }
     fixed_nodes nd;
     nodes_fixed(p, &f, a, &nd);
-    for (size_t k = 0; k < n; k++) {
-        out[k] = emissivity_of_nodes(&nd, &ec[k]);
-        if (kout != NULL)
+    emissivity_of_nodes_n(&nd, ec, n, out);
+    if (kout != NULL)
+        for (size_t k = 0; k < n; k++)
             kout[k] = 0.0;
-    }
     if (nd.zero)
         return 0;
     if (R <= 1 && sky == NULL)
@@ -1674,9 +1700,10 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
                                                     f.s_Y_given_X * p->gh_x[SEA_TRI(a.n_gh - 1) + j];
                 double g[3];
                 mirror_of_node(&f, gX, gY, cpsi, g);
+                int tk;
+                const double tpos = fresnel_pos(cpsi, &tk);
                 for (size_t k = 0; k < n; k++) {
-                    const emis_ctx exact = { ec[k].N, NULL };
-                    const double rho = 1.0 - one_minus_rho(nd.plain ? &exact : &ec[k], cpsi);
+                    const double rho = rho_at(&ec[k], nd.plain, tk, tpos, cpsi);
                     knum[k] += (nd.plain ? 1.0 : wi) * nd.w_j[j] * rho *
                                sea_sky_radiance(sky, k0 + k, g[2]);
                 }
