@@ -340,8 +340,9 @@ static double view_weight(const view_frame *f, double t)
 
 /* exp(x) for the fixed rules' weights, x in [-700, 0] (clamped below):
  * x = k ln 2 + r, |r| <= ln 2 / 2 (ln 2 in two parts, k ln2_hi exact),
- * Taylor to r^13 (truncation 4e-18), times 2^k exactly; within 1.2 ulp of
- * the exact value (measured on 2e7 points of [-700, 0]).  Written once for the portable loop and once in AVX2 with the
+ * Taylor to r^13 (truncation 4e-18) by Estrin's scheme, times 2^k
+ * exactly; within 2.2 ulp of the exact value (measured on 2e7 points of
+ * [-700, 0]; Horner's rule, 1.2 ulp, is a chain three times as long).  Written once for the portable loop and once in AVX2 with the
  * same operations in the same order, so both give the same bits. */
 static const double SEA_EXP_LOG2E = 1.4426950408889634074;
 static const double SEA_EXP_LN2_HI = 6.93147180369123816490e-01;
@@ -357,10 +358,15 @@ static inline double exp_rule(double x)
     x = x < SEA_EXP_MIN ? SEA_EXP_MIN : x;
     const double k = floor(x * SEA_EXP_LOG2E + 0.5);
     const double r = (x - k * SEA_EXP_LN2_HI) - k * SEA_EXP_LN2_LO;
-    double p = SEA_EXP_TAYLOR[13];
-    for (int m = 12; m >= 0; m--)
-        p = p * r + SEA_EXP_TAYLOR[m];
-    return ldexp(p, (int)k);
+    /* Estrin's scheme (a chain 4 products deep instead of Horner's 13) */
+    const double *c = SEA_EXP_TAYLOR;
+    const double r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
+    const double p0 = c[0] + c[1] * r, p1 = c[2] + c[3] * r, p2 = c[4] + c[5] * r;
+    const double p3 = c[6] + c[7] * r, p4 = c[8] + c[9] * r, p5 = c[10] + c[11] * r;
+    const double p6 = c[12] + c[13] * r;
+    const double q0 = p0 + p1 * r2, q1 = p2 + p3 * r2, q2 = p4 + p5 * r2;
+    const double s0 = q0 + q1 * r4, s1 = q2 + p6 * r4;
+    return ldexp(s0 + s1 * r8, (int)k);
 }
 
 /* The fixed rules' weight at node t: view_weight with exp_rule. */
@@ -863,9 +869,21 @@ __attribute__((target("avx2"))) static void rule_weights_avx2(const view_frame *
         const __m256d k = _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(e, log2e), point5));
         const __m256d r =
             _mm256_sub_pd(_mm256_sub_pd(e, _mm256_mul_pd(k, ln2hi)), _mm256_mul_pd(k, ln2lo));
-        __m256d p = _mm256_set1_pd(SEA_EXP_TAYLOR[13]);
-        for (int m = 12; m >= 0; m--)
-            p = _mm256_add_pd(_mm256_mul_pd(p, r), _mm256_set1_pd(SEA_EXP_TAYLOR[m]));
+        /* Estrin's scheme: exp_rule's operations */
+        const __m256d r2 = _mm256_mul_pd(r, r), r4 = _mm256_mul_pd(r2, r2);
+        const __m256d r8 = _mm256_mul_pd(r4, r4);
+#define SEA_PAIR(a) \
+    _mm256_add_pd(_mm256_set1_pd(SEA_EXP_TAYLOR[a]), \
+                  _mm256_mul_pd(_mm256_set1_pd(SEA_EXP_TAYLOR[(a) + 1]), r))
+        const __m256d p0 = SEA_PAIR(0), p1 = SEA_PAIR(2), p2 = SEA_PAIR(4), p3 = SEA_PAIR(6);
+        const __m256d p4 = SEA_PAIR(8), p5 = SEA_PAIR(10), p6 = SEA_PAIR(12);
+#undef SEA_PAIR
+        const __m256d q0 = _mm256_add_pd(p0, _mm256_mul_pd(p1, r2));
+        const __m256d q1 = _mm256_add_pd(p2, _mm256_mul_pd(p3, r2));
+        const __m256d q2 = _mm256_add_pd(p4, _mm256_mul_pd(p5, r2));
+        const __m256d s0 = _mm256_add_pd(q0, _mm256_mul_pd(q1, r4));
+        const __m256d s1 = _mm256_add_pd(q2, _mm256_mul_pd(p6, r4));
+        const __m256d p = _mm256_add_pd(s0, _mm256_mul_pd(s1, r8));
         const __m256i kb = _mm256_castpd_si256(_mm256_add_pd(k, magic));
         const __m256d two_k =
             _mm256_castsi256_pd(_mm256_slli_epi64(_mm256_add_epi64(kb, bias), 52));
