@@ -116,6 +116,12 @@ static const double RAY_SPACING = 2.0, POINT_SPACING = 0.5;
  * whole pixel.  Below this D (a point tilted away by nearly its visibility
  * limit, whose sub-facets the sensor barely sees) the weight stops growing. */
 static const double RAY_D_MIN = 0.05;
+/* Safety factor on the gradient bound in the test that lets a ray start
+ * its march at the hit of the ray below it (look): the argument is exact
+ * on a flat Earth; on the sphere the heights and map distances of the two
+ * rays differ from it by the ray's distance over the Earth's radius (3e-3
+ * at 20 km). */
+static const double RAY_ORDER_MARGIN = 2.0;
 /* Marching: the finest step is this fraction of the finest facet read
  * (the surface's shortest waves are two facets long, so a ray samples each
  * of their crests at four points or more); steps double while the ray
@@ -155,6 +161,7 @@ struct sea_heightfield {
                        rounded outward to float */
     size_t off[HF_MIP_MAX], w[HF_MIP_MAX], h[HF_MIP_MAX];
     int nmip;
+    double gmax; /* a bound on the surface's gradient, |grad h| (hf_build) */
 };
 
 /* Cubic Hermite basis on [0, 1]: H0, H1 take the values at 0 and 1, G0, G1
@@ -318,6 +325,24 @@ static sea_status hf_build(sea_heightfield *hf, sea_error *err)
         h = (h + 1) / 2;
     }
     hf->nmip = k + 1;
+    /* The gradient of a cell's patch along x: (1/L) H0'(u) (h0 - h1) over
+     * the rows, |H0'| <= 3/2; the x slopes' terms G0', G1' (each at most 1
+     * in size); the y slopes' terms H0'(u) G_j(v) (my_0j - my_1j), |G_j| <=
+     * 4/27: at most 1.5 D + 2 M + 0.89 M, D the largest height step between
+     * neighbouring nodes over L, M the largest node slope; the same along
+     * y, and sqrt(2) times that for the gradient (the linear continuation
+     * beyond the outer centres has a border point's gradient). */
+    double D = 0.0, M = 0.0;
+    for (size_t j = 0; j < hf->ny; j++)
+        for (size_t i = 0; i < hf->nx; i++) {
+            const sea_moments *q = hf->m + j * hf->nx + i;
+            M = fmax(M, fmax(fabs(q->mx), fabs(q->my)));
+            if (i + 1 < hf->nx)
+                D = fmax(D, fabs(q[1].h - q->h));
+            if (j + 1 < hf->ny)
+                D = fmax(D, fabs(q[hf->nx].h - q->h));
+        }
+    hf->gmax = M_SQRT2 * (1.5 * D * hf->inv_L + 2.9 * M);
     sea_status st = sea_check_size(total, 2 * sizeof(float), "heightfield bounds", err);
     if (st != SEA_OK)
         return st;
@@ -431,6 +456,11 @@ void sea_heightfield_range(const sea_heightfield *hf, double *lo, double *hi)
     const int top = hf->nmip - 1;
     *lo = hf->lo[hf->off[top]];
     *hi = hf->hi[hf->off[top]];
+}
+
+double sea_heightfield_gradient_bound(const sea_heightfield *hf)
+{
+    return hf->gmax;
 }
 
 static inline size_t cell_index(double f, size_t ncell)
@@ -623,6 +653,7 @@ typedef struct {
     sea_level_blend b;
     double zlo, zhi;   /* bounds of the whole surface */
     double step_min;   /* m */
+    double gmax;       /* a bound on the surface's gradient (surface_init) */
 } surface;
 
 /* Weight of window lv at (x, y): 1 inside, fading to 0 over the outer
@@ -831,6 +862,12 @@ static void surface_init(surface *s, const sea_multires_frame *f, sea_level_blen
     s->zlo = s->zhi = 0.0; /* the low-resolution level ends every chain */
     int finest = b.neighbour >= 0 && b.alpha > 0.0 && b.neighbour < b.level ? b.neighbour
                                                                              : b.level;
+    /* The gradient of a chain sum_q c_q h_q, c_q = w_q prod_(p < q) (1 -
+     * w_p): sum c_q grad h_q (sum c_q <= 1: at most the largest gmax) plus
+     * sum h_q grad c_q, |grad c_q| <= sum_(p <= q) |grad w_p|, each fade
+     * Lipschitz with its inv_band; the blend of two chains is convex. */
+    double g = 0.0, bands = 0.0;
+    int n = 0;
     for (int q = finest; q < mr->first_lr; q++) {
         if (!mr->used[q])
             continue;
@@ -838,7 +875,11 @@ static void surface_init(surface *s, const sea_multires_frame *f, sea_level_blen
         sea_heightfield_range(f->hf[q], &lo, &hi);
         s->zlo = fmin(s->zlo, lo);
         s->zhi = fmax(s->zhi, hi);
+        g = fmax(g, f->hf[q]->gmax);
+        bands += f->win[q].inv_band;
+        n++;
     }
+    s->gmax = g + fmax(-s->zlo, s->zhi) * n * bands;
     if (finest > mr->first_lr)
         finest = mr->first_lr;
     s->step_min = STEP_MIN_FACETS * mr->lev[finest].facet;
@@ -1039,6 +1080,7 @@ int sea_heightfield_trace(const sea_heightfield *hf, const double o[3], const do
     s.lone = hf;
     sea_heightfield_range(hf, &s.zlo, &s.zhi);
     s.step_min = STEP_MIN_FACETS * hf->L;
+    s.gmax = hf->gmax;
     ray r;
     memcpy(r.o, o, sizeof r.o);
     memcpy(r.d, d, sizeof r.d);
@@ -1586,19 +1628,48 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
     out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
     /* the view azimuth of the 1/D weights below */
     const double cphi = cos(out->obs.phi), sphi = sin(out->obs.phi);
+    /* The rays' hits, the lowest row of rays first: a ray B above ray A
+     * (of the same column) by more than the surface can rise between them,
+     * (dB_z - dA_z) >= RAY_ORDER_MARGIN gmax |dB_h - dA_h| (both grow as
+     * t), stays above the surface wherever A does, so B's first hit is not
+     * before A's and its march starts there (the same first hit: only the
+     * march's path to it differs). */
+    double hit_t[SUB_MAX * SUB_MAX];
+    ray rays[SUB_MAX * SUB_MAX];
+    for (int b = nv - 1; b >= 0; b--)
+        for (int a = 0; a < nu; a++) {
+            const int k = b * nu + a;
+            ray *r = &rays[k];
+            double d[3];
+            sea_camera_ray(cam, u - 0.5 + (a + 0.5) / nu, v - 0.5 + (b + 0.5) / nv, d);
+            ray_init(r, cam, d);
+            hit_t[k] = -1.0;
+            double t_a, t_b, t;
+            if (!ray_range(&s, r, &t_a, &t_b))
+                continue;
+            if (b + 1 < nv && hit_t[k + nu] >= 0.0) {
+                const ray *A = &rays[k + nu];
+                const double lift = r->d[2] - A->d[2];
+                const double drift = hypot(r->d[0] - A->d[0], r->d[1] - A->d[1]);
+                if (lift >= RAY_ORDER_MARGIN * s.gmax * drift) {
+                    if (hit_t[k + nu] >= t_b)
+                        continue; /* above the surface over its whole range */
+                    t_a = fmax(t_a, hit_t[k + nu]);
+                }
+            }
+            if (march(&s, r, t_a, t_b, &t))
+                hit_t[k] = t;
+        }
     sea_moments acc = { 0 };
     double wsum = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
     for (int b = 0; b < nv; b++)
         for (int a = 0; a < nu; a++) {
-            ray r;
-            double d[3];
-            sea_camera_ray(cam, u - 0.5 + (a + 0.5) / nu, v - 0.5 + (b + 0.5) / nv, d);
-            ray_init(&r, cam, d);
-            double t_a, t_b, t;
-            if (!ray_range(&s, &r, &t_a, &t_b) || !march(&s, &r, t_a, t_b, &t))
+            const int k = b * nu + a;
+            if (!(hit_t[k] >= 0.0))
                 continue; /* passes above the waves (a grazing ray near the horizon) */
+            const ray *r = &rays[k];
             double x, y, z;
-            ray_point(&r, t, &x, &y, &z);
+            ray_point(r, hit_t[k], &x, &y, &z);
             /* the ray's share of the footprint, around the point it met:
              * ku x kv points, equal horizontal areas (LEAN's box filter) */
             sea_moments m = { 0 };

@@ -962,6 +962,10 @@ sea_moments sea_heightfield_at(const sea_heightfield *hf, double x, double y);
 /* Bounds of its height (from the convex hulls of the patches' Bezier
  * control points: at or beyond the true extremes). */
 void sea_heightfield_range(const sea_heightfield *hf, double *lo, double *hi);
+/* A bound on the size of the surface's gradient, |grad h|, everywhere
+ * (from the largest height step between neighbouring facets and the
+ * largest facet slope; the marches use it to order rays). */
+double sea_heightfield_gradient_bound(const sea_heightfield *hf);
 /* The first point of the ray o + t d (flat: x east, y north, z up, d unit,
  * d_z < 0) on the surface, over the lattice's rectangle and t in [0, tmax]:
  * returns 1 and *t, or 0 when the ray leaves the rectangle first.  The ray
