@@ -959,11 +959,13 @@ __attribute__((target("avx2"))) static void all_nodes_avx2(const sea_optics *p,
         const double t = mid + half * x[i];
         const double gX = f->m_X + f->s_X * t, mY = f->m_Y + f->b_YX * t;
         const double nm = f->cos_th - gX * f->sin_th, on = 1.0 + gX * gX;
+        const double wi = nd->w_i[i];
         for (int j = 0; j < n_gh; j++) {
             const int q = i * n_gh + j;
             num[q] = nm;
             one[q] = on;
             gy[q] = mY + s * xj[j];
+            nd->w_q[q] = wi * nd->w_j[j]; /* (nodes_fixed's product) */
         }
     }
     const int n = n_gl * n_gh;
@@ -1046,12 +1048,13 @@ static void nodes_fixed(const sea_optics *p, const view_frame *f, fixed_rule r, 
         /* the nodes' weights for the table sums (w_i >= 0: clamped, or
          * scaled by the correlated function), zeros to a multiple of 4 */
         const int n = r.n_gl * r.n_gh;
-        for (int i = 0; i < r.n_gl; i++) {
-            double *wq = &nd->w_q[i * r.n_gh];
-            const double wi = nd->w_i[i];
-            for (int j = 0; j < r.n_gh; j++)
-                wq[j] = wi * nd->w_j[j];
-        }
+        if (!nd->positioned) /* (all_nodes_avx2 wrote them) */
+            for (int i = 0; i < r.n_gl; i++) {
+                double *wq = &nd->w_q[i * r.n_gh];
+                const double wi = nd->w_i[i];
+                for (int j = 0; j < r.n_gh; j++)
+                    wq[j] = wi * nd->w_j[j];
+            }
         nd->n_q = (n + 3) & ~3;
         for (int q = n; q < nd->n_q; q++) {
             nd->w_q[q] = 0.0;

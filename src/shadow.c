@@ -295,9 +295,32 @@ static inline double cs_comb_at(const double *comb, double u)
 }
 
 #ifdef SEA_SHADOW_AVX2
+/* The combined row over columns jlo .. jhi, four at a time (the scalar
+ * loop's operations and order); returns the first column not done. */
+__attribute__((target("avx2"))) static int cs_comb_avx2(const double wa[4], const double *r0,
+                                                        const double *r1, const double *r2,
+                                                        const double *r3, int jlo, int jhi,
+                                                        double *comb)
+{
+    const __m256d a0 = _mm256_set1_pd(wa[0]), a1 = _mm256_set1_pd(wa[1]);
+    const __m256d a2 = _mm256_set1_pd(wa[2]), a3 = _mm256_set1_pd(wa[3]);
+    int j = jlo;
+    for (; j + 3 <= jhi; j += 4) {
+        const __m256d v = _mm256_add_pd(
+            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(a0, _mm256_loadu_pd(r0 + j)),
+                                        _mm256_mul_pd(a1, _mm256_loadu_pd(r1 + j))),
+                          _mm256_mul_pd(a2, _mm256_loadu_pd(r2 + j))),
+            _mm256_mul_pd(a3, _mm256_loadu_pd(r3 + j)));
+        _mm256_storeu_pd(comb + j, v);
+    }
+    return j;
+}
+
 /* Four nodes at a time: the same IEEE operations in the same order as
  * cs_comb_at (no fused multiply-add), so the same bits.  Nodes with u <= 0
- * get 0; their lanes read the row at ulo (> 0), inside what was combined. */
+ * get 0; their lanes read the row at ulo (> 0), inside what was combined.
+ * comb[-1] and comb[SEA_CS_NU + 1] must hold comb[0] and comb[SEA_CS_NU]
+ * where the combined columns reach the table's ends (cs_comb_at's clamps). */
 __attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, double z, double mid,
                                                          double half, const double *x, int n,
                                                          double ulo, double *w)
@@ -308,8 +331,7 @@ __attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, dou
     const __m256d sign = _mm256_set1_pd(-0.0), half1 = _mm256_set1_pd(0.5);
     const __m256d two = _mm256_set1_pd(2.0), three = _mm256_set1_pd(3.0);
     const __m256d four = _mm256_set1_pd(4.0), five = _mm256_set1_pd(5.0);
-    const __m128i one = _mm_set1_epi32(1), top = _mm_set1_epi32(SEA_CS_NU);
-    const __m128i last = _mm_set1_epi32(SEA_CS_NU - 1), zi = _mm_setzero_si128();
+    const __m128i last = _mm_set1_epi32(SEA_CS_NU - 1);
     int k = 0;
     for (; k + 4 <= n; k += 4) {
         const __m256d u =
@@ -332,11 +354,18 @@ __attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, dou
                                                _mm256_mul_pd(four, f2)),
                                  f));
         const __m256d w3 = _mm256_mul_pd(half1, _mm256_sub_pd(f3, f2));
-        const __m128i j0 = _mm_max_epi32(_mm_sub_epi32(j, one), zi);
-        const __m128i j2 = _mm_add_epi32(j, one);
-        const __m128i j3 = _mm_min_epi32(_mm_add_epi32(j2, one), top);
-        const __m256d c0 = _mm256_i32gather_pd(comb, j0, 8), c1 = _mm256_i32gather_pd(comb, j, 8);
-        const __m256d c2 = _mm256_i32gather_pd(comb, j2, 8), c3 = _mm256_i32gather_pd(comb, j3, 8);
+        /* each node's four values comb[j - 1 .. j + 2] are one load (the
+         * guards hold the clamped ends), the four loads transposed */
+        int jj[4];
+        _mm_storeu_si128((__m128i *)jj, j);
+        const __m256d n0 = _mm256_loadu_pd(comb + jj[0] - 1), n1 = _mm256_loadu_pd(comb + jj[1] - 1);
+        const __m256d n2 = _mm256_loadu_pd(comb + jj[2] - 1), n3 = _mm256_loadu_pd(comb + jj[3] - 1);
+        const __m256d l01 = _mm256_unpacklo_pd(n0, n1), h01 = _mm256_unpackhi_pd(n0, n1);
+        const __m256d l23 = _mm256_unpacklo_pd(n2, n3), h23 = _mm256_unpackhi_pd(n2, n3);
+        const __m256d c0 = _mm256_permute2f128_pd(l01, l23, 0x20);
+        const __m256d c1 = _mm256_permute2f128_pd(h01, h23, 0x20);
+        const __m256d c2 = _mm256_permute2f128_pd(l01, l23, 0x31);
+        const __m256d c3 = _mm256_permute2f128_pd(h01, h23, 0x31);
         const __m256d v = _mm256_add_pd(
             _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(w0, c0), _mm256_mul_pd(w1, c1)),
                           _mm256_mul_pd(w2, c2)),
@@ -370,11 +399,18 @@ void sea_shadow_correlated_scale(double z, double mid, double half, const double
     }
     const int jlo = cs_clamp(cs_column(ulo) - 1, SEA_CS_NU);
     const int jhi = cs_clamp(cs_column(uhi) + 2, SEA_CS_NU);
-    double comb[SEA_CS_NU + 1];
+    double padded[SEA_CS_NU + 3], *comb = padded + 1; /* guards at -1 and NU + 1 */
     const double *r0 = sea_cs_table[r.row[0]], *r1 = sea_cs_table[r.row[1]];
     const double *r2 = sea_cs_table[r.row[2]], *r3 = sea_cs_table[r.row[3]];
-    for (int j = jlo; j <= jhi; j++)
+    int j = jlo;
+#ifdef SEA_SHADOW_AVX2
+    if (avx2)
+        j = cs_comb_avx2(r.wa, r0, r1, r2, r3, jlo, jhi, comb);
+#endif
+    for (; j <= jhi; j++)
         comb[j] = r.wa[0] * r0[j] + r.wa[1] * r1[j] + r.wa[2] * r2[j] + r.wa[3] * r3[j];
+    comb[jlo - 1] = comb[jlo]; /* (read only at the table's ends, as clamped) */
+    comb[jhi + 1] = comb[jhi];
     int k = 0;
 #ifdef SEA_SHADOW_AVX2
     if (avx2)
