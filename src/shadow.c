@@ -217,6 +217,10 @@ double sea_shadow_correlated_exact(double z, double t)
 
 static int cs_clamp(int i, int n) { return i < 0 ? 0 : i > n ? n : i; }
 
+/* The column coordinate of u is NU sqrt(u / U_MAX) = sqrt(u B2): one
+ * product and a square root (no division) per node. */
+static const double SEA_CS_B2 = (double)SEA_CS_NU * SEA_CS_NU / SEA_CS_U_MAX;
+
 /* The z part of the interpolation: the four rows and their weights. */
 typedef struct {
     int row[4];
@@ -239,7 +243,7 @@ static void cs_rows_of(double z, cs_rows *r)
 /* The table column interval of u > 0 (as cs_at finds it). */
 static int cs_column(double u)
 {
-    double b = SEA_CS_NU * sqrt(u / SEA_CS_U_MAX);
+    double b = sqrt(u * SEA_CS_B2);
     b = b > SEA_CS_NU ? SEA_CS_NU : b;
     const int j = (int)b;
     return j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
@@ -250,7 +254,7 @@ static int cs_column(double u)
  * kinks; one-sided at the grid's ends). */
 static double cs_at(const cs_rows *r, double u)
 {
-    double b = SEA_CS_NU * sqrt(u / SEA_CS_U_MAX);
+    double b = sqrt(u * SEA_CS_B2);
     b = b > SEA_CS_NU ? SEA_CS_NU : b;
     int j = (int)b;
     j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
@@ -284,7 +288,7 @@ double sea_shadow_correlated(double z, double t)
  * arithmetic). */
 static inline double cs_comb_at(const double *comb, double u)
 {
-    double b = SEA_CS_NU * sqrt(u / SEA_CS_U_MAX);
+    double b = sqrt(u * SEA_CS_B2);
     b = b > SEA_CS_NU ? SEA_CS_NU : b;
     int j = (int)b;
     j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
@@ -327,7 +331,7 @@ __attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, dou
 {
     const __m256d vz = _mm256_set1_pd(z), vmid = _mm256_set1_pd(mid), vhalf = _mm256_set1_pd(half);
     const __m256d vlo = _mm256_set1_pd(ulo), zero = _mm256_setzero_pd();
-    const __m256d umax = _mm256_set1_pd(SEA_CS_U_MAX), nu = _mm256_set1_pd(SEA_CS_NU);
+    const __m256d b2 = _mm256_set1_pd(SEA_CS_B2), nu = _mm256_set1_pd(SEA_CS_NU);
     const __m256d sign = _mm256_set1_pd(-0.0), half1 = _mm256_set1_pd(0.5);
     const __m256d two = _mm256_set1_pd(2.0), three = _mm256_set1_pd(3.0);
     const __m256d four = _mm256_set1_pd(4.0), five = _mm256_set1_pd(5.0);
@@ -338,7 +342,7 @@ __attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, dou
             _mm256_sub_pd(vz, _mm256_add_pd(vmid, _mm256_mul_pd(vhalf, _mm256_loadu_pd(x + k))));
         const __m256d pos = _mm256_cmp_pd(u, zero, _CMP_GT_OQ);
         const __m256d uu = _mm256_blendv_pd(vlo, u, pos);
-        __m256d b = _mm256_mul_pd(nu, _mm256_sqrt_pd(_mm256_div_pd(uu, umax)));
+        __m256d b = _mm256_sqrt_pd(_mm256_mul_pd(uu, b2));
         b = _mm256_min_pd(b, nu);
         __m128i j = _mm256_cvttpd_epi32(b);
         j = _mm_min_epi32(j, last);
