@@ -68,6 +68,76 @@ static void test_gradient_bound(void)
     CU_ASSERT(loosest >= 1.0 / 8.0);
 }
 
+/* The ordering look() relies on, with the real march: rays A and B from
+ * one point, B above A by (dB_z - dA_z) >= 2 gmax |dB_h - dA_h|, on a rough
+ * random heightfield at 84-88 deg from the vertical.  B stays above the
+ * surface wherever A does, so B's first hit is never before A's (on a sea
+ * of gradient bound about 2 the test holds beyond about 84 deg: the
+ * horizon's rays, those look() orders); the march
+ * can miss a hit where a ray only touches a crest, so where B's hit comes
+ * first, A must have missed: a dense march along A (steps of L / 400)
+ * then finds A on or under the surface before B's hit. */
+static void test_ray_order(void)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 9);
+    const sea_cov2 c = { 0.01, 0.01, 0.0 };
+    const double L = 1.0;
+    const sea_rect r = { L, 0, 0, 128, 128 };
+    sea_moments *m = malloc(128 * 128 * sizeof *m);
+    CU_ASSERT_PTR_NOT_NULL_FATAL(m);
+    for (size_t q = 0; q < 128 * 128; q++)
+        m[q] = facet(gsl_ran_gaussian(rng, 0.05), gsl_ran_gaussian(rng, 0.1),
+                     gsl_ran_gaussian(rng, 0.1), &c);
+    sea_heightfield *hf = NULL;
+    sea_error err;
+    CU_ASSERT_EQUAL_FATAL(sea_heightfield_alloc(&r, m, &hf, &err), SEA_OK);
+    free(m);
+    const double g = sea_heightfield_gradient_bound(hf);
+    const double o[3] = { 1.0, 1.0, 2.0 };
+    int pairs = 0, ordered = 0, explained = 0, unexplained = 0;
+    const int N = UNIT_QUICK ? 300 : 3000;
+    for (int k = 0; k < N; k++) {
+        const double th = (84.0 + 4.0 * gsl_rng_uniform(rng)) * DEG;
+        const double ph = (20.0 + 50.0 * gsl_rng_uniform(rng)) * DEG;
+        const double dA[3] = { sin(th) * cos(ph), sin(th) * sin(ph), -cos(th) };
+        /* B: up by dth, turned by dph, at the bound (2 gmax) or beyond */
+        const double dth = (0.02 + 0.3 * gsl_rng_uniform(rng)) * DEG;
+        const double thB = th + dth;
+        double dB[3] = { sin(thB) * cos(ph), sin(thB) * sin(ph), -cos(thB) };
+        const double lift = dB[2] - dA[2];
+        /* the largest turn the test allows, then a share of it */
+        const double turn = gsl_rng_uniform(rng) * lift / (2.0 * g * sin(thB));
+        dB[0] = sin(thB) * cos(ph + turn);
+        dB[1] = sin(thB) * sin(ph + turn);
+        if (!(lift >= 2.0 * g * hypot(dB[0] - dA[0], dB[1] - dA[1])))
+            continue;
+        double tA, tB;
+        if (!sea_heightfield_trace(hf, o, dA, 1e6, &tA) ||
+            !sea_heightfield_trace(hf, o, dB, 1e6, &tB))
+            continue;
+        pairs++;
+        if (tB >= tA - 1e-9) {
+            ordered++;
+            continue;
+        }
+        int under = 0;
+        for (double t = 0.0; t <= tB && !under; t += L / 400.0) {
+            const double x = o[0] + t * dA[0], y = o[1] + t * dA[1], z = o[2] + t * dA[2];
+            under = z <= sea_heightfield_at(hf, x, y).h;
+        }
+        explained += under;
+        unexplained += !under;
+    }
+    sea_heightfield_free(hf);
+    gsl_rng_free(rng);
+    MEASURED("ray order: %d pairs meeting the surface, B's hit not before A's in %d, before it "
+             "in %d (A missed a hit the dense march finds), unexplained %d\n",
+             pairs, ordered, explained, unexplained);
+    CU_ASSERT(pairs >= N / 2);
+    CU_ASSERT_EQUAL(unexplained, 0);
+}
+
 /* A tilted plane z = z0 + a x + b y: the Hermite surface through its facet
  * centres is the plane itself (a cubic Hermite patch reproduces linear
  * functions), so every ray meets it where the ray meets the plane, and
@@ -623,6 +693,7 @@ int test_multires_register(void)
         return 1;
     return !CU_add_test(s, "tilted plane: projected area", test_plane_projected_area) ||
            !CU_add_test(s, "heightfield: the gradient bound", test_gradient_bound) ||
+           !CU_add_test(s, "rays ordered by the gradient bound", test_ray_order) ||
            !CU_add_test(s, "the plan's median: selection against a sort", test_select_kth) ||
            !CU_add_test(s, "sinusoid: the tangent construction's shadow",
                         test_sinusoid_occlusion) ||
