@@ -117,10 +117,10 @@ static const double RAY_SPACING = 2.0, POINT_SPACING = 0.5;
  * limit, whose sub-facets the sensor barely sees) the weight stops growing. */
 static const double RAY_D_MIN = 0.05;
 /* Safety factor on the gradient bound in the test that lets a ray start
- * its march at the hit of the ray below it (look): the argument is exact
- * on a flat Earth; on the sphere the heights and map distances of the two
- * rays differ from it by the ray's distance over the Earth's radius (3e-3
- * at 20 km). */
+ * its march where the ray below it met the surface (look): the argument is
+ * exact on a flat Earth; on the sphere the heights and map distances of the
+ * two rays at one horizontal distance differ from it by that distance over
+ * the Earth's radius (3e-3 at 20 km). */
 static const double RAY_ORDER_MARGIN = 2.0;
 /* Marching: the finest step is this fraction of the finest facet read
  * (the surface's shortest waves are two facets long, so a ray samples each
@@ -1628,12 +1628,15 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
     out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
     /* the view azimuth of the 1/D weights below */
     const double cphi = cos(out->obs.phi), sphi = sin(out->obs.phi);
-    /* The rays' hits, the lowest row of rays first: a ray B above ray A
-     * (of the same column) by more than the surface can rise between them,
-     * (dB_z - dA_z) >= RAY_ORDER_MARGIN gmax |dB_h - dA_h| (both grow as
-     * t), stays above the surface wherever A does, so B's first hit is not
-     * before A's and its march starts there (the same first hit: only the
-     * march's path to it differs). */
+    /* The rays' hits, the lowest row of rays first.  At a horizontal
+     * distance s from the sensor a ray of slope k = d_z / |d_h| and map
+     * direction w = d_h / |d_h| is at z0 + k s over the map point o + s w.
+     * A ray B above ray A (of the same column) by more than the surface can
+     * rise between their map points, k_B - k_A >= RAY_ORDER_MARGIN gmax
+     * |w_B - w_A| (both sides grow as s), stays above the surface wherever
+     * A does, so B meets it no nearer than A did, and its march starts at
+     * that horizontal distance (the same first hit: only the march's path
+     * to it differs). */
     double hit_t[SUB_MAX * SUB_MAX];
     ray rays[SUB_MAX * SUB_MAX];
     for (int b = nv - 1; b >= 0; b--)
@@ -1647,14 +1650,15 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
             double t_a, t_b, t;
             if (!ray_range(&s, r, &t_a, &t_b))
                 continue;
-            if (b + 1 < nv && hit_t[k + nu] >= 0.0) {
+            if (b + 1 < nv && hit_t[k + nu] >= 0.0 && r->dh > 0.0 && rays[k + nu].dh > 0.0) {
                 const ray *A = &rays[k + nu];
-                const double lift = r->d[2] - A->d[2];
-                const double drift = hypot(r->d[0] - A->d[0], r->d[1] - A->d[1]);
+                const double lift = r->d[2] / r->dh - A->d[2] / A->dh;
+                const double drift = hypot(r->ux - A->ux, r->uy - A->uy);
                 if (lift >= RAY_ORDER_MARGIN * s.gmax * drift) {
-                    if (hit_t[k + nu] >= t_b)
+                    const double t0 = hit_t[k + nu] * A->dh / r->dh;
+                    if (t0 >= t_b)
                         continue; /* above the surface over its whole range */
-                    t_a = fmax(t_a, hit_t[k + nu]);
+                    t_a = fmax(t_a, t0);
                 }
             }
             if (march(&s, r, t_a, t_b, &t))
