@@ -1835,9 +1835,10 @@ sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
 enum { SEA_DISC_NODES = 64 };
 /* Up to this second-order term the series (sea_disc_series) replaces the
  * quadrature: 9e-8 relative at most (measured against the quadrature,
- * tests/test_optics.c).  Beyond, the quadrature takes 16 nodes up to 0.1
- * and 24 up to 1 (within 1e-11 of 64 nodes over random precisions and
- * centres), else 64. */
+ * tests/test_optics.c).  Beyond, the quadrature takes 12 nodes up to 0.02,
+ * 16 up to 0.1 and 24 up to 1 (within 1.4e-11, 5.6e-13 and 2.5e-10 of 64
+ * nodes over 2e5 random precisions and centres; 10 nodes would be 4e-10
+ * off by 0.01), else 64. */
 static const double SEA_DISC_SERIES_MAX = 0.004;
 
 static void mirror_slope(const double ui[3], const double uo[3], double g[2])
@@ -1987,7 +1988,10 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
         second <= SEA_DISC_SERIES_MAX
             ? point_per * sea_disc_series(Q, mu, radius)
             : sea_disc_mass(p, Cu, mu, radius,
-                            second <= 0.1 ? 16 : second <= 1.0 ? 24 : SEA_DISC_NODES) /
+                            second <= 0.02  ? 12
+                            : second <= 0.1 ? 16
+                            : second <= 1.0 ? 24
+                                            : SEA_DISC_NODES) /
                   (M_PI * radius * radius);
     slot = 0;
     for (size_t i = 0; i < n; i++) {
