@@ -12,6 +12,21 @@
 
 #define SEA_INTERNAL __attribute__((visibility("hidden")))
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+/* The AVX2 loops' 4 x 4 transpose: r[m] holds lane m of the four inputs
+ * (four loads of four doubles become four vectors of one component each). */
+__attribute__((target("avx2"))) static inline void sea_transpose4_avx2(__m256d r[4])
+{
+    const __m256d l01 = _mm256_unpacklo_pd(r[0], r[1]), h01 = _mm256_unpackhi_pd(r[0], r[1]);
+    const __m256d l23 = _mm256_unpacklo_pd(r[2], r[3]), h23 = _mm256_unpackhi_pd(r[2], r[3]);
+    r[0] = _mm256_permute2f128_pd(l01, l23, 0x20);
+    r[1] = _mm256_permute2f128_pd(h01, h23, 0x20);
+    r[2] = _mm256_permute2f128_pd(l01, l23, 0x31);
+    r[3] = _mm256_permute2f128_pd(h01, h23, 0x31);
+}
+#endif
+
 /* planck.c: the black body L(lambda, T) = a / expm1(b / T), a and b of lambda. */
 SEA_INTERNAL void sea_planck_coefficients(double wavelength, double *a, double *b);
 

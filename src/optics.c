@@ -342,8 +342,9 @@ static double view_weight(const view_frame *f, double t)
  * x = k ln 2 + r, |r| <= ln 2 / 2 (ln 2 in two parts, k ln2_hi exact),
  * Taylor to r^13 (truncation 4e-18) by Estrin's scheme, times 2^k
  * exactly; within 2.2 ulp of the exact value (measured on 2e7 points of
- * [-700, 0]; Horner's rule, 1.2 ulp, is a chain three times as long).  Written once for the portable loop and once in AVX2 with the
- * same operations in the same order, so both give the same bits. */
+ * [-700, 0]; Horner's rule, 1.2 ulp, is a chain three times as long).
+ * Written once for the portable loop and once in AVX2 with the same
+ * operations in the same order, so both give the same bits. */
 static const double SEA_EXP_LOG2E = 1.4426950408889634074;
 static const double SEA_EXP_LN2_HI = 6.93147180369123816490e-01;
 static const double SEA_EXP_LN2_LO = 1.90821492927058770002e-10;
@@ -781,12 +782,9 @@ __attribute__((target("avx2"))) static inline __m256d one_minus_cubic4(__m256d c
                                                                        __m256d tt)
 {
     const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-    const __m256d l01 = _mm256_unpacklo_pd(c0, c1), h01 = _mm256_unpackhi_pd(c0, c1);
-    const __m256d l23 = _mm256_unpacklo_pd(c2, c3), h23 = _mm256_unpackhi_pd(c2, c3);
-    const __m256d a0 = _mm256_permute2f128_pd(l01, l23, 0x20);
-    const __m256d a1 = _mm256_permute2f128_pd(h01, h23, 0x20);
-    const __m256d a2 = _mm256_permute2f128_pd(l01, l23, 0x31);
-    const __m256d a3 = _mm256_permute2f128_pd(h01, h23, 0x31);
+    __m256d a[4] = { c0, c1, c2, c3 };
+    sea_transpose4_avx2(a);
+    const __m256d a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3];
     __m256d v = _mm256_add_pd(a2, _mm256_mul_pd(tt, a3));
     v = _mm256_add_pd(a1, _mm256_mul_pd(tt, v));
     v = _mm256_add_pd(a0, _mm256_mul_pd(tt, v));
@@ -1144,7 +1142,8 @@ static void table_positions(fixed_nodes *nd)
     }
 }
 
-/* Indices whose tables are looked up at once by sea_emissivity_n. */
+/* Indices whose tables are looked up at once (stack arrays), by
+ * sea_emissivity_n and by one recursion of the multiple reflections. */
 enum { SEA_EMIS_BLOCK = 32 };
 
 /* emissivity_of_nodes of n indices, four with tables at once where the
@@ -1422,7 +1421,7 @@ sea_status sea_energy_balance(const sea_optics *p, sea_emis_method method, doubl
  * is (Eq 23), so Kirchhoff's closure holds at every R. */
 
 /* Indices handled at once by one recursion (stack arrays). */
-enum { SEA_MULTI_BLOCK = 32 };
+enum { SEA_MULTI_BLOCK = SEA_EMIS_BLOCK };
 /* The emissivity of a facet met again multiplies rho P <= 0.4, so it takes
  * half the default orders (at least 4 x 2 nodes): over the Monte Carlo
  * table's cases (tests/data/mc_emissivity.csv) this moves E_2 by at most

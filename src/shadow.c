@@ -240,13 +240,17 @@ static void cs_rows_of(double z, cs_rows *r)
         r->row[p] = cs_clamp(i - 1 + p, SEA_CS_NZ);
 }
 
-/* The table column interval of u > 0 (as cs_at finds it). */
-static int cs_column(double u)
+/* The table column interval j of u > 0 and the offset *f in it (the one
+ * place the column coordinate is found: cs_at, cs_comb_at and the range of
+ * columns a rule's nodes reach agree by construction). */
+static int cs_column(double u, double *f)
 {
     double b = sqrt(u * SEA_CS_B2);
     b = b > SEA_CS_NU ? SEA_CS_NU : b;
-    const int j = (int)b;
-    return j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
+    int j = (int)b;
+    j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
+    *f = b - j;
+    return j;
 }
 
 /* C at u = z - t > 0 from the rows (Catmull-Rom in both index coordinates:
@@ -254,12 +258,10 @@ static int cs_column(double u)
  * kinks; one-sided at the grid's ends). */
 static double cs_at(const cs_rows *r, double u)
 {
-    double b = sqrt(u * SEA_CS_B2);
-    b = b > SEA_CS_NU ? SEA_CS_NU : b;
-    int j = (int)b;
-    j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
+    double f;
+    const int j = cs_column(u, &f);
     double wb[4];
-    sea_catmull_rom(b - j, wb);
+    sea_catmull_rom(f, wb);
     const int j0 = cs_clamp(j - 1, SEA_CS_NU), j1 = j, j2 = j + 1, j3 = cs_clamp(j + 2, SEA_CS_NU);
     double acc = 0.0;
     for (int p = 0; p < 4; p++) {
@@ -281,19 +283,14 @@ double sea_shadow_correlated(double z, double t)
     return cs_at(&r, u);
 }
 
-/* The same C at many u for one z: the z part of the interpolation is done
- * once, as one row (the four rows' combination over the columns the nodes
- * reach), and each node reads four values of it. */
-/* w[k] *= C(u_k) for one node from the combined row (the scalar loop's
- * arithmetic). */
+/* C at u > 0 from the combined row comb of sea_shadow_correlated_scale
+ * (the portable loop's arithmetic, which cs_scale_avx2 repeats). */
 static inline double cs_comb_at(const double *comb, double u)
 {
-    double b = sqrt(u * SEA_CS_B2);
-    b = b > SEA_CS_NU ? SEA_CS_NU : b;
-    int j = (int)b;
-    j = j >= SEA_CS_NU ? SEA_CS_NU - 1 : j;
+    double f;
+    const int j = cs_column(u, &f);
     double wb[4];
-    sea_catmull_rom(b - j, wb);
+    sea_catmull_rom(f, wb);
     const int j0 = cs_clamp(j - 1, SEA_CS_NU), j3 = cs_clamp(j + 2, SEA_CS_NU);
     return wb[0] * comb[j0] + wb[1] * comb[j] + wb[2] * comb[j + 1] + wb[3] * comb[j3];
 }
@@ -362,14 +359,10 @@ __attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, dou
          * guards hold the clamped ends), the four loads transposed */
         int jj[4];
         _mm_storeu_si128((__m128i *)jj, j);
-        const __m256d n0 = _mm256_loadu_pd(comb + jj[0] - 1), n1 = _mm256_loadu_pd(comb + jj[1] - 1);
-        const __m256d n2 = _mm256_loadu_pd(comb + jj[2] - 1), n3 = _mm256_loadu_pd(comb + jj[3] - 1);
-        const __m256d l01 = _mm256_unpacklo_pd(n0, n1), h01 = _mm256_unpackhi_pd(n0, n1);
-        const __m256d l23 = _mm256_unpacklo_pd(n2, n3), h23 = _mm256_unpackhi_pd(n2, n3);
-        const __m256d c0 = _mm256_permute2f128_pd(l01, l23, 0x20);
-        const __m256d c1 = _mm256_permute2f128_pd(h01, h23, 0x20);
-        const __m256d c2 = _mm256_permute2f128_pd(l01, l23, 0x31);
-        const __m256d c3 = _mm256_permute2f128_pd(h01, h23, 0x31);
+        __m256d c[4] = { _mm256_loadu_pd(comb + jj[0] - 1), _mm256_loadu_pd(comb + jj[1] - 1),
+                         _mm256_loadu_pd(comb + jj[2] - 1), _mm256_loadu_pd(comb + jj[3] - 1) };
+        sea_transpose4_avx2(c);
+        const __m256d c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3];
         const __m256d v = _mm256_add_pd(
             _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(w0, c0), _mm256_mul_pd(w1, c1)),
                           _mm256_mul_pd(w2, c2)),
@@ -380,6 +373,9 @@ __attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, dou
 }
 #endif
 
+/* The same C at many u for one z: the z part of the interpolation is done
+ * once, as one row (the four rows' combination over the columns the nodes
+ * reach), and each node reads four values of it. */
 void sea_shadow_correlated_scale(double z, double mid, double half, const double *x, int n,
                                  double *w, int avx2)
 {
@@ -401,8 +397,9 @@ void sea_shadow_correlated_scale(double z, double mid, double half, const double
             w[k] = 0.0;
         return;
     }
-    const int jlo = cs_clamp(cs_column(ulo) - 1, SEA_CS_NU);
-    const int jhi = cs_clamp(cs_column(uhi) + 2, SEA_CS_NU);
+    double unused;
+    const int jlo = cs_clamp(cs_column(ulo, &unused) - 1, SEA_CS_NU);
+    const int jhi = cs_clamp(cs_column(uhi, &unused) + 2, SEA_CS_NU);
     double padded[SEA_CS_NU + 3], *comb = padded + 1; /* guards at -1 and NU + 1 */
     const double *r0 = sea_cs_table[r.row[0]], *r1 = sea_cs_table[r.row[1]];
     const double *r2 = sea_cs_table[r.row[2]], *r3 = sea_cs_table[r.row[3]];
