@@ -1335,13 +1335,55 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu pixels", mr->npix);
         goto fail;
     }
-#pragma omp parallel for schedule(dynamic, 8)
-    for (size_t j = 0; j < H; j++) {
-        for (size_t i = 0; i < W; i++) {
-            sea_pixel_geom g;
-            sea_camera_pixel(cam, (double)i + 0.5, (double)j + 0.5, &g);
-            pixel_choice(mr, &g, &mr->px[j * W + i]);
+    /* Each pixel corner is shared by four pixels: a thread finds the
+     * corners of image line v = j + 1 once and keeps them for row j + 1
+     * (sea_camera_pixel_cornered: the same geometry as sea_camera_pixel). */
+#pragma omp parallel
+    {
+        /* (without memory for them, each pixel finds its own) */
+        double *line = malloc(4 * (W + 1) * sizeof *line);
+        unsigned char *met = malloc(2 * (W + 1));
+        double *top = line, *bot = line != NULL ? line + 2 * (W + 1) : NULL;
+        unsigned char *top_hit = met, *bot_hit = met != NULL ? met + W + 1 : NULL;
+        size_t last = SIZE_MAX;
+#pragma omp for schedule(dynamic, 8)
+        for (size_t j = 0; j < H; j++) {
+            if (line == NULL || met == NULL) {
+                for (size_t i = 0; i < W; i++) {
+                    sea_pixel_geom g;
+                    sea_camera_pixel(cam, (double)i + 0.5, (double)j + 0.5, &g);
+                    pixel_choice(mr, &g, &mr->px[j * W + i]);
+                }
+                continue;
+            }
+            if (last != SIZE_MAX && last + 1 == j) {
+                double *sw = top;
+                top = bot;
+                bot = sw;
+                unsigned char *sh = top_hit;
+                top_hit = bot_hit;
+                bot_hit = sh;
+            } else {
+                for (size_t i = 0; i <= W; i++)
+                    top_hit[i] = (unsigned char)sea_camera_corner(cam, (double)i, (double)j,
+                                                                  &top[2 * i], &top[2 * i + 1]);
+            }
+            for (size_t i = 0; i <= W; i++)
+                bot_hit[i] = (unsigned char)sea_camera_corner(cam, (double)i, (double)(j + 1),
+                                                              &bot[2 * i], &bot[2 * i + 1]);
+            last = j;
+            for (size_t i = 0; i < W; i++) {
+                const double px[4] = { top[2 * i], top[2 * i + 2], bot[2 * i + 2], bot[2 * i] };
+                const double py[4] = { top[2 * i + 1], top[2 * i + 3], bot[2 * i + 3],
+                                       bot[2 * i + 1] };
+                const int all = top_hit[i] && top_hit[i + 1] && bot_hit[i + 1] && bot_hit[i];
+                sea_pixel_geom g;
+                sea_camera_pixel_cornered(cam, (double)i + 0.5, (double)j + 0.5, px, py, all, &g);
+                pixel_choice(mr, &g, &mr->px[j * W + i]);
+            }
         }
+        free(line);
+        free(met);
     }
 
     /* Windows, finest first: the bounding box of the ground points that read

@@ -158,7 +158,34 @@ sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3])
     return o;
 }
 
-void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g)
+/* The footprint of g from its four corner points (map coordinates: corners
+ * 0..3 at (u, v) + (-1/2, -1/2), (1/2, -1/2), (1/2, 1/2), (-1/2, 1/2)), or
+ * none when a corner misses the sea (corners_hit 0). */
+static void footprint_of(const double px[4], const double py[4], int corners_hit,
+                         sea_pixel_geom *g)
+{
+    if (!corners_hit) {
+        g->footprint = g->footprint_u = g->footprint_v = INFINITY;
+        g->edge_u[0] = g->edge_u[1] = g->edge_v[0] = g->edge_v[1] = 0.0;
+        return;
+    }
+    /* the quadrilateral of the four corner rays, area = half the cross
+     * product of its diagonals, in map coordinates */
+    const double ax = px[2] - px[0], ay = py[2] - py[0], bx = px[3] - px[1], by = py[3] - py[1];
+    g->footprint = sqrt(0.5 * fabs(ax * by - ay * bx));
+    /* edges along the image axes: the mean of the two edges along u
+     * (corners 0 -> 1 and 3 -> 2) and along v (0 -> 3 and 1 -> 2) */
+    g->edge_u[0] = 0.5 * (px[1] - px[0] + px[2] - px[3]);
+    g->edge_u[1] = 0.5 * (py[1] - py[0] + py[2] - py[3]);
+    g->edge_v[0] = 0.5 * (px[3] - px[0] + px[2] - px[1]);
+    g->edge_v[1] = 0.5 * (py[3] - py[0] + py[2] - py[1]);
+    g->footprint_u = hypot(g->edge_u[0], g->edge_u[1]);
+    g->footprint_v = hypot(g->edge_v[0], g->edge_v[1]);
+}
+
+/* sea_camera_pixel up to the footprint: returns 0 for a sky pixel (g then
+ * complete). */
+static int pixel_centre(const sea_camera *c, double u, double v, sea_pixel_geom *g)
 {
     double d[3], q[3];
     sea_camera_ray(c, u, v, d);
@@ -171,37 +198,40 @@ void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g
     if (!g->hit) {
         g->x = g->y = g->range = 0.0;
         g->obs = (sea_dir){ 0.0, 0.0 };
-        g->footprint = g->footprint_u = g->footprint_v = INFINITY;
-        g->edge_u[0] = g->edge_u[1] = g->edge_v[0] = g->edge_v[1] = 0.0;
+        footprint_of(NULL, NULL, 0, g);
         g->normal[0] = g->normal[1] = 0.0;
         g->normal[2] = 1.0;
-        return;
+        return 0;
     }
     const double back[3] = { -d[0], -d[1], -d[2] };
     g->obs = sea_camera_local_dir(g, back);
-    /* footprint: the quadrilateral of the four corner rays, area = half the
-     * cross product of its diagonals, in map coordinates */
+    return 1;
+}
+
+int sea_camera_corner(const sea_camera *c, double u, double v, double *x, double *y)
+{
+    double d[3], q[3], n[3], t;
+    sea_camera_ray(c, u, v, d);
+    return intersect(c, d, q, n, x, y, &t);
+}
+
+void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g)
+{
+    if (!pixel_centre(c, u, v, g))
+        return;
     double px[4], py[4];
     const double du[4] = { -0.5, 0.5, 0.5, -0.5 }, dv[4] = { -0.5, -0.5, 0.5, 0.5 };
-    for (int k = 0; k < 4; k++) {
-        double dk[3], qk[3], nk[3], tk;
-        sea_camera_ray(c, u + du[k], v + dv[k], dk);
-        if (!intersect(c, dk, qk, nk, &px[k], &py[k], &tk)) {
-            g->footprint = g->footprint_u = g->footprint_v = INFINITY;
-            g->edge_u[0] = g->edge_u[1] = g->edge_v[0] = g->edge_v[1] = 0.0;
-            return;
-        }
-    }
-    const double ax = px[2] - px[0], ay = py[2] - py[0], bx = px[3] - px[1], by = py[3] - py[1];
-    g->footprint = sqrt(0.5 * fabs(ax * by - ay * bx));
-    /* edges along the image axes: the mean of the two edges along u
-     * (corners 0 -> 1 and 3 -> 2) and along v (0 -> 3 and 1 -> 2) */
-    g->edge_u[0] = 0.5 * (px[1] - px[0] + px[2] - px[3]);
-    g->edge_u[1] = 0.5 * (py[1] - py[0] + py[2] - py[3]);
-    g->edge_v[0] = 0.5 * (px[3] - px[0] + px[2] - px[1]);
-    g->edge_v[1] = 0.5 * (py[3] - py[0] + py[2] - py[1]);
-    g->footprint_u = hypot(g->edge_u[0], g->edge_u[1]);
-    g->footprint_v = hypot(g->edge_v[0], g->edge_v[1]);
+    int all = 1;
+    for (int k = 0; k < 4 && all; k++)
+        all = sea_camera_corner(c, u + du[k], v + dv[k], &px[k], &py[k]);
+    footprint_of(px, py, all, g);
+}
+
+void sea_camera_pixel_cornered(const sea_camera *c, double u, double v, const double px[4],
+                               const double py[4], int corners_hit, sea_pixel_geom *g)
+{
+    if (pixel_centre(c, u, v, g))
+        footprint_of(px, py, corners_hit, g);
 }
 
 int sea_camera_project(const sea_camera *c, const double p[3], double *u, double *v)

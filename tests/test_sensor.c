@@ -153,6 +153,39 @@ static void test_spherical(void)
     CU_ASSERT(g.range < t_exact);
 }
 
+/* A pixel's geometry from corners found once for the image
+ * (sea_camera_corner, sea_camera_pixel_cornered, as the multiresolution
+ * plan does) is sea_camera_pixel's, bit for bit: every pixel of a flat and
+ * a round-earth view whose horizon crosses the image (sky pixels, pixels
+ * with a corner in the sky), rolled. */
+static void test_shared_corners(void)
+{
+    for (int e = 0; e < 2; e++) {
+        const sea_camera c = camera(25.0, 86.0, 40.0, 7.0, 30.0, 61, 47,
+                                    e ? SEA_EARTH_SPHERICAL : SEA_EARTH_FLAT);
+        int mismatches = 0, sky = 0, cut = 0;
+        for (int j = 0; j < 47; j++)
+            for (int i = 0; i < 61; i++) {
+                double px[4], py[4];
+                const int ci[4] = { i, i + 1, i + 1, i }, cj[4] = { j, j, j + 1, j + 1 };
+                int all = 1;
+                for (int k = 0; k < 4; k++)
+                    all &= sea_camera_corner(&c, ci[k], cj[k], &px[k], &py[k]);
+                sea_pixel_geom a, b;
+                memset(&a, 0, sizeof a);
+                memset(&b, 0, sizeof b);
+                sea_camera_pixel(&c, i + 0.5, j + 0.5, &a);
+                sea_camera_pixel_cornered(&c, i + 0.5, j + 0.5, px, py, all, &b);
+                mismatches += memcmp(&a, &b, sizeof a) != 0;
+                sky += !a.hit;
+                cut += a.hit && !all;
+            }
+        CU_ASSERT_EQUAL(mismatches, 0);
+        CU_ASSERT(sky > 0);
+        CU_ASSERT(cut > 0);
+    }
+}
+
 static void test_bad_camera(void)
 {
     sea_camera c;
@@ -179,5 +212,6 @@ int test_sensor_register(void)
            !CU_add_test(s, "projection round trip", test_projection_round_trip) ||
            !CU_add_test(s, "roll", test_roll) ||
            !CU_add_test(s, "spherical Earth", test_spherical) ||
+           !CU_add_test(s, "shared corners", test_shared_corners) ||
            !CU_add_test(s, "bad camera", test_bad_camera);
 }
