@@ -109,7 +109,8 @@ SEA_INTERNAL void sea_shadow_correlated_scale(double z, double mid, double half,
 /* optics.c, the sun's disc: the probability of N(mu, Cu) over the disc
  * |u| <= radius by quadrature, and the mean over it of a Gaussian density
  * of precision Q centred at mu, relative to its value at 0, by the
- * mean-value series to radius^4; sea_reflectivity_disc_n chooses. */
+ * mean-value series summed to convergence; sea_reflectivity_disc_n
+ * chooses. */
 SEA_INTERNAL double sea_disc_mass(const struct sea_optics *p, const double Cu[2][2],
                                   const double mu[2], double radius, int nodes);
 SEA_INTERNAL double sea_disc_series(const double Q[2][2], const double mu[2], double radius);

@@ -3,6 +3,7 @@
 
 #include <gsl/gsl_integration.h>
 #include <gsl/gsl_rng.h>
+#include <gsl/gsl_sf_bessel.h>
 
 #include "unit.h"
 #include "internal.h"
@@ -105,20 +106,39 @@ static void test_correlated_shadowing(void)
     sea_optics_free(pc);
 }
 
-/* The sun's disc: the mean-value series (to a^4) against the quadrature of
- * the Gaussian's mass over the disc (64 nodes), for random precisions and
- * centres whose second-order term a^2/8 lambda_max(Q) (1 + d^2) spans 1e-4
- * to 0.05: the relative difference grows as that term cubed; where the
- * disc uses the series (up to 0.004) it is below 1e-7 (measured 9.2e-8);
- * and the quadrature's 16 nodes up to 0.1, 24 up to 1, agree with 64 to
- * 1e-10 (measured 1e-12, 4e-12). */
+/* The sun's disc: the mean-value series summed to convergence
+ * (sea_disc_series) against closed forms and against the quadrature of the
+ * Gaussian's mass over the disc (64 nodes).  Closed forms: a Gaussian
+ * centred on the disc's centre, Q = lambda I, has the mean
+ * 2 (1 - exp(-lambda a^2 / 2)) / (lambda a^2); a nearly flat one (Q =
+ * 1e-14 / a^2 I) of log-gradient v, 2 I1(a |v|) / (a |v|).  Random
+ * precisions and centres (up to 6 deviations: at 8 the quadrature's window
+ * of 8 deviations clips the disc) whose second-order term a^2/8
+ * lambda_max(Q) (1 + d^2) spans 1e-4 to 1, where the series replaces the
+ * quadrature: within 1e-12 (measured 1.3e-13; the 2-term series of before
+ * was 1.3e-7 off by a term of 0.004). */
 static void test_sun_disc_series(void)
 {
+    const double a = 0.2666 * DEG;
+    double worst_closed = 0.0;
+    for (int k = 0; k <= 40; k++) {
+        /* lambda a^2 from 1e-3 to 8 (second-order term 1) */
+        const double la2 = 1e-3 * pow(8000.0, k / 40.0), l = la2 / (a * a);
+        const double Q[2][2] = { { l, 0.0 }, { 0.0, l } }, mu[2] = { 0.0, 0.0 };
+        const double exact = 2.0 * -expm1(-0.5 * la2) / la2;
+        worst_closed = fmax(worst_closed, fabs(sea_disc_series(Q, mu, a) / exact - 1.0));
+        /* a |v| from 0.03 to 2.8 along a slanted direction */
+        const double av = 0.03 * pow(2.8 / 0.03, k / 40.0), eps = 1e-14 / (a * a);
+        const double Qf[2][2] = { { eps, 0.0 }, { 0.0, eps } };
+        const double muf[2] = { 0.6 * av / a / eps, -0.8 * av / a / eps };
+        const double bessel = 2.0 * gsl_sf_bessel_I1(av) / av;
+        worst_closed = fmax(worst_closed, fabs(sea_disc_series(Qf, muf, a) / bessel - 1.0));
+    }
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 21);
-    const double a = 0.2666 * DEG;
-    double worst_in = 0.0, worst_out = 0.0, at = 0.0, worst_nodes = 0.0;
-    const int n = UNIT_QUICK ? 200 : 20000;
+    double worst = 0.0, at = 0.0;
+    int used = 0;
+    const int n = UNIT_QUICK ? 400 : 40000;
     for (int k = 0; k < n; k++) {
         /* eigenvalues of Q (1/rad^2) and a rotation; the centre at d deviations */
         const double l1 = pow(10.0, 1.0 + 6.0 * gsl_rng_uniform(rng));
@@ -128,42 +148,28 @@ static void test_sun_disc_series(void)
                                  { (l1 - l2) * c * s, l1 * s * s + l2 * c * c } };
         const double det = Q[0][0] * Q[1][1] - Q[0][1] * Q[1][0];
         const double Cu[2][2] = { { Q[1][1] / det, -Q[0][1] / det }, { -Q[1][0] / det, Q[0][0] / det } };
-        const double d = 8.0 * gsl_rng_uniform(rng), ang = 2.0 * M_PI * gsl_rng_uniform(rng);
+        const double d = 6.0 * gsl_rng_uniform(rng), ang = 2.0 * M_PI * gsl_rng_uniform(rng);
         /* mu with mu.Q.mu = d^2 */
         double mu[2] = { cos(ang), sin(ang) };
         const double q = mu[0] * (Q[0][0] * mu[0] + Q[0][1] * mu[1]) +
                          mu[1] * (Q[1][0] * mu[0] + Q[1][1] * mu[1]);
         mu[0] *= d / sqrt(q), mu[1] *= d / sqrt(q);
         const double second = a * a / 8.0 * l1 * (1.0 + d * d);
-        if (second > 0.1 && second <= 1.0) {
-            const double m64 = sea_disc_mass(P, Cu, mu, a, 64);
-            worst_nodes = fmax(worst_nodes, fabs(sea_disc_mass(P, Cu, mu, a, 24) / m64 - 1.0));
-        } else if (second > 0.02 && second <= 0.1) {
-            const double m64 = sea_disc_mass(P, Cu, mu, a, 64);
-            worst_nodes = fmax(worst_nodes, fabs(sea_disc_mass(P, Cu, mu, a, 16) / m64 - 1.0));
-        } else if (second > 0.004 && second <= 0.02) {
-            const double m64 = sea_disc_mass(P, Cu, mu, a, 64);
-            worst_nodes = fmax(worst_nodes, fabs(sea_disc_mass(P, Cu, mu, a, 12) / m64 - 1.0));
-        }
-        if (second < 1e-4 || second > 0.05)
+        if (second < 1e-4 || second > 1.0)
             continue;
         const double f0 = exp(-0.5 * d * d) * sqrt(det) / (2.0 * M_PI);
         const double quad = sea_disc_mass(P, Cu, mu, a, 64) / (M_PI * a * a) / f0;
         const double rel = fabs(sea_disc_series(Q, mu, a) / quad - 1.0);
-        if (second <= 0.004) {
-            if (rel > worst_in)
-                worst_in = rel, at = second;
-        } else {
-            worst_out = fmax(worst_out, rel);
-        }
+        if (rel > worst)
+            worst = rel, at = second;
+        used++;
     }
     gsl_rng_free(rng);
-    MEASURED("sun disc: series vs quadrature, relative: %.1e where the series is used (second-order "
-             "term %.1e), %.1e beyond (to 0.05); 12, 16 or 24 nodes against 64: %.1e\n", worst_in, at,
-             worst_out, worst_nodes);
-    CU_ASSERT(worst_in <= 1e-7);
-    CU_ASSERT(worst_nodes <= 1e-10);
-    CU_ASSERT(worst_out > worst_in); /* the switch is where the series starts to cost accuracy */
+    MEASURED("sun disc: series against closed forms %.1e; against 64-node quadrature %.1e (at a "
+             "second-order term %.2g; %d cases to 1)\n", worst_closed, worst, at, used);
+    CU_ASSERT(worst_closed <= 1e-12);
+    CU_ASSERT(worst <= 1e-12);
+    CU_ASSERT(used > n / 10);
 }
 
 static void test_flat_sea_limit(void)
