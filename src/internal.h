@@ -10,6 +10,8 @@
 
 #include <stddef.h>
 
+#include "seabake.h"
+
 #define SEA_INTERNAL __attribute__((visibility("hidden")))
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -114,5 +116,23 @@ SEA_INTERNAL void sea_shadow_correlated_scale(double z, double mid, double half,
 SEA_INTERNAL double sea_disc_mass(const struct sea_optics *p, const double Cu[2][2],
                                   const double mu[2], double radius, int nodes);
 SEA_INTERNAL double sea_disc_series(const double Q[2][2], const double mu[2], double radius);
+
+/* multires.c, the render's rays ordered across pixel rows: what a pixel's
+ * top row of rays tells the pixel above it (the rays' slopes d_z / |d_h|,
+ * map directions, and the horizontal distances where they met the surface,
+ * -1 for none, on the surface of blend).  sea_multires_pixel with below
+ * the hint of pixel (i, j + 1) (or NULL) and top (or NULL) filled for
+ * pixel (i, j - 1): the same first hits (a ray of pixel (i, j) that the
+ * ordering shows to be above one of below's rays until that one's hit
+ * starts its march there), so the same sample but where a ray grazes a
+ * crest and the march's samples decide. */
+typedef struct {
+    int n;
+    sea_level_blend blend;
+    double k[8], ux[8], uy[8], s[8];
+} sea_multires_hint;
+SEA_INTERNAL void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, int j,
+                                            const sea_multires_hint *below,
+                                            sea_multires_hint *top, sea_multires_sample *out);
 
 #endif /* SEABAKE_INTERNAL_H */

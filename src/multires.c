@@ -105,6 +105,8 @@ enum { LEVEL_MAX = SEA_CLIP_MAX_LEVELS - 1 };
  * SUB_MAX RAY_POINTS_MAX / 2 facets long before its level is chosen by its
  * long side (beyond about 89.5 deg from nadir), not by its area. */
 enum { SUB_MAX = 8, RAY_POINTS_MAX = 3 };
+_Static_assert(SUB_MAX == sizeof ((sea_multires_hint *)0)->k / sizeof(double),
+               "a hint holds a row of rays");
 /* Rays are at most RAY_SPACING facets of the pixel's level apart (a crest
  * that hides part of the footprint is seen at that resolution), the points
  * each ray averages at most POINT_SPACING facets of the finest level read
@@ -1629,9 +1631,28 @@ static sea_dir local_dir_at(const sea_camera *cam, double x, double y, const dou
     return sea_camera_local_dir(&g, d);
 }
 
+/* Whether ray B stays above the surface wherever a ray A of slope kA =
+ * d_z / |d_h| and map direction (uxA, uyA) from the same sensor does (both
+ * at one horizontal distance), as look() explains: B above A by more than
+ * the surface can rise between their map points. */
+static int ray_above(const ray *B, double kA, double uxA, double uyA, double gmax)
+{
+    const double lift = B->d[2] / B->dh - kA;
+    const double drift = hypot(B->ux - uxA, B->uy - uyA);
+    return lift >= RAY_ORDER_MARGIN * gmax * drift;
+}
+
+static int same_blend(const sea_level_blend *a, const sea_level_blend *b)
+{
+    return a->level == b->level && a->neighbour == b->neighbour && a->alpha == b->alpha;
+}
+
 static void look(const sea_multires_frame *f, double u, double v, const mr_pixel *p,
+                 const sea_multires_hint *below, sea_multires_hint *top,
                  sea_multires_sample *out)
 {
+    if (top != NULL)
+        top->n = 0;
     const sea_multires *mr = f->mr;
     const sea_camera *cam = &mr->cam;
     memset(out, 0, sizeof *out);
@@ -1692,20 +1713,43 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
             double t_a, t_b, t;
             if (!ray_range(&s, r, &t_a, &t_b))
                 continue;
+            /* the horizontal distance B's march may start at: A's hit */
+            double s0 = -1.0;
             if (b + 1 < nv && hit_t[k + nu] >= 0.0 && r->dh > 0.0 && rays[k + nu].dh > 0.0) {
                 const ray *A = &rays[k + nu];
-                const double lift = r->d[2] / r->dh - A->d[2] / A->dh;
-                const double drift = hypot(r->ux - A->ux, r->uy - A->uy);
-                if (lift >= RAY_ORDER_MARGIN * s.gmax * drift) {
-                    const double t0 = hit_t[k + nu] * A->dh / r->dh;
-                    if (t0 >= t_b)
-                        continue; /* above the surface over its whole range */
-                    t_a = fmax(t_a, t0);
-                }
+                if (ray_above(r, A->d[2] / A->dh, A->ux, A->uy, s.gmax))
+                    s0 = hit_t[k + nu] * A->dh;
+            } else if (b + 1 == nv && below != NULL && below->n > 0 && r->dh > 0.0 &&
+                       same_blend(&below->blend, &out->blend)) {
+                /* the pixel below's top rays, on the same surface */
+                for (int m = 0; m < below->n; m++)
+                    if (below->s[m] > s0 &&
+                        ray_above(r, below->k[m], below->ux[m], below->uy[m], s.gmax))
+                        s0 = below->s[m];
+            }
+            if (s0 >= 0.0) {
+                const double t0 = s0 / r->dh;
+                if (t0 >= t_b)
+                    continue; /* above the surface over its whole range */
+                t_a = fmax(t_a, t0);
             }
             if (march(&s, r, t_a, t_b, &t))
                 hit_t[k] = t;
         }
+    if (top != NULL) {
+        /* the top row of rays, for the pixel above */
+        top->blend = out->blend;
+        for (int a = 0; a < nu; a++) {
+            const ray *A = &rays[a];
+            if (!(A->dh > 0.0))
+                continue;
+            top->k[top->n] = A->d[2] / A->dh;
+            top->ux[top->n] = A->ux;
+            top->uy[top->n] = A->uy;
+            top->s[top->n] = hit_t[a] >= 0.0 ? hit_t[a] * A->dh : -1.0;
+            top->n++;
+        }
+    }
     sea_moments acc = { 0 };
     double wsum = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
     for (int b = 0; b < nv; b++)
@@ -1791,7 +1835,16 @@ void sea_multires_pixel(const sea_multires_frame *f, int i, int j, sea_multires_
 {
     const sea_multires *mr = f->mr;
     const mr_pixel *p = &mr->px[(size_t)j * (size_t)mr->cam.width + (size_t)i];
-    look(f, (double)i + 0.5, (double)j + 0.5, p, out);
+    look(f, (double)i + 0.5, (double)j + 0.5, p, NULL, NULL, out);
+}
+
+void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, int j,
+                               const sea_multires_hint *below, sea_multires_hint *top,
+                               sea_multires_sample *out)
+{
+    const sea_multires *mr = f->mr;
+    const mr_pixel *p = &mr->px[(size_t)j * (size_t)mr->cam.width + (size_t)i];
+    look(f, (double)i + 0.5, (double)j + 0.5, p, below, top, out);
 }
 
 void sea_multires_look(const sea_multires_frame *f, double u, double v, sea_multires_sample *out)
@@ -1800,7 +1853,7 @@ void sea_multires_look(const sea_multires_frame *f, double u, double v, sea_mult
     sea_camera_pixel(&f->mr->cam, u, v, &g);
     mr_pixel p;
     pixel_choice(f->mr, &g, &p);
-    look(f, u, v, &p, out);
+    look(f, u, v, &p, NULL, NULL, out);
 }
 
 int sea_multires_look_at(const sea_multires_frame *f, double x, double y, sea_multires_sample *out,

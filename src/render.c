@@ -581,6 +581,77 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
     return sea_render_rows(r, t, 0, 1, img, progress, ctx, err);
 }
 
+/* What every pixel of a frame shares. */
+typedef struct {
+    double facet[SEA_CLIP_MAX_LEVELS]; /* facet size of each level, m */
+    double sun_vec[3];
+    double sky_L, air_L, unit, ext;
+    float sky_T;
+} pixel_consts;
+
+/* Pixel (i, j) of img from what it sees, s: the sky, or the sea's radiance
+ * through the air. */
+static sea_status shade_pixel(const sea_render *r, const pixel_consts *pc,
+                              const sea_multires_sample *s, size_t i, size_t j, sea_image *img,
+                              sea_error *err)
+{
+    const sea_scene *sc = &r->sc;
+    const size_t q = j * (size_t)sc->width + i;
+    if (!s->hit) {
+        double Ls = pc->sky_L;
+        float Ts = pc->sky_T;
+        if (sc->sky_model != SEA_SKY_ISOTROPIC) { /* the sky toward the ray */
+            double d[3];
+            sea_camera_ray(&r->cam, (double)i + 0.5, (double)j + 0.5, d);
+            Ls = 0.0;
+            for (size_t k = 0; k < r->nsamp; k++)
+                Ls += r->wt[k] * sea_sky_radiance(&r->sky, k, d[2]);
+            Ts = (float)band_temperature(r, Ls);
+        }
+        img->radiance[q] = (float)(Ls * pc->unit);
+        img->temperature[q] = Ts;
+        img->level[q] = 0.0f;
+        img->emissivity[q] = img->reflectivity[q] = 0.0f;
+        return SEA_OK;
+    }
+    sea_pixel_geom g;
+    memcpy(g.normal, s->normal, sizeof g.normal);
+    const sea_dir sun = sea_camera_local_dir(&g, pc->sun_vec);
+    const sea_slope_stats ss = sea_moments_stats(&s->moments);
+    double L, e, rho;
+    double Lk[SEA_SCENE_BAND_MAX];
+    sea_status st = facet_radiance(r, &ss, s->obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
+                                   r->atm_grid != NULL ? Lk : NULL, err);
+    if (pc->ext > 0.0) {
+        const double tau = exp(-pc->ext * s->range);
+        L = tau * L + (1.0 - tau) * pc->air_L;
+    } else if (st == SEA_OK && r->atm_grid != NULL) {
+        /* the table's transmittance and path radiance at the range met */
+        if (s->range > r->atm_range_max)
+            st = sea_fail(err, SEA_ERR_DOMAIN,
+                          "pixel (%zu, %zu) meets the sea at %.6g m, beyond the "
+                          "[atmosphere] table's last range_m %.6g (allowed: a table that "
+                          "reaches the farthest sea in view)",
+                          i, j, s->range, r->atm_range_max);
+        L = 0.0;
+        for (size_t k = 0; k < r->nsamp; k++) {
+            const double *tk = &r->atm_tau[k * r->atm_nx], *pk = &r->atm_path[k * r->atm_nx];
+            L += r->wt[k] * (sea_profile_at(r->atm_x, tk, r->atm_nx, s->range) * Lk[k] +
+                             sea_profile_at(r->atm_x, pk, r->atm_nx, s->range));
+        }
+    }
+    if (st == SEA_OK && !(isfinite(L) && L > 0.0 && isfinite(rho)))
+        st = sea_fail(err, SEA_ERR_NUMERIC, "radiance %g at pixel (%zu, %zu)", L, i, j);
+    if (st != SEA_OK)
+        return st;
+    img->radiance[q] = (float)(L * pc->unit);
+    img->temperature[q] = (float)band_temperature(r, L);
+    img->level[q] = (float)pc->facet[s->level];
+    img->emissivity[q] = (float)e;
+    img->reflectivity[q] = (float)rho;
+    return SEA_OK;
+}
+
 sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, sea_image *img,
                            sea_progress_fn progress, void *ctx, sea_error *err)
 {
@@ -592,135 +663,118 @@ sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, se
         return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
     if (row0 < 0 || step < 1)
         return sea_fail(err, SEA_ERR_DOMAIN,
-                        "rows from %d every %d (allowed: first row >= 0, step >= 1)", row0, step);
-    /* rows row0, row0 + step, ... below H: none when row0 >= H */
-    const size_t H = (size_t)sc->height;
-    const size_t nrows = (size_t)row0 < H ? (H - (size_t)row0 + (size_t)step - 1) / (size_t)step : 0;
-    if (nrows == 0)
+                        "row blocks from %d every %d (allowed: first block >= 0, step >= 1)", row0,
+                        step);
+    /* row blocks row0, row0 + step, ... of the image: none when row0 is
+     * past the last */
+    const size_t H = (size_t)sc->height, B = SEA_RENDER_ROW_BLOCK;
+    const size_t nb_all = (H + B - 1) / B;
+    const size_t nblk =
+        (size_t)row0 < nb_all ? (nb_all - (size_t)row0 + (size_t)step - 1) / (size_t)step : 0;
+    if (nblk == 0)
         return SEA_OK;
+    size_t nrows = 0;
+    for (size_t jb = 0; jb < nblk; jb++) {
+        const size_t j_lo = ((size_t)row0 + jb * (size_t)step) * B;
+        nrows += (j_lo + B < H ? j_lo + B : H) - j_lo;
+    }
     sea_multires_frame *f = NULL;
     sea_status st = sea_multires_frame_alloc(r->mr, t, NULL, NULL, &f, err);
     if (st != SEA_OK)
         return st;
     const sea_clip_level *lv;
     const size_t nlev = sea_multires_levels(r->mr, &lv);
-    double facet[SEA_CLIP_MAX_LEVELS] = { 0 };
+    pixel_consts pc;
+    memset(&pc, 0, sizeof pc);
     for (size_t l = 0; l < nlev; l++)
-        facet[lv[l].level] = lv[l].facet;
-    const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
-                                sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
+        pc.facet[lv[l].level] = lv[l].facet;
+    pc.sun_vec[0] = sin(sc->sun_zenith) * cos(sc->sun_azimuth);
+    pc.sun_vec[1] = sin(sc->sun_zenith) * sin(sc->sun_azimuth);
+    pc.sun_vec[2] = cos(sc->sun_zenith);
     const size_t W = (size_t)sc->width;
-    double sky_L = 0.0;
     for (size_t i = 0; i < r->nsamp; i++)
-        sky_L += r->wt[i] * r->lsky[i];
-    const double unit = radiance_unit(r); /* per um */
-    const float sky_T = (float)band_temperature(r, sky_L);
+        pc.sky_L += r->wt[i] * r->lsky[i];
+    pc.unit = radiance_unit(r); /* per um */
+    pc.sky_T = (float)band_temperature(r, pc.sky_L);
     /* the air between the sensor and the sea: Beer-Lambert along the range
      * met, the path radiating (1 - tau) B(T_air) */
-    double air_L = 0.0;
     for (size_t i = 0; i < r->nsamp; i++)
-        air_L += r->wt[i] * r->lair[i];
-    const double ext = isnan(sc->air_temperature) ? 0.0 : sc->extinction;
+        pc.air_L += r->wt[i] * r->lair[i];
+    pc.ext = isnan(sc->air_temperature) ? 0.0 : sc->extinction;
     size_t rows_done = 0;
-    int failed = 0, cancelled = 0;
+    int failed = 0, cancelled = 0, nomem = 0;
     sea_error first = { { 0 } };
-#pragma omp parallel for schedule(dynamic, 1)
-    for (size_t jr = 0; jr < nrows; jr++) {
-        const size_t j = (size_t)row0 + jr * (size_t)step;
-        if (failed)
-            continue;
-        for (size_t i = 0; i < W; i++) {
-            const size_t q = j * W + i;
-            sea_multires_sample s;
-            sea_multires_pixel(f, (int)i, (int)j, &s);
-            if (!s.hit) {
-                double Ls = sky_L;
-                float Ts = sky_T;
-                if (sc->sky_model != SEA_SKY_ISOTROPIC) { /* the sky toward the ray */
-                    double d[3];
-                    sea_camera_ray(&r->cam, (double)i + 0.5, (double)j + 0.5, d);
-                    Ls = 0.0;
-                    for (size_t k = 0; k < r->nsamp; k++)
-                        Ls += r->wt[k] * sea_sky_radiance(&r->sky, k, d[2]);
-                    Ts = (float)band_temperature(r, Ls);
-                }
-                img->radiance[q] = (float)(Ls * unit);
-                img->temperature[q] = Ts;
-                img->level[q] = 0.0f;
-                img->emissivity[q] = img->reflectivity[q] = 0.0f;
-                continue;
-            }
-            sea_pixel_geom g;
-            memcpy(g.normal, s.normal, sizeof g.normal);
-            const sea_dir sun = sea_camera_local_dir(&g, sun_vec);
-            const sea_slope_stats ss = sea_moments_stats(&s.moments);
-            double L, e, rho;
-            sea_error e1;
-            double Lk[SEA_SCENE_BAND_MAX];
-            sea_status s1 = facet_radiance(r, &ss, s.obs, sun, sun.theta < M_PI / 2.0, &L, &e,
-                                           &rho, r->atm_grid != NULL ? Lk : NULL, &e1);
-            if (ext > 0.0) {
-                const double tau = exp(-ext * s.range);
-                L = tau * L + (1.0 - tau) * air_L;
-            } else if (s1 == SEA_OK && r->atm_grid != NULL) {
-                /* the table's transmittance and path radiance at the range met */
-                if (s.range > r->atm_range_max)
-                    s1 = sea_fail(&e1, SEA_ERR_DOMAIN,
-                                  "pixel (%zu, %zu) meets the sea at %.6g m, beyond the "
-                                  "[atmosphere] table's last range_m %.6g (allowed: a table that "
-                                  "reaches the farthest sea in view)",
-                                  i, j, s.range, r->atm_range_max);
-                L = 0.0;
-                for (size_t k = 0; k < r->nsamp; k++) {
-                    const double *tk = &r->atm_tau[k * r->atm_nx], *pk = &r->atm_path[k * r->atm_nx];
-                    L += r->wt[k] * (sea_profile_at(r->atm_x, tk, r->atm_nx, s.range) * Lk[k] +
-                                     sea_profile_at(r->atm_x, pk, r->atm_nx, s.range));
-                }
-            }
-            if (s1 == SEA_OK && !(isfinite(L) && L > 0.0 && isfinite(rho)))
-                s1 = sea_fail(&e1, SEA_ERR_NUMERIC, "radiance %g at pixel (%zu, %zu)", L, i, j);
-            if (s1 != SEA_OK) {
+    /* Each block bottom row first: a pixel's rays start their march where
+     * the rays of the pixel below met the sea, when the ordering allows
+     * (sea_multires_pixel_hinted); the block's lowest row starts afresh,
+     * so the image does not depend on who renders which block. */
+#pragma omp parallel
+    {
+        sea_multires_hint *hints = malloc(2 * W * sizeof *hints);
+        if (hints == NULL) {
 #pragma omp critical(sea_render_error)
-                {
-                    if (!failed)
-                        first = e1;
-                    failed = 1;
-                }
-                break;
-            }
-            img->radiance[q] = (float)(L * unit);
-            img->temperature[q] = (float)band_temperature(r, L);
-            img->level[q] = (float)facet[s.level];
-            img->emissivity[q] = (float)e;
-            img->reflectivity[q] = (float)rho;
-        }
-        if (progress != NULL) {
-            int stop = 0;
-#pragma omp critical(sea_render_progress)
             {
-                /* any thread, one at a time: a thread that does no row
-                 * must not keep a stop from being seen */
-                rows_done++;
-                stop = progress(ctx, (double)rows_done / (double)nrows) != 0;
+                if (!failed) {
+                    sea_fail(&first, SEA_ERR_NOMEM, "out of memory for the rays of two rows");
+                    nomem = 1;
+                }
+                failed = 1;
             }
-            if (stop) {
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (size_t jb = 0; jb < nblk; jb++) {
+            const size_t j_lo = ((size_t)row0 + jb * (size_t)step) * B;
+            const size_t j_hi = j_lo + B < H ? j_lo + B : H;
+            for (size_t j = j_hi; j-- > j_lo;) {
+                if (failed)
+                    break;
+                const sea_multires_hint *below = j + 1 < j_hi ? hints + ((j + 1) % 2) * W : NULL;
+                sea_multires_hint *top = hints + (j % 2) * W;
+                for (size_t i = 0; i < W; i++) {
+                    sea_multires_sample s;
+                    sea_multires_pixel_hinted(f, (int)i, (int)j, below != NULL ? &below[i] : NULL,
+                                              &top[i], &s);
+                    sea_error e1;
+                    if (shade_pixel(r, &pc, &s, i, j, img, &e1) != SEA_OK) {
 #pragma omp critical(sea_render_error)
-                {
-                    if (!failed) {
-                        sea_fail(&first, SEA_ERR_CANCELLED, "render cancelled at row %zu of %zu",
-                                 j, H);
-                        cancelled = 1;
+                        {
+                            if (!failed)
+                                first = e1;
+                            failed = 1;
+                        }
+                        break;
                     }
-                    failed = 1;
+                }
+                if (progress != NULL) {
+                    int stop = 0;
+#pragma omp critical(sea_render_progress)
+                    {
+                        /* any thread, one at a time: a thread that does no row
+                         * must not keep a stop from being seen */
+                        rows_done++;
+                        stop = progress(ctx, (double)rows_done / (double)nrows) != 0;
+                    }
+                    if (stop) {
+#pragma omp critical(sea_render_error)
+                        {
+                            if (!failed) {
+                                sea_fail(&first, SEA_ERR_CANCELLED,
+                                         "render cancelled at row %zu of %zu", j, H);
+                                cancelled = 1;
+                            }
+                            failed = 1;
+                        }
+                    }
                 }
             }
         }
+        free(hints);
     }
     sea_multires_frame_free(f);
     if (failed) {
         if (err != NULL)
             *err = first;
-        return cancelled ? SEA_ERR_CANCELLED : SEA_ERR_NUMERIC;
+        return cancelled ? SEA_ERR_CANCELLED : nomem ? SEA_ERR_NOMEM : SEA_ERR_NUMERIC;
     }
     return SEA_OK;
 }

@@ -1147,12 +1147,18 @@ void sea_image_free(sea_image *img);
  * sea_progress_fn says. */
 sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err);
-/* sea_render_frame for the rows row0, row0 + step, ... below the image's
- * height only (row0 >= 0, step >= 1, else SEA_ERR_DOMAIN; none when row0 >=
- * height): those rows of img get exactly the values sea_render_frame gives
- * them, the other rows are left as they are, and progress counts those
- * rows.  For sharing one frame among processes (seabake render under MPI
- * interleaves the rows of its ranks). */
+/* The image's rows come in blocks of SEA_RENDER_ROW_BLOCK (block b: rows
+ * b SEA_RENDER_ROW_BLOCK up to the next block or the image's bottom),
+ * each rendered bottom row first (a pixel's rays start where the pixel
+ * below's met the sea, when that is provably no nearer than their own
+ * first hit). */
+enum { SEA_RENDER_ROW_BLOCK = 8 };
+/* sea_render_frame for the row blocks row0, row0 + step, ... of the image
+ * only (row0 >= 0, step >= 1, else SEA_ERR_DOMAIN; none when row0 is past
+ * the last block): those blocks' rows of img get exactly the values
+ * sea_render_frame gives them, the other rows are left as they are, and
+ * progress counts those rows.  For sharing one frame among processes
+ * (seabake render under MPI interleaves the blocks of its ranks). */
 sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, sea_image *img,
                            sea_progress_fn progress, void *ctx, sea_error *err);
 

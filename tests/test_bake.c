@@ -266,7 +266,10 @@ static void test_roughness_convention(void)
  * the render's pixel (sea_multires_pixel) and the bake's map point
  * (sea_multires_look_at at the pixel's mean-surface point) with the same
  * query, so the optics of the answer toward its directions give the
- * pixel's radiance: exactly (as float) at the pixel centre; within 1e-5
+ * pixel's radiance: exactly (as float) at the pixel centre (the render
+ * starts a pixel's rays at the hits of the pixel below where the ordering
+ * allows, sea_multires_pixel afresh: the same hits but where a ray grazes a
+ * crest, none here); within 1e-5
  * relative through the map point, which comes back through
  * sea_camera_project to within 1e-6 px of the centre and moves each ray's
  * point by about 1e-6 of a facet (a ray that grazes a crest there can

@@ -684,9 +684,9 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
  *    frame (sea_cli_mpi_agree); the frames after it that the round wrote
  *    are removed, so that what stays is what one process leaves: the
  *    frames before the failure.
- *  - one frame: rank k renders rows k, k + N, ... (sea_render_rows,
- *    interleaved so that sky and sea rows are shared evenly) and sends
- *    them to rank 0, which writes every file.
+ *  - one frame: rank k renders the blocks of SEA_RENDER_ROW_BLOCK rows
+ *    k, k + N, ... (sea_render_rows, interleaved so that sky and sea rows
+ *    are shared evenly) and sends them to rank 0, which writes every file.
  * Rank 0 alone shows progress and prints the summary, whose temperatures
  * are reduced over the ranks. */
 
@@ -820,23 +820,38 @@ static void image_planes(const sea_image *img, float *planes[RENDER_PLANES])
     planes[4] = img->reflectivity;
 }
 
-/* Rows k, k + N, ... of rank k > 0 to rank 0, through pack (rank 1's
- * share of rows, the largest, of every plane). */
-static void gather_rows(sea_image *img, float *pack, int rank, int size)
+/* The image rows of rank k's row blocks (k, k + N, ...; sea_render_rows),
+ * top first, into rows (NULL: only counted); returns their number. */
+static size_t rank_rows(size_t H, int k, int size, size_t *rows)
 {
-    const size_t W = (size_t)img->width;
+    const size_t B = SEA_RENDER_ROW_BLOCK, nb = (H + B - 1) / B;
+    size_t n = 0;
+    for (size_t b = (size_t)k; b < nb; b += (size_t)size)
+        for (size_t j = b * B; j < b * B + B && j < H; j++) {
+            if (rows != NULL)
+                rows[n] = j;
+            n++;
+        }
+    return n;
+}
+
+/* The rows of rank k > 0 to rank 0, through pack (room for the largest
+ * share of rows, of every plane) and rows (its row numbers). */
+static void gather_rows(sea_image *img, float *pack, size_t *rows, int rank, int size)
+{
+    const size_t W = (size_t)img->width, H = (size_t)img->height;
     float *planes[RENDER_PLANES];
     image_planes(img, planes);
     for (int k = 1; k < size; k++) {
         if (rank != 0 && rank != k)
             continue;
-        const size_t n = sea_cli_mpi_share((size_t)img->height, k, size);
+        const size_t n = rank_rows(H, k, size, rows);
         if (n == 0)
             continue;
         for (size_t i = 0; rank == k && i < n; i++)
             for (int p = 0; p < RENDER_PLANES; p++)
-                memcpy(pack + (i * RENDER_PLANES + (size_t)p) * W,
-                       planes[p] + ((size_t)k + i * (size_t)size) * W, W * sizeof *pack);
+                memcpy(pack + (i * RENDER_PLANES + (size_t)p) * W, planes[p] + rows[i] * W,
+                       W * sizeof *pack);
         const size_t bytes = n * RENDER_PLANES * W * sizeof *pack;
         if (rank == k) {
             sea_cli_mpi_send(pack, bytes, 0, k);
@@ -845,8 +860,8 @@ static void gather_rows(sea_image *img, float *pack, int rank, int size)
         sea_cli_mpi_recv(pack, bytes, k, k);
         for (size_t i = 0; i < n; i++)
             for (int p = 0; p < RENDER_PLANES; p++)
-                memcpy(planes[p] + ((size_t)k + i * (size_t)size) * W,
-                       pack + (i * RENDER_PLANES + (size_t)p) * W, W * sizeof *pack);
+                memcpy(planes[p] + rows[i] * W, pack + (i * RENDER_PLANES + (size_t)p) * W,
+                       W * sizeof *pack);
     }
 }
 
@@ -859,11 +874,16 @@ static sea_status render_rows_mpi(const render_setup *s, const sea_render *r, do
     sea_image img;
     sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
     float *pack = NULL;
+    size_t *rows = NULL, most = 0;
+    for (int k = 1; k < size; k++) {
+        const size_t n = rank_rows((size_t)s->sc.height, k, size, NULL);
+        most = n > most ? n : most;
+    }
     if (st == SEA_OK &&
-        (st = sea_check_size(sea_cli_mpi_share((size_t)s->sc.height, 1, size) * RENDER_PLANES, W * sizeof *pack,
-                             "the rows sent to rank 0", err)) == SEA_OK &&
-        (pack = malloc((sea_cli_mpi_share((size_t)s->sc.height, 1, size) * RENDER_PLANES * W + 1) *
-                       sizeof *pack)) == NULL)
+        (st = sea_check_size(most * RENDER_PLANES, W * sizeof *pack, "the rows sent to rank 0",
+                             err)) == SEA_OK &&
+        ((pack = malloc((most * RENDER_PLANES * W + 1) * sizeof *pack)) == NULL ||
+         (rows = malloc((most + 1) * sizeof *rows)) == NULL))
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
     char levels[SEA_CLIP_MAX_LEVELS * 24];
     levels_text(r, levels, sizeof levels);
@@ -875,7 +895,7 @@ static sea_status render_rows_mpi(const render_setup *s, const sea_render *r, do
         st = sea_fail(err, SEA_ERR_CANCELLED, "interrupted by signal %d: no file written",
                       sea_cli_interrupted());
     if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) == SEA_OK)
-        gather_rows(&img, pack, rank, size);
+        gather_rows(&img, pack, rows, rank, size);
     double t_min = INFINITY, t_max = -INFINITY;
     if (st == SEA_OK && rank == 0) {
         render_previews pv;
@@ -892,6 +912,7 @@ static sea_status render_rows_mpi(const render_setup *s, const sea_render *r, do
     sea_cli_progress_end(&prog.bar);
     st = sea_cli_mpi_agree(st, 0, NULL, err);
     free(pack);
+    free(rows);
     sea_image_free(&img);
     if (st != SEA_OK || s->quiet || rank != 0)
         return st;
