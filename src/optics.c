@@ -1273,13 +1273,18 @@ static double lambda_along(const sea_slope_stats *st, sea_dir d)
 typedef struct {
     int zero;
     double cos_psi0, pdf, g_over_D, S, J;
+    double ui[3], uo[3]; /* inc and obs as unit vectors (dir_vec's values) */
+    double ci, si, cpi, spi; /* cos and sin of inc's zenith and azimuth */
 } mirror_geom;
 
 static void mirror_geom_of(const sea_slope_stats *st, sea_dir inc, sea_dir obs, mirror_geom *m)
 {
-    double ui[3], uo[3];
+    double *ui = m->ui, *uo = m->uo;
     m->zero = 1;
-    dir_vec(inc, ui);
+    m->ci = cos(inc.theta), m->si = sin(inc.theta), m->cpi = cos(inc.phi), m->spi = sin(inc.phi);
+    ui[0] = m->si * m->cpi;
+    ui[1] = m->si * m->spi;
+    ui[2] = m->ci;
     dir_vec(obs, uo);
     /* Half vector h = ui + uo: 1 + cos(ui, uo) = |h|^2 / 2.  Written as a
      * sum of squares it keeps its relative accuracy where 1 + ui.uo
@@ -1956,16 +1961,16 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
                               m.J;
     if (!(radius > 0.0))
         return;
-    double ui[3], uo[3], g0[2];
-    dir_vec(inc, ui);
-    dir_vec(obs, uo);
+    const double *ui = m.ui, *uo = m.uo;
+    double g0[2];
     if (!(ui[2] + uo[2] > 0.0))
         return;
     mirror_slope(ui, uo, g0);
-    /* M: derivatives of the mirror slope along e1 (zenith) and e2 (azimuth) */
+    /* M: derivatives of the mirror slope along e1 (zenith) and e2 (azimuth)
+     * (the sines and cosines of dir_vec's ui) */
     const double hz = ui[2] + uo[2];
     const double h[3] = { ui[0] + uo[0], ui[1] + uo[1], hz };
-    const double ct = cos(inc.theta), stt = sin(inc.theta), cp = cos(inc.phi), sp = sin(inc.phi);
+    const double ct = m.ci, stt = m.si, cp = m.cpi, sp = m.spi;
     const double e[2][3] = { { ct * cp, ct * sp, -stt }, { -sp, cp, 0.0 } };
     double M[2][2]; /* M[row: gamma x, y][col: e1, e2] */
     for (int c = 0; c < 2; c++) {
