@@ -737,18 +737,21 @@ static void axpy(sea_moments *acc, double w, const sea_moments *m)
     acc->h += w * m->h;
 }
 
-/* The point moments of level l's chain at (x, y); *dominant gets the
- * level of largest weight (and *dw that weight). */
+/* The point moments of level l's chain at (x, y) into o (NULL: the
+ * weights alone); *dominant gets the level of largest weight (and *dw that
+ * weight). */
 static void chain_moments(const sea_multires_frame *f, int l, double x, double y, sea_moments *o,
                           int *dominant, double *dw)
 {
     const sea_multires *mr = f->mr;
-    memset(o, 0, sizeof *o);
+    if (o != NULL)
+        memset(o, 0, sizeof *o);
     double rest = 1.0, best = -1.0;
     *dominant = mr->first_lr;
     for (int q = l; q <= LEVEL_MAX && rest > 0.0; q++) {
         if (q >= mr->first_lr) {
-            axpy(o, rest, &mr->lr);
+            if (o != NULL)
+                axpy(o, rest, &mr->lr);
             if (rest > best) {
                 best = rest;
                 *dominant = mr->first_lr;
@@ -760,9 +763,11 @@ static void chain_moments(const sea_multires_frame *f, int l, double x, double y
         const double w = win_weight(&f->win[q], x, y);
         if (w <= 0.0)
             continue;
-        const sea_moments m = hf_point(f->hf[q], x, y);
         const double share = rest * w;
-        axpy(o, share, &m);
+        if (o != NULL) {
+            const sea_moments m = hf_point(f->hf[q], x, y);
+            axpy(o, share, &m);
+        }
         if (share > best) {
             best = share;
             *dominant = q;
@@ -1819,13 +1824,12 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
     out->range = sqrt((q[0] - cam->pos[0]) * (q[0] - cam->pos[0]) +
                       (q[1] - cam->pos[1]) * (q[1] - cam->pos[1]) +
                       (q[2] - cam->pos[2]) * (q[2] - cam->pos[2]));
-    sea_moments unused;
     double dw;
-    chain_moments(f, p->level, out->x, out->y, &unused, &out->level, &dw);
+    chain_moments(f, p->level, out->x, out->y, NULL, &out->level, &dw);
     if (p->neighbour >= 0 && p->alpha > 0.0) {
         int dn;
         double wn;
-        chain_moments(f, p->neighbour, out->x, out->y, &unused, &dn, &wn);
+        chain_moments(f, p->neighbour, out->x, out->y, NULL, &dn, &wn);
         if (p->alpha * wn > (1.0 - p->alpha) * dw)
             out->level = dn;
     }

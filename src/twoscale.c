@@ -161,6 +161,7 @@ struct sea_two_scale_table {
     double complex N;
     sea_cov2 split_sub, total;
     double wind_dir;
+    double cw, sw; /* cos and sin of wind_dir */
     double tr_h, tr_lr;
     /* ready[it]: row it computed (read with acquire, written with release
      * after its values) */
@@ -190,6 +191,8 @@ sea_status sea_two_scale_table_alloc(const sea_optics *p, double complex N, sea_
     t->split_sub = split_sub;
     t->total = total;
     t->wind_dir = wind_dir;
+    t->cw = cos(wind_dir);
+    t->sw = sin(wind_dir);
     t->tr_h = tr_h;
     t->tr_lr = tr_lr;
     *out = t;
@@ -287,7 +290,7 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
         return SEA_OK; /* below the table's first angle (or not a number): nothing to add */
     /* the wind's direction projected on the plane: the azimuth is read
      * from it, whatever the scene's axes */
-    const double cw = cos(t->wind_dir), sw = sin(t->wind_dir);
+    const double cw = t->cw, sw = t->sw;
     const double wn = cw * n[0] + sw * n[1];
     double ex[3] = { cw - wn * n[0], sw - wn * n[1], -wn * n[2] };
     const double ne = sqrt(ex[0] * ex[0] + ex[1] * ex[1] + ex[2] * ex[2]);
