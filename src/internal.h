@@ -135,4 +135,18 @@ SEA_INTERNAL void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, 
                                             const sea_multires_hint *below,
                                             sea_multires_hint *top, sea_multires_sample *out);
 
+/* sensor.c, for the multiresolution plan.  Where the ray through image
+ * point (u, v) meets the sea: 1 and its map point (x, y) as
+ * sea_camera_pixel gives it, or 0 (a miss; x and y then unspecified). */
+SEA_INTERNAL int sea_camera_corner(const sea_camera *c, double u, double v, double *x, double *y);
+/* sea_camera_pixel's hit, x, y, range, normal and footprint (bit for bit;
+ * obs and ray are left 0) with the four corners of the pixel already
+ * found: (px[k], py[k]) the sea_camera_corner points of (u, v) + (-1/2,
+ * -1/2), (1/2, -1/2), (1/2, 1/2), (-1/2, 1/2), k = 0..3, and corners_hit 1
+ * when all four met the sea (else px, py are not read).  Neighbouring
+ * pixels share corners, so an image's corners can be found once each. */
+SEA_INTERNAL void sea_camera_pixel_cornered(const sea_camera *c, double u, double v,
+                                            const double px[4], const double py[4],
+                                            int corners_hit, sea_pixel_geom *g);
+
 #endif /* SEABAKE_INTERNAL_H */

@@ -784,18 +784,6 @@ typedef struct {
 
 /* Fills g.  Pure. */
 void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g);
-/* Where the ray through image point (u, v) meets the sea: 1 and its map
- * point (x, y) as sea_camera_pixel gives it, or 0 (a miss; x and y then
- * unspecified).  Pure. */
-int sea_camera_corner(const sea_camera *c, double u, double v, double *x, double *y);
-/* sea_camera_pixel with the four corners of the pixel already found (the
- * same g, bit for bit): (px[k], py[k]) the sea_camera_corner points of
- * (u, v) + (-1/2, -1/2), (1/2, -1/2), (1/2, 1/2), (-1/2, 1/2), k = 0..3,
- * and corners_hit 1 when all four met the sea (else px, py are not read).
- * Neighbouring pixels share corners, so an image's corners can be found
- * once each.  Pure. */
-void sea_camera_pixel_cornered(const sea_camera *c, double u, double v, const double px[4],
-                               const double py[4], int corners_hit, sea_pixel_geom *g);
 /* sea_camera_pixel's g.hit alone (the ray through (u, v) meets the sea),
  * without the rest of its work.  Pure. */
 int sea_camera_hits(const sea_camera *c, double u, double v);

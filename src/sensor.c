@@ -13,6 +13,7 @@
 #include <math.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 static double dot3(const double a[3], const double b[3])
 {
@@ -184,17 +185,20 @@ static void footprint_of(const double px[4], const double py[4], int corners_hit
 }
 
 /* sea_camera_pixel up to the footprint: returns 0 for a sky pixel (g then
- * complete). */
-static int pixel_centre(const sea_camera *c, double u, double v, sea_pixel_geom *g)
+ * complete); without angles, g.ray and g.obs are left 0. */
+static int pixel_centre(const sea_camera *c, double u, double v, int angles, sea_pixel_geom *g)
 {
     double d[3], q[3];
     sea_camera_ray(c, u, v, d);
     g->hit = intersect(c, d, q, g->normal, &g->x, &g->y, &g->range);
-    const double cz = fmax(-1.0, fmin(1.0, d[2]));
-    g->ray.theta = acos(cz);
-    g->ray.phi = atan2(d[1], d[0]);
-    if (g->ray.phi < 0.0)
-        g->ray.phi += 2.0 * M_PI;
+    g->ray = g->obs = (sea_dir){ 0.0, 0.0 };
+    if (angles) {
+        const double cz = fmax(-1.0, fmin(1.0, d[2]));
+        g->ray.theta = acos(cz);
+        g->ray.phi = atan2(d[1], d[0]);
+        if (g->ray.phi < 0.0)
+            g->ray.phi += 2.0 * M_PI;
+    }
     if (!g->hit) {
         g->x = g->y = g->range = 0.0;
         g->obs = (sea_dir){ 0.0, 0.0 };
@@ -203,8 +207,10 @@ static int pixel_centre(const sea_camera *c, double u, double v, sea_pixel_geom 
         g->normal[2] = 1.0;
         return 0;
     }
-    const double back[3] = { -d[0], -d[1], -d[2] };
-    g->obs = sea_camera_local_dir(g, back);
+    if (angles) {
+        const double back[3] = { -d[0], -d[1], -d[2] };
+        g->obs = sea_camera_local_dir(g, back);
+    }
     return 1;
 }
 
@@ -217,7 +223,7 @@ int sea_camera_corner(const sea_camera *c, double u, double v, double *x, double
 
 void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g)
 {
-    if (!pixel_centre(c, u, v, g))
+    if (!pixel_centre(c, u, v, 1, g))
         return;
     double px[4], py[4];
     const double du[4] = { -0.5, 0.5, 0.5, -0.5 }, dv[4] = { -0.5, -0.5, 0.5, 0.5 };
@@ -230,7 +236,7 @@ void sea_camera_pixel(const sea_camera *c, double u, double v, sea_pixel_geom *g
 void sea_camera_pixel_cornered(const sea_camera *c, double u, double v, const double px[4],
                                const double py[4], int corners_hit, sea_pixel_geom *g)
 {
-    if (pixel_centre(c, u, v, g))
+    if (pixel_centre(c, u, v, 0, g))
         footprint_of(px, py, corners_hit, g);
 }
 
