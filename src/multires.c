@@ -1835,13 +1835,6 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
     }
 }
 
-void sea_multires_pixel(const sea_multires_frame *f, int i, int j, sea_multires_sample *out)
-{
-    const sea_multires *mr = f->mr;
-    const mr_pixel *p = &mr->px[(size_t)j * (size_t)mr->cam.width + (size_t)i];
-    look(f, (double)i + 0.5, (double)j + 0.5, p, NULL, NULL, out);
-}
-
 void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, int j,
                                const sea_multires_hint *below, sea_multires_hint *top,
                                sea_multires_sample *out)
@@ -1849,6 +1842,11 @@ void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, int j,
     const sea_multires *mr = f->mr;
     const mr_pixel *p = &mr->px[(size_t)j * (size_t)mr->cam.width + (size_t)i];
     look(f, (double)i + 0.5, (double)j + 0.5, p, below, top, out);
+}
+
+void sea_multires_pixel(const sea_multires_frame *f, int i, int j, sea_multires_sample *out)
+{
+    sea_multires_pixel_hinted(f, i, j, NULL, NULL, out);
 }
 
 void sea_multires_look(const sea_multires_frame *f, double u, double v, sea_multires_sample *out)

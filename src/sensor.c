@@ -139,9 +139,8 @@ static int intersect(const sea_camera *c, const double d[3], double q[3], double
 
 int sea_camera_hits(const sea_camera *c, double u, double v)
 {
-    double d[3], q[3], n[3], x, y, t;
-    sea_camera_ray(c, u, v, d);
-    return intersect(c, d, q, n, &x, &y, &t);
+    double x, y;
+    return sea_camera_corner(c, u, v, &x, &y);
 }
 
 sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3])
@@ -201,7 +200,6 @@ static int pixel_centre(const sea_camera *c, double u, double v, int angles, sea
     }
     if (!g->hit) {
         g->x = g->y = g->range = 0.0;
-        g->obs = (sea_dir){ 0.0, 0.0 };
         footprint_of(NULL, NULL, 0, g);
         g->normal[0] = g->normal[1] = 0.0;
         g->normal[2] = 1.0;

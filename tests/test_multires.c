@@ -350,6 +350,21 @@ static sea_scene lean_scene(void)
     return sc;
 }
 
+/* lean_scene seen 15 m up, look_zenith_deg from nadir through a 20 degree
+ * field (grazing, with the horizon in view), flat or round earth, the
+ * windows around the pixels that read them. */
+static sea_scene grazing_scene(int round_earth, double look_zenith_deg)
+{
+    sea_scene sc = lean_scene();
+    sc.method = SEA_METHOD_VARIABLE_STEP;
+    sc.windows = SEA_WINDOWS_VIEW;
+    sc.earth = round_earth ? SEA_EARTH_SPHERICAL : SEA_EARTH_FLAT;
+    sc.look_zenith = look_zenith_deg * DEG;
+    sc.hfov = 20.0 * DEG;
+    sc.altitude = 15.0;
+    return sc;
+}
+
 static void prepare_frame(const sea_scene *sc, sea_render **r, sea_multires_frame **f)
 {
     sea_error err;
@@ -436,13 +451,7 @@ static void test_lean_footprint(void)
 static void test_hinted_rows(void)
 {
     for (int earth = 0; earth < 2; earth++) {
-        sea_scene sc = lean_scene();
-        sc.method = SEA_METHOD_VARIABLE_STEP;
-        sc.windows = SEA_WINDOWS_VIEW;
-        sc.earth = earth ? SEA_EARTH_SPHERICAL : SEA_EARTH_FLAT;
-        sc.look_zenith = 85.0 * DEG;
-        sc.hfov = 20.0 * DEG;
-        sc.altitude = 15.0;
+        sea_scene sc = grazing_scene(earth, 85.0);
         sc.width = 40;
         sc.height = 4 * SEA_RENDER_ROW_BLOCK;
         sea_render *r;
@@ -500,13 +509,7 @@ static void test_hinted_rows(void)
 static void test_query(void)
 {
     for (int earth = 0; earth < 2; earth++) {
-        sea_scene sc = lean_scene();
-        sc.method = SEA_METHOD_VARIABLE_STEP;
-        sc.windows = SEA_WINDOWS_VIEW;
-        sc.earth = earth ? SEA_EARTH_SPHERICAL : SEA_EARTH_FLAT;
-        sc.look_zenith = 84.0 * DEG; /* grazing, with the horizon in view */
-        sc.hfov = 20.0 * DEG;
-        sc.altitude = 15.0;
+        sea_scene sc = grazing_scene(earth, 84.0);
         sea_render *r;
         sea_multires_frame *f;
         prepare_frame(&sc, &r, &f);
