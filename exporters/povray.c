@@ -172,6 +172,11 @@ static sea_status check_options(const sea_pov_options *o, sea_error *err)
                 return sea_fail(err, SEA_ERR_DOMAIN, "POV-Ray export: horizon azimuth %zu = %g",
                                 j, hz->az[j]);
     }
+    if (o->sensor_file != NULL && !valid_map_name(o->sensor_file))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "POV-Ray export: sensor map name \"%s\" must be a relative path "
+                        "without '\"', '\\' or control characters",
+                        o->sensor_file);
     for (size_t i = 0; i < o->n_samples; i++)
         if (!(isfinite(o->wavelength[i]) && o->wavelength[i] > 0.0 &&
               finite_in(o->weight[i], 0.0, HUGE_VAL)))
@@ -259,13 +264,82 @@ static int clip_hole(const sea_pov_level *l, double *hx0, double *hy0, double *h
 
 /* The map of a level: its file name, or with frames the expression that
  * names the current frame's file. */
-static void put_map(FILE *f, const sea_pov_level *l, const sea_pov_options *o)
+static void put_map(FILE *f, const char *file, const sea_pov_options *o)
 {
     if (o->framed)
-        fprintf(f, "concat(\"%s\", str(Seabake_Frame, -%d, 0), \".exr\")", l->emission_file,
+        fprintf(f, "concat(\"%s\", str(Seabake_Frame, -%d, 0), \".exr\")", file,
                 o->frame_digits);
     else
-        fprintf(f, "\"%s\"", l->emission_file);
+        fprintf(f, "\"%s\"", file);
+}
+
+/* The texture tex of an object lowered by drop (<= 0), projected from the
+ * sensor where the sensor sees (Seabake_Sensor_Texture). */
+static void put_texture(FILE *f, const char *tex, double drop, const sea_pov_options *o)
+{
+    if (o->sensor_file != NULL)
+        fprintf(f, "Seabake_Sensor_Texture(%s, %.17g)", tex, drop);
+    else
+        fputs(tex, f);
+}
+
+/* The sensor's image projected from its position: the functions of a
+ * world point <x, y, z> (POV axes) that give its image coordinates (u
+ * right, v up, 0 to 1 over the image, as an image_map's) and whether it is
+ * in view, and the image as a function. */
+static void write_sensor(FILE *f, const sea_camera *cam, const sea_pov_options *o)
+{
+    const double *c = cam->pos;
+    /* POV axes: <east, up, north> */
+    const double F[3] = { cam->fwd[0], cam->fwd[2], cam->fwd[1] },
+                 R[3] = { cam->right[0], cam->right[2], cam->right[1] },
+                 U[3] = { cam->up[0], cam->up[2], cam->up[1] }, C[3] = { c[0], c[2], c[1] };
+    fputs("\n// The sensor's image (the radiance seabake render gives each pixel, scaled),\n"
+          "// projected from the sensor: a point in view shows the value of the pixel\n"
+          "// whose ray meets it, so that from Seabake_Camera the sea is seabake's image\n"
+          "// pixel for pixel (waves, glint and horizon included).  Points the sensor\n"
+          "// does not see show their level's map.  Seabake_Sensor_U/V: the image\n"
+          "// coordinates of a world point (0 to 1, v up), Seabake_Sensor_Seen: 1 in\n"
+          "// view, else 0.\n",
+          f);
+    fprintf(f, "#declare Seabake_Sensor_Depth = function(x, y, z) {\n"
+               "  (x - %.17g) * %.17g + (y - %.17g) * %.17g + (z - %.17g) * %.17g }\n",
+            C[0], F[0], C[1], F[1], C[2], F[2]);
+    fprintf(f, "#declare Seabake_Sensor_U = function(x, y, z) {\n"
+               "  0.5 + %.17g * ((x - %.17g) * %.17g + (y - %.17g) * %.17g + (z - %.17g) * %.17g)\n"
+               "        / Seabake_Sensor_Depth(x, y, z) }\n",
+            cam->focal / cam->width, C[0], R[0], C[1], R[1], C[2], R[2]);
+    fprintf(f, "#declare Seabake_Sensor_V = function(x, y, z) {\n"
+               "  0.5 + %.17g * ((x - %.17g) * %.17g + (y - %.17g) * %.17g + (z - %.17g) * %.17g)\n"
+               "        / Seabake_Sensor_Depth(x, y, z) }\n",
+            cam->focal / cam->height, C[0], U[0], C[1], U[1], C[2], U[2]);
+    fputs("#declare Seabake_Sensor_Seen = function(x, y, z) {\n"
+          "  (Seabake_Sensor_Depth(x, y, z) > 0)\n"
+          "  & (Seabake_Sensor_U(x, y, z) >= 0) & (Seabake_Sensor_U(x, y, z) <= 1)\n"
+          "  & (Seabake_Sensor_V(x, y, z) >= 0) & (Seabake_Sensor_V(x, y, z) <= 1) }\n",
+          f);
+    fputs("#declare Seabake_Sensor_Image = function { pigment { image_map {\n  exr ", f);
+    put_map(f, o->sensor_file, o);
+    fputs(" interpolate 2 once } } }\n", f);
+    fputs("// Tex outside the sensor's view, the projected image inside, for an object\n"
+          "// lowered by Drop (<= 0) so that the projection takes the point where it is.\n"
+          "#macro Seabake_Sensor_Texture(Tex, Drop)\n"
+          "  texture {\n"
+          "    function { Seabake_Sensor_Seen(x, y + Drop, z) }\n"
+          "    texture_map {\n"
+          "      [0.5 Tex]\n"
+          "      // 65536: above every half float, so the pattern stays in [0, 1)\n"
+          "      [0.5 pigment {\n"
+          "             function { Seabake_Sensor_Image(Seabake_Sensor_U(x, y + Drop, z),\n"
+          "                                             Seabake_Sensor_V(x, y + Drop, z), 0).red\n"
+          "                        / 65536 }\n"
+          "             color_map { [0 rgb 0] [1 rgb 65536] }\n"
+          "           }\n"
+          "           finish { emission 1 diffuse 0 ambient 0 specular 0 phong 0 reflection 0 }]\n"
+          "    }\n"
+          "  }\n"
+          "#end\n",
+          f);
 }
 
 /* The horizon mesh: node (i, j) of the grid at its sea point (on the
@@ -274,7 +348,7 @@ static void put_map(FILE *f, const sea_pov_level *l, const sea_pov_options *o)
  * first ring is the nadir point itself), lowered by `drop` (< 0) below the
  * rings. */
 static void write_horizon(FILE *f, const sea_camera *cam, const sea_bake_horizon *hz,
-                          const char *file, double drop)
+                          const char *file, double drop, const sea_pov_options *o)
 {
     const size_t na = hz->n_arc, nz = hz->n_az, nv = na * nz;
     size_t nf = 0;
@@ -308,7 +382,11 @@ static void write_horizon(FILE *f, const sea_camera *cam, const sea_bake_horizon
                 fprintf(f, ",\n    <%zu, %zu, %zu>", a, b, c);
             fprintf(f, ",\n    <%zu, %zu, %zu>", a, c, d);
         }
-    fprintf(f, "\n  }\n  Seabake_Emission_Map(\"%s\")\n", file);
+    char tex[256];
+    snprintf(tex, sizeof tex, "Seabake_Emission_Map(\"%s\")", file);
+    fputs("\n  }\n  ", f);
+    put_texture(f, tex, drop, o);
+    fputs("\n", f);
     if (drop < 0.0)
         fprintf(f, "  translate <0, %.17g, 0> // below the rings\n", drop);
     fputs("}\n", f);
@@ -409,7 +487,10 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
     put_vec(f, cam->right, (double)cam->width);
     fputs("\n  up ", f);
     put_vec(f, cam->up, (double)cam->height);
-    fputs("\n}\n\n", f);
+    fputs("\n}\n", f);
+    if (o->sensor_file != NULL)
+        write_sensor(f, cam, o);
+    fputs("\n", f);
 
     fprintf(f, "// The sea: one ring per clipmap level, each the level's rectangle minus the\n"
           "// next finer level's.  Each coarser level sits %g finest facets lower, so\n"
@@ -437,7 +518,7 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
         fputs("\n", f);
         if (l->emission_file != NULL) {
             fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Map(", k);
-            put_map(f, l, o);
+            put_map(f, l->emission_file, o);
             fputs(")\n", f);
         } else {
             fprintf(f,
@@ -449,19 +530,23 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
         size_t rank = 0;
         for (size_t m = 0; m < n; m++)
             rank += lv[m].facet < l->facet;
+        const double drop = -SEA_POV_LAYER * finest * (double)rank;
+        char tex[64];
+        snprintf(tex, sizeof tex, "Seabake_Texture_%zu", k);
         fprintf(f,
                 "#declare Seabake_Level_%zu = object {\n"
                 "  Seabake_Ring(%.17g, %.17g, %.17g, %.17g, %d, %.17g, %.17g, %.17g, %.17g,\n"
-                "               Seabake_Texture_%zu)\n",
-                k, l->x0, l->y0, l->w, l->h, hole, hx0, hy0, hx1 - hx0, hy1 - hy0, k);
+                "               ",
+                k, l->x0, l->y0, l->w, l->h, hole, hx0, hy0, hx1 - hx0, hy1 - hy0);
+        put_texture(f, tex, drop, o);
+        fputs(")\n", f);
         if (rank > 0)
-            fprintf(f, "  translate <0, %.17g, 0> // below the finer levels\n",
-                    -SEA_POV_LAYER * finest * (double)rank);
+            fprintf(f, "  translate <0, %.17g, 0> // below the finer levels\n", drop);
         fputs("}\n", f);
     }
     if (o->horizon != NULL)
         write_horizon(f, cam, o->horizon, o->horizon_file,
-                      n > 0 ? -SEA_POV_LAYER * finest * (double)n : 0.0);
+                      n > 0 ? -SEA_POV_LAYER * finest * (double)n : 0.0, o);
     fputs("\n#declare Seabake_Sea = union {\n", f);
     for (size_t k = 0; k < n; k++)
         if (shown[k])

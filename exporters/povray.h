@@ -65,6 +65,13 @@ typedef struct {
      * name, as emission_file), texel (j, row n_arc - 1 - i) at node (i, j). */
     const sea_bake_horizon *horizon;
     const char *horizon_file;
+    /* The sensor's image (may be NULL: the maps alone): an RGB EXR of the
+     * radiance seabake render gives each pixel, times the scale, row 0 at
+     * the top (a relative name as emission_file; with frames the name up to
+     * the frame number).  Within the camera's view every ring and the
+     * horizon mesh show it projected from the camera's position (the value
+     * of the pixel whose ray meets the point), elsewhere their maps. */
+    const char *sensor_file;
 } sea_pov_options;
 
 /* Largest value POV-Ray can read from or write to a half-float EXR. */

@@ -113,12 +113,15 @@ def pixels(img):
 
 
 def map_files(m, directory):
-    """(level index, group, channels, path) of every map of the first frame."""
+    """(level index, group, channels, path) of every map of the first frame,
+    and the sensor's image (level None) when the bake projects it."""
     for lv in m["levels"]:
         if lv["low_res"]:
             continue
         for group, names in lv["frames"][0]["files"].items():
             yield lv["index"], group, len(lv["maps"][group]), os.path.join(directory, names["exr"])
+    if "sensor" in m:
+        yield None, "sensor", 3, os.path.join(directory, m["sensor"]["frames"][0]["exr"])
 
 
 def check_maps(m, directory, driver, workdir):

@@ -1565,6 +1565,17 @@ check_match bake.explain_waves "$SB_ERR" "bake: waves: [0-9]+ sinusoids"
 sb_run bake "$RSCENE" -o "$BDIR/k5" --emission-texels 5 --quiet
 check_rc bake.k5 0
 check bake.k5_manifest grep -q '"emission_texels"' "$BDIR/k5/manifest.json"
+# The exports project the sensor's image by default (sensor.exr, listed in
+# the manifest, named in sea.inc); --emission-space map leaves it out.
+sb_run bake "$RSCENE" -o "$BDIR/space" --pov --quiet
+check_rc bake.space_sensor 0
+check bake.space_sensor_file test -s "$BDIR/space/sensor.exr"
+check bake.space_sensor_manifest grep -q '"exr":[[:space:]]*"sensor.exr"' "$BDIR/space/manifest.json"
+check bake.space_sensor_inc grep -q 'exr "sensor.exr"' "$BDIR/space/sea.inc"
+sb_run bake "$RSCENE" -o "$BDIR/space" --pov --emission-space map --quiet
+check_rc bake.space_map 0
+check_eq bake.space_map_no_file "$(ls "$BDIR/space" | grep -c sensor)" 0
+check_eq bake.space_map_no_inc "$(grep -c Seabake_Sensor "$BDIR/space/sea.inc")" 0
 
 # Failures leave DIR exactly as it was, and nothing beside it.
 before=$(bake_state "$BDIR/out")
@@ -1578,6 +1589,10 @@ sb_run bake "$RSCENE" -o "$BDIR/out" --compression lzw
 check_error bake.bad_compression 2 "--compression: 'lzw' is not none, zip or piz"
 sb_run bake "$RSCENE" -o "$BDIR/out" --frame-rate 10
 check_error bake.rate_alone 2 "--frame-rate applies only with --frames"
+sb_run bake "$RSCENE" -o "$BDIR/out" --emission-space map
+check_error bake.space_alone 2 "--emission-space applies only with --pov or --blender"
+sb_run bake "$RSCENE" -o "$BDIR/out" --pov --emission-space texels
+check_error bake.bad_space 2 "--emission-space: 'texels' is not sensor or map"
 sb_run bake "$RSCENE" -o "$BDIR/pov" --pov
 check_rc bake.pov.rc 0
 for f in scene.pov sea.inc scene.ini seabake.inc; do

@@ -293,9 +293,61 @@ def image_node(nt, img, interpolation, location):
     return node
 
 
+# The sensor's image projected from its position (--emission-space sensor):
+# set by build() to (image, camera object, focal / width, focal / height).
+SENSOR = None
+
+
+def sensor_projection(nt, em_map):
+    """The projected sensor image where the sensor sees, em_map elsewhere:
+    the shading point in the camera's axes (x right, y up, -z forward),
+    u = 1/2 + (f / W) x / -z, v = 1/2 + (f / H) y / -z (Blender's image
+    origin is the bottom row, as the image's row H - 1), seen when -z > 0
+    and 0 <= u, v <= 1.  Returns the shader to wire to the output."""
+    img, cam_obj, kx, ky = SENSOR
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    tc.object = cam_obj
+    tc.location = (-1200, -300)
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    sep.location = (-1000, -300)
+    nt.links.new(tc.outputs["Object"], sep.inputs["Vector"])
+    depth = math_node(nt, "MULTIPLY", sep.outputs["Z"], -1.0, (-800, -500))
+    u = math_node(nt, "DIVIDE", sep.outputs["X"], depth, (-800, -200))
+    u = math_node(nt, "MULTIPLY_ADD", u, kx, (-600, -200))
+    u.node.inputs[2].default_value = 0.5
+    v = math_node(nt, "DIVIDE", sep.outputs["Y"], depth, (-800, -350))
+    v = math_node(nt, "MULTIPLY_ADD", v, ky, (-600, -350))
+    v.node.inputs[2].default_value = 0.5
+    comb = nt.nodes.new("ShaderNodeCombineXYZ")
+    comb.location = (-400, -300)
+    nt.links.new(u, comb.inputs["X"])
+    nt.links.new(v, comb.inputs["Y"])
+    tex = image_node(nt, img, "Linear", (-200, -300))
+    nt.links.new(comb.outputs["Vector"], tex.inputs["Vector"])
+    em = nt.nodes.new("ShaderNodeEmission")
+    em.location = (100, -300)
+    em.inputs["Strength"].default_value = 1.0
+    nt.links.new(tex.outputs["Color"], em.inputs["Color"])
+    # seen: depth > 0, u and v in [0, 1] (1 - (x < 0) - (x > 1) for each)
+    seen = math_node(nt, "GREATER_THAN", depth, 0.0, (-600, -600))
+    for k, c in enumerate((u, v)):
+        lo = math_node(nt, "LESS_THAN", c, 0.0, (-400, -600 - 150 * k))
+        hi = math_node(nt, "GREATER_THAN", c, 1.0, (-400, -675 - 150 * k))
+        out_k = math_node(nt, "SUBTRACT", 1.0, lo, (-200, -600 - 150 * k))
+        out_k = math_node(nt, "SUBTRACT", out_k, hi, (0, -600 - 150 * k))
+        seen = math_node(nt, "MULTIPLY", seen, out_k, (200, -600 - 150 * k))
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    mix.location = (400, 0)
+    nt.links.new(seen, mix.inputs["Fac"])
+    nt.links.new(em_map.outputs["Emission"], mix.inputs[1])
+    nt.links.new(em.outputs["Emission"], mix.inputs[2])
+    return mix.outputs["Shader"]
+
+
 def emission_material(name, constant=None, img=None,
                       interpolation="Linear"):
-    """Emission: the map's RGB (or a constant) emitted with strength 1."""
+    """Emission: the map's RGB (or a constant) emitted with strength 1; with
+    SENSOR, the sensor's image projected where the sensor sees."""
     mat, nt, out = new_material(name)
     em = nt.nodes.new("ShaderNodeEmission")
     em.location = (300, 0)
@@ -305,7 +357,8 @@ def emission_material(name, constant=None, img=None,
         nt.links.new(tex.outputs["Color"], em.inputs["Color"])
     else:
         em.inputs["Color"].default_value = (constant, constant, constant, 1.0)
-    nt.links.new(em.outputs["Emission"], out.inputs["Surface"])
+    shader = em.outputs["Emission"] if SENSOR is None else sensor_projection(nt, em)
+    nt.links.new(shader, out.inputs["Surface"])
     return mat
 
 
@@ -510,7 +563,7 @@ def render_settings(scene, material="emission"):
 # --------------------------------------------------------------------- main
 
 def build(manifest_path, frame, material):
-    global SEQUENCE
+    global SEQUENCE, SENSOR
     m = load_manifest(manifest_path)
     first, last = frame_range(m, manifest_path)
     if frame is not None and not first <= frame <= last:
@@ -531,7 +584,19 @@ def build(manifest_path, frame, material):
     scene = bpy.context.scene
     set_frames(scene, m, first, last)
     render_settings(scene, material)
-    make_camera(scene, cam)
+    cam_obj = make_camera(scene, cam)
+    SENSOR = None
+    sensor = m.get("sensor")
+    if sensor is not None:
+        # A sequence is loaded from its first frame's file.
+        entries = sensor.get("frames") or fail("%s: \"sensor\" lists no frames" % manifest_path)
+        entry = entries[0] if SEQUENCE else next(
+            (e for e in entries if frame is None or int(e["frame"]) == frame), None)
+        if entry is None:
+            fail("%s: no sensor image for frame %d" % (manifest_path, frame))
+        focal = float(cam["focal_px"])
+        SENSOR = (load_map(directory, entry["exr"], 3), cam_obj,
+                  focal / int(cam["width"]), focal / int(cam["height"]))
     sun = None
     if material == "visible":
         make_world(scene, 1.0, SKY_VISIBLE)
@@ -604,11 +669,12 @@ def build(manifest_path, frame, material):
         coll.objects.link(obj)
         rings += 1
     scene.frame_set(first if frame is None else frame)
-    print("seabake_import: %d ring%s%s of %d levels, %s, material %s%s, emission scale %g"
+    print("seabake_import: %d ring%s%s of %d levels%s, %s, material %s%s, emission scale %g"
           % (rings, "" if rings == 1 else "s",
              " and the horizon mesh (%d x %d nodes)"
              % (len(horizon["arc_m"]), len(horizon["azimuth_deg"])) if horizon_built else "",
              len(levels),
+             ", the sensor's image projected where it sees" if SENSOR is not None else "",
              "frame %d" % first if last == first else
              "frames %d to %d at %g Hz (now %d)" % (first, last, float(m["frame_rate_hz"]),
                                                     scene.frame_current),

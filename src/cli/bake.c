@@ -61,6 +61,9 @@ static const double BAKE_EMISSION_TARGET = 1000.0;
 /* The low-resolution sea to the horizon, for --pov and --blender
  * (sea_bake_horizon_make): its map, scaled as the emission maps. */
 static const char HORIZON_MAP[] = "horizon.exr";
+/* The sensor's image for --emission-space sensor: "sensor.exr", with
+ * frames "sensor_FFFF.exr" (SENSOR_PREFIX and the frame number). */
+static const char SENSOR_PREFIX[] = "sensor_";
 static const int BAKE_MANIFEST_VERSION = 1;
 
 /* The quantities a texel can carry. */
@@ -153,6 +156,11 @@ static const char BAKE_HELP[] =
     "                      at the scene's time, no number\n"
     "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
     "  --emission-texels K emission texels per facet side, odd, 1 to 7 (default 3)\n"
+    "  --emission-space S  what the exported sea shows where the sensor sees it:\n"
+    "                      sensor (default: the sensor's image, DIR/sensor.exr,\n"
+    "                      projected from its position, so that the sensor's view\n"
+    "                      is seabake render's image) or map (each level's\n"
+    "                      emission map); only with --pov or --blender\n"
     "  --pov               also a POV-Ray scene: DIR/scene.pov, sea.inc (the sea, to\n"
     "                      include in a scene of your own), scene.ini, seabake.inc;\n"
     "                      with --frames, scene.ini renders every frame\n"
@@ -193,6 +201,7 @@ typedef struct {
     long view_k; /* emission texels per facet side */
     bool explain;
     bool blender;
+    bool sensor; /* --emission-space sensor: the exports project the sensor's image */
 } bake_setup;
 
 static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error *err)
@@ -224,6 +233,14 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
                         "hold the facet centres)",
                         s->view_k, SEA_BAKE_VIEW_K_MAX);
     s->blender = sea_cli_given(args, "blender");
+    const char *space = sea_cli_args_get(args, "emission-space");
+    if (space != NULL && strcmp(space, "sensor") != 0 && strcmp(space, "map") != 0)
+        return sea_fail(err, SEA_ERR_PARSE, "--emission-space: '%s' is not sensor or map", space);
+    if (space != NULL && !s->pov && !s->blender)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--emission-space applies only with --pov or --blender (it chooses what "
+                        "their sea shows)");
+    s->sensor = (s->pov || s->blender) && (space == NULL || strcmp(space, "sensor") == 0);
     s->explain = sea_cli_given(args, "explain");
     s->quiet = sea_cli_given(args, "quiet");
     sea_cli_model model;
@@ -744,32 +761,82 @@ static cJSON *horizon_json(const sea_bake_horizon *hz, const sea_camera *cam)
     return o;
 }
 
-/* HORIZON_MAP: n_az x n_arc texels, RGB = radiance x scale, the farthest
- * ring on row 0 (so that the nadir is the bottom row, v = 0). */
-static sea_status write_horizon(const bake_setup *s, const sea_bake_horizon *hz, const char *tmp,
-                                double scale, sea_error *err)
+/* tmp/name: a w x h RGB map of one value per texel (row 0 at the top),
+ * value(ctx, q) x scale at texel q, with the attributes quantity, the
+ * scale and one more (key, value). */
+static sea_status write_rgb(const bake_setup *s, const char *tmp, const char *name, size_t w,
+                            size_t h, double (*value)(const void *, size_t), const void *ctx,
+                            double scale, const char *quantity, const char *key,
+                            const char *key_value, sea_error *err)
 {
-    const size_t w = hz->n_az, h = hz->n_arc;
     float *map = malloc(w * h * sizeof *map);
-    char *path = sea_cli_path_join(tmp, HORIZON_MAP);
+    char *path = sea_cli_path_join(tmp, name);
     sea_status st = SEA_OK;
     if (map == NULL || path == NULL) {
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the horizon map");
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %s", name);
     } else {
-        for (size_t i = 0; i < h; i++)
-            for (size_t j = 0; j < w; j++)
-                map[(h - 1 - i) * w + j] = (float)(hz->radiance[i * w + j] * scale);
-        char scale_s[32], err_s[32];
+        for (size_t q = 0; q < w * h; q++)
+            map[q] = (float)(value(ctx, q) * scale);
+        char scale_s[32];
         snprintf(scale_s, sizeof scale_s, "%.17g", scale);
-        snprintf(err_s, sizeof err_s, "%.3g", hz->max_err);
-        const sea_exr_attr attrs[] = {{"seabake:quantity", "horizon"},
+        const sea_exr_attr attrs[] = {{"seabake:quantity", quantity},
                                       {"seabake:emission_scale", scale_s},
-                                      {"seabake:max_error", err_s}};
+                                      {key, key_value}};
         const sea_exr_channel ch[3] = {{"R", map}, {"G", map}, {"B", map}};
         st = sea_exr_write(path, (int)w, (int)h, ch, 3, attrs, 3, &s->exr, err);
     }
     free(map);
     free(path);
+    return st;
+}
+
+/* HORIZON_MAP texel q: the farthest ring on row 0 (so that the nadir is
+ * the bottom row, v = 0). */
+static double horizon_texel(const void *ctx, size_t q)
+{
+    const sea_bake_horizon *hz = ctx;
+    const size_t w = hz->n_az, i = hz->n_arc - 1 - q / w;
+    return hz->radiance[i * w + q % w];
+}
+
+/* HORIZON_MAP: n_az x n_arc texels, RGB = radiance x scale. */
+static sea_status write_horizon(const bake_setup *s, const sea_bake_horizon *hz, const char *tmp,
+                                double scale, sea_error *err)
+{
+    char err_s[32];
+    snprintf(err_s, sizeof err_s, "%.3g", hz->max_err);
+    return write_rgb(s, tmp, HORIZON_MAP, hz->n_az, hz->n_arc, horizon_texel, hz, scale,
+                     "horizon", "seabake:max_error", err_s, err);
+}
+
+static double image_texel(const void *ctx, size_t q)
+{
+    return ((const sea_image *)ctx)->radiance[q];
+}
+
+/* The sensor's image of frame f (--emission-space sensor): RGB = the
+ * radiance seabake render gives each pixel x scale, row 0 at the top, and
+ * its entry in the manifest's "sensor" object. */
+static sea_status write_sensor(const bake_setup *s, const sea_image *img, long f, double t,
+                               const char *tmp, double scale, cJSON *manifest, sea_error *err)
+{
+    char name[64], time_s[32];
+    if (s->framed)
+        snprintf(name, sizeof name, "%s%0*ld.exr", SENSOR_PREFIX, SEA_CLI_FRAME_DIGITS, f);
+    else
+        snprintf(name, sizeof name, "sensor.exr");
+    snprintf(time_s, sizeof time_s, "%.17g", t);
+    const sea_status st = write_rgb(s, tmp, name, (size_t)img->width, (size_t)img->height,
+                                    image_texel, img, scale, "sensor", "seabake:time_s", time_s,
+                                    err);
+    if (st == SEA_OK) {
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddNumberToObject(e, "frame", (double)f);
+        cJSON_AddNumberToObject(e, "time_s", t);
+        cJSON_AddStringToObject(e, "exr", name);
+        cJSON_AddItemToArray(cJSON_GetObjectItem(cJSON_GetObjectItem(manifest, "sensor"), "frames"),
+                             e);
+    }
     return st;
 }
 
@@ -806,6 +873,15 @@ static cJSON *manifest_json(const bake_setup *s, const sea_render *r, const sea_
     cJSON_AddItemToObject(m, "levels", levels_json(s, b));
     if (hz != NULL)
         cJSON_AddItemToObject(m, "horizon", horizon_json(hz, sea_render_camera(r)));
+    if (s->sensor) {
+        /* the sensor's image, projected by the exports where it sees */
+        cJSON *o = cJSON_AddObjectToObject(m, "sensor");
+        cJSON_AddStringToObject(o, "quantity", "radiance x emission_scale of each pixel, as "
+                                               "seabake render gives it; row 0 at the top");
+        cJSON_AddNumberToObject(o, "width", sea_render_camera(r)->width);
+        cJSON_AddNumberToObject(o, "height", sea_render_camera(r)->height);
+        cJSON_AddArrayToObject(o, "frames");
+    }
     if (s->blender)
         cJSON_AddItemToObject(m, "blender", blender_json(r, scale));
     return m;
@@ -917,7 +993,10 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
                          NULL,
                          s->sc.wavelength > 0.0 ? 1e-6 : 1.0,
                          hz,
-                         HORIZON_MAP};
+                         HORIZON_MAP,
+                         NULL};
+    if (s->sensor)
+        o.sensor_file = s->framed ? SENSOR_PREFIX : "sensor.exr";
     o.wavelength = wl;
     o.weight = wt;
     if (st == SEA_OK)
@@ -1743,7 +1822,18 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             break;
         }
         t0 = sea_cli_seconds();
-        if (manifest == NULL && (s->pov || s->blender)) {
+        /* the sensor's image of this frame, as seabake render gives it */
+        sea_image view = {0};
+        if (s->sensor) {
+            const sea_camera *cam = sea_render_camera(r);
+            st = sea_image_alloc(&view, cam->width, cam->height, err);
+            if (st == SEA_OK)
+                st = sea_render_frame(r, t, &view, NULL, NULL, err);
+            const double t1 = sea_cli_seconds();
+            stats->compute += t1 - t0;
+            t0 = t1;
+        }
+        if (st == SEA_OK && manifest == NULL && (s->pov || s->blender)) {
             st = sea_bake_horizon_make(r, fmax(1e-5, s->sc.tolerance), &hz_store, err);
             if (st == SEA_OK)
                 hz = &hz_store;
@@ -1756,6 +1846,9 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
                 w.top = fmax(w.top, b.levels[l].lr_optics.radiance);
             for (size_t q = 0; hz != NULL && q < hz->n_arc * hz->n_az; q++)
                 w.top = fmax(w.top, hz->radiance[q]);
+            for (size_t q = 0; view.radiance != NULL &&
+                               q < (size_t)view.width * (size_t)view.height; q++)
+                w.top = fmax(w.top, view.radiance[q]);
             w.scale = emission_scale(w.top);
             manifest = manifest_json(s, r, &b, hz, w.scale);
             if (manifest != NULL && hz != NULL)
@@ -1767,6 +1860,9 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             if (st == SEA_OK)
                 st = write_spilled(&w, &b, err);
         }
+        if (st == SEA_OK && s->sensor)
+            st = write_sensor(s, &view, f, t, tmp, w.scale, manifest, err);
+        sea_image_free(&view);
         if (st == SEA_OK) {
             cJSON *fr = cJSON_CreateObject();
             cJSON_AddNumberToObject(fr, "frame", (double)f);
@@ -1901,6 +1997,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"frame-rate", 0},
     {"format", 0},
     {"emission-texels", 0},
+    {"emission-space", 0},
     {"compression", 0},
     {"pov", SEA_CLI_OPT_FLAG},
     {"blender", SEA_CLI_OPT_FLAG},
