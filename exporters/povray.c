@@ -262,15 +262,21 @@ static int clip_hole(const sea_pov_level *l, double *hx0, double *hy0, double *h
     return 1;
 }
 
-/* The map of a level: its file name, or with frames the expression that
- * names the current frame's file. */
-static void put_map(FILE *f, const char *file, const sea_pov_options *o)
+/* A file of a level: its name file + ext, or with frames the expression
+ * that names the current frame's file (file is then the name up to the
+ * frame number). */
+static void put_file(FILE *f, const char *file, const char *ext, const sea_pov_options *o)
 {
     if (o->framed)
-        fprintf(f, "concat(\"%s\", str(Seabake_Frame, -%d, 0), \".exr\")", file,
-                o->frame_digits);
+        fprintf(f, "concat(\"%s\", str(Seabake_Frame, -%d, 0), \"%s\")", file,
+                o->frame_digits, ext);
     else
         fprintf(f, "\"%s\"", file);
+}
+
+static void put_map(FILE *f, const char *file, const sea_pov_options *o)
+{
+    put_file(f, file, ".exr", o);
 }
 
 /* The texture tex of an object lowered by drop (<= 0), projected from the
@@ -323,7 +329,15 @@ static void write_sensor(FILE *f, const sea_camera *cam, const sea_pov_options *
     fputs(" interpolate 2 once } } }\n", f);
     fputs("// Tex outside the sensor's view, the projected image inside, for an object\n"
           "// lowered by Drop (<= 0) so that the projection takes the point where it is.\n"
+          "// #declare Seabake_Use_Sensor = off; before including this file shows the\n"
+          "// maps everywhere.\n"
+          "#ifndef (Seabake_Use_Sensor)\n"
+          "  #declare Seabake_Use_Sensor = on;\n"
+          "#end\n"
           "#macro Seabake_Sensor_Texture(Tex, Drop)\n"
+          "  #if (!Seabake_Use_Sensor)\n"
+          "  texture { Tex }\n"
+          "  #else\n"
           "  texture {\n"
           "    function { Seabake_Sensor_Seen(x, y + Drop, z) }\n"
           "    texture_map {\n"
@@ -338,8 +352,29 @@ static void write_sensor(FILE *f, const sea_camera *cam, const sea_pov_options *
           "           finish { emission 1 diffuse 0 ambient 0 specular 0 phong 0 reflection 0 }]\n"
           "    }\n"
           "  }\n"
+          "  #end\n"
           "#end\n",
           f);
+}
+
+/* clipped_by: outside the rectangles of the levels finer than `of`, or
+ * with of NULL of the levels with waves, each shrunk by `shrink` m on every
+ * side; nothing when there are none. */
+static void put_cut(FILE *f, const sea_pov_level *lv, size_t n, const sea_pov_level *of,
+                    double shrink)
+{
+    size_t n_cut = 0;
+    for (size_t m = 0; m < n; m++)
+        n_cut += of != NULL ? lv[m].facet < of->facet : lv[m].height_file != NULL;
+    if (n_cut == 0)
+        return;
+    fputs(n_cut > 1 ? "  clipped_by { intersection {\n" : "  clipped_by {\n", f);
+    for (size_t m = 0; m < n; m++)
+        if (of != NULL ? lv[m].facet < of->facet : lv[m].height_file != NULL)
+            fprintf(f, "    box { <%.17g, -1e7, %.17g>, <%.17g, 1e7, %.17g> inverse }\n",
+                    lv[m].x0 + shrink, lv[m].y0 + shrink, lv[m].x0 + lv[m].w - shrink,
+                    lv[m].y0 + lv[m].h - shrink);
+    fputs(n_cut > 1 ? "  } }\n" : "  }\n", f);
 }
 
 /* The horizon mesh: node (i, j) of the grid at its sea point (on the
@@ -348,7 +383,8 @@ static void write_sensor(FILE *f, const sea_camera *cam, const sea_pov_options *
  * first ring is the nadir point itself), lowered by `drop` (< 0) below the
  * rings. */
 static void write_horizon(FILE *f, const sea_camera *cam, const sea_bake_horizon *hz,
-                          const char *file, double drop, const sea_pov_options *o)
+                          const char *file, double drop, const sea_pov_options *o,
+                          const sea_pov_level *lv, size_t n_levels)
 {
     const size_t na = hz->n_arc, nz = hz->n_az, nv = na * nz;
     size_t nf = 0;
@@ -387,9 +423,93 @@ static void write_horizon(FILE *f, const sea_camera *cam, const sea_bake_horizon
     fputs("\n  }\n  ", f);
     put_texture(f, tex, drop, o);
     fputs("\n", f);
+    /* under rings with waves (whose troughs dip below it): cut out */
+    put_cut(f, lv, n_levels, NULL, 0.0);
     if (drop < 0.0)
         fprintf(f, "  translate <0, %.17g, 0> // below the rings\n", drop);
     fputs("}\n", f);
+}
+
+static void put_object_texture(FILE *f, const char *tex, double drop, const sea_pov_options *o);
+
+/* Whether level k (with waves) hangs a curtain along the rectangle of
+ * level m (m == n: its own): its own always, a finer level's when the two
+ * rectangles overlap. */
+static int has_curtain(const sea_pov_level *lv, size_t n, size_t k, size_t m)
+{
+    if (m == n)
+        return 1;
+    const sea_pov_level *a = &lv[k], *b = &lv[m];
+    return b->facet < a->facet && b->x0 < a->x0 + a->w && a->x0 < b->x0 + b->w &&
+           b->y0 < a->y0 + a->h && a->y0 < b->y0 + b->h;
+}
+
+/* Level k's ring with the waves: Seabake_Height_k, the height field in the
+ * world (its range that of the frame shown), and Seabake_Level_k, it
+ * clipped to the level's rectangle minus every finer level's, textured with
+ * tex, lowered by drop. */
+static void write_waves(FILE *f, const sea_pov_level *lv, size_t n, size_t k, const char *tex,
+                        double drop, double bottom, const sea_pov_options *o)
+{
+    const sea_pov_level *l = &lv[k];
+    const size_t n_frames = o->framed ? (size_t)(o->last - o->first + 1) : 1;
+    const char *const which[2] = { "Lo", "Hi" };
+    for (int e = 0; e < 2; e++) {
+        const double *v = e == 0 ? l->height_lo : l->height_hi;
+        if (!o->framed) {
+            fprintf(f, "#declare Seabake_Height_%s_%zu = %.17g;\n", which[e], k, v[0]);
+            continue;
+        }
+        fprintf(f, "#declare Seabake_Height_%ss_%zu = array[%zu] {", which[e], k, n_frames);
+        for (size_t q = 0; q < n_frames; q++)
+            fprintf(f, "%s%s%.17g", q ? "," : "", q % 4 == 0 ? "\n  " : " ", v[q]);
+        fprintf(f, "\n}\n#declare Seabake_Height_%s_%zu = "
+                   "Seabake_Height_%ss_%zu[Seabake_Frame - Seabake_First_Frame];\n",
+                which[e], k, which[e], k);
+    }
+    fprintf(f, "#declare Seabake_Height_%zu = height_field {\n  png ", k);
+    put_file(f, l->height_file, ".png", o);
+    fprintf(f,
+            " smooth\n"
+            "  scale <%.17g, Seabake_Height_Hi_%zu - Seabake_Height_Lo_%zu, %.17g>\n"
+            "  translate <%.17g, Seabake_Height_Lo_%zu, %.17g>\n"
+            "}\n",
+            l->w, k, k, l->h, l->x0, k, l->y0);
+    fprintf(f, "#declare Seabake_Level_%zu = object {\n  Seabake_Height_%zu\n", k, k);
+    /* the finer levels' rectangles cut out */
+    put_cut(f, lv, n, l, 0.0);
+    put_object_texture(f, tex, drop, o);
+    fputs("}\n", f);
+    /* Curtains from this surface down to the floor along its rectangle and
+     * the finer levels' (SEA_POV_CURTAIN), clipped as the ring with the
+     * finer rectangles shrunk a little so that their own edges stay. */
+    const double step = l->facet / (double)l->height_samples;
+    for (size_t m = 0; m <= n; m++) {
+        const sea_pov_level *r = m == n ? l : &lv[m];
+        if (!has_curtain(lv, n, k, m))
+            continue;
+        fprintf(f,
+                "#declare Seabake_Curtain_%zu_%zu = object {\n"
+                "  Seabake_Curtain(Seabake_Height_%zu, %.17g, %.17g, %.17g, %.17g, %.17g, %.17g)\n",
+                k, m == n ? k : m, k, r->x0, r->y0, r->x0 + r->w, r->y0 + r->h, step, bottom);
+        put_cut(f, lv, n, l, 1e-6 * step);
+        put_object_texture(f, tex, drop, o);
+        fputs("}\n", f);
+    }
+}
+
+/* The object's texture and its drop (see put_texture). */
+static void put_object_texture(FILE *f, const char *tex, double drop, const sea_pov_options *o)
+{
+    if (o->sensor_file != NULL) {
+        fputs("  ", f);
+        put_texture(f, tex, drop, o);
+        fputs("\n", f);
+    } else {
+        fprintf(f, "  texture { %s }\n", tex);
+    }
+    if (drop < 0.0)
+        fprintf(f, "  translate <0, %.17g, 0> // below the finer levels\n", drop);
 }
 
 /* sea.inc: this bake's sea, for scene.pov or a scene of the user's own. */
@@ -469,7 +589,16 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
           "// + (1/2 - v/H) up.\n",
           f);
     fprintf(f, "// %d x %d pixels, focal %.17g pixels.\n", cam->width, cam->height, cam->focal);
-    if (cam->earth == SEA_EARTH_SPHERICAL && o->horizon != NULL)
+    int waves = 0;
+    for (size_t k = 0; k < n; k++)
+        waves |= lv[k].height_file != NULL;
+    if (cam->earth == SEA_EARTH_SPHERICAL && o->horizon != NULL && waves)
+        fputs("// The scene's Earth is spherical: the low-resolution sea (Seabake_Horizon)\n"
+              "// lies on the sphere out to the horizon; the rings' waves stand on the\n"
+              "// sphere (each height its point's drop plus the wave) in map coordinates\n"
+              "// (azimuthal equidistant from the nadir) near the sensor.\n",
+              f);
+    else if (cam->earth == SEA_EARTH_SPHERICAL && o->horizon != NULL)
         fputs("// The scene's Earth is spherical: the low-resolution sea (Seabake_Horizon)\n"
               "// lies on the sphere out to the horizon; the rings stay flat at y = 0 in map\n"
               "// coordinates (azimuthal equidistant from the nadir) near the sensor.\n",
@@ -497,6 +626,21 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
           "// that where windows overlap the finer level is seen.  Declared textures can\n"
           "// be replaced before the rings are made (#declare Seabake_Texture_0 = ...).\n",
           SEA_POV_LAYER);
+    /* Under the rings with waves, a floor: where neighbouring levels'
+     * surfaces meet at different heights a grazing ray can pass between
+     * them, and it then meets the floor, which shows the sensor's image as
+     * the rings do (elsewhere the sky's radiance, as the gap would). */
+    double fx0 = INFINITY, fy0 = INFINITY, fx1 = -INFINITY, fy1 = -INFINITY, floor_y = INFINITY;
+    for (size_t k = 0; k < n; k++)
+        if (lv[k].height_file != NULL) {
+            fx0 = fmin(fx0, lv[k].x0);
+            fy0 = fmin(fy0, lv[k].y0);
+            fx1 = fmax(fx1, lv[k].x0 + lv[k].w);
+            fy1 = fmax(fy1, lv[k].y0 + lv[k].h);
+            const size_t n_frames = o->framed ? (size_t)(o->last - o->first + 1) : 1;
+            for (size_t q = 0; q < n_frames; q++)
+                floor_y = fmin(floor_y, lv[k].height_lo[q]);
+        }
     int shown[n > 0 ? n : 1];
     double finest = INFINITY;
     for (size_t k = 0; k < n; k++)
@@ -516,7 +660,11 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
             fprintf(f, ",\n//   minus the finer level: [%.17g, %.17g] x [%.17g, %.17g]", hx0, hx1,
                     hy0, hy1);
         fputs("\n", f);
-        if (l->emission_file != NULL) {
+        if (l->emission_file != NULL && l->height_file != NULL) {
+            fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Plane(", k);
+            put_map(f, l->emission_file, o);
+            fprintf(f, ", %.17g, %.17g, %.17g, %.17g)\n", l->x0, l->y0, l->w, l->h);
+        } else if (l->emission_file != NULL) {
             fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Map(", k);
             put_map(f, l->emission_file, o);
             fputs(")\n", f);
@@ -533,6 +681,10 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
         const double drop = -SEA_POV_LAYER * finest * (double)rank;
         char tex[64];
         snprintf(tex, sizeof tex, "Seabake_Texture_%zu", k);
+        if (l->height_file != NULL) {
+            write_waves(f, lv, n, k, tex, drop, floor_y - 1.0, o);
+            continue;
+        }
         fprintf(f,
                 "#declare Seabake_Level_%zu = object {\n"
                 "  Seabake_Ring(%.17g, %.17g, %.17g, %.17g, %d, %.17g, %.17g, %.17g, %.17g,\n"
@@ -546,13 +698,31 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
     }
     if (o->horizon != NULL)
         write_horizon(f, cam, o->horizon, o->horizon_file,
-                      n > 0 ? -SEA_POV_LAYER * finest * (double)n : 0.0, o);
+                      n > 0 ? -SEA_POV_LAYER * finest * (double)n : 0.0, o, lv, n);
+    const int floor = isfinite(floor_y);
+    if (floor) {
+        fprintf(f,
+                "\n// Under the rings with waves, below their lowest trough: a grazing ray that\n"
+                "// passes between two levels' surfaces, where they meet at different\n"
+                "// heights, meets it instead of nothing.\n"
+                "#declare Seabake_Floor = box {\n"
+                "  <%.17g, %.17g, %.17g>, <%.17g, %.17g, %.17g>\n  ",
+                fx0, floor_y - 2.0, fy0, fx1, floor_y - 1.0, fy1);
+        put_texture(f, "Seabake_Emission_Constant(Seabake_Sky_Radiance)", 0.0, o);
+        fputs("\n}\n", f);
+    }
     fputs("\n#declare Seabake_Sea = union {\n", f);
     for (size_t k = 0; k < n; k++)
         if (shown[k])
             fprintf(f, "  object { Seabake_Level_%zu }\n", k);
     if (o->horizon != NULL)
         fputs("  object { Seabake_Horizon }\n", f);
+    if (floor)
+        fputs("  object { Seabake_Floor }\n", f);
+    for (size_t k = 0; k < n; k++)
+        for (size_t m = 0; shown[k] && lv[k].height_file != NULL && m <= n; m++)
+            if (has_curtain(lv, n, k, m))
+                fprintf(f, "  object { Seabake_Curtain_%zu_%zu }\n", k, m == n ? k : m);
     fputs("}\n", f);
 }
 

@@ -33,6 +33,16 @@ typedef struct {
     double hx0, hy0, hw, hh;
     const char *emission_file; /* RGB EXR, relative to dir, or NULL for a low-resolution level */
     double constant;      /* scaled radiance of a low-resolution level (used when emission_file is NULL) */
+    /* The waves (may be NULL: a flat ring): a 16-bit grey PNG of heights
+     * (relative, as emission_file; with frames the name up to the frame
+     * number), (S nx + 1) x (S ny + 1) samples from the rectangle's corner
+     * (x0, y0) to (x0 + w, y0 + h), row 0 the north edge, black at
+     * height_lo[k] and white at height_hi[k] for the k-th frame from the
+     * first (one when not framed); the level's ring is then a height_field
+     * clipped to the rectangle minus every finer level's. */
+    const char *height_file;
+    const double *height_lo, *height_hi;
+    int height_samples; /* S, samples per facet side */
 } sea_pov_level;
 
 /* What an exported scene holds beyond its geometry (NULL: a still, and no

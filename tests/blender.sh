@@ -84,7 +84,7 @@ check_in_blender() {
     mkdir -p "$SB_TMP/work_$name"
     run_blender "check_$name" "$CHECK_PY" -- "$dir/manifest.json" "$POV_DRIVER" \
         "$SB_TMP/work_$name" "$@"
-    grep -E '^(ok|FAIL|maps|half|markers|normal|blender_check):' "$SB_TMP/check_$name.out" |
+    grep -E '^(ok|FAIL|maps|half|markers|normal|waves|blender_check):' "$SB_TMP/check_$name.out" |
         grep -vE '^ok: .*(colour space|alpha mode|image.pixels|half against)' |
         sed "s/^/$name: /"
     check_rc "$name.blender_check" 0
@@ -129,7 +129,7 @@ sed "s/^/glint: /" "$SB_TMP/cmp.out"
 check_rc glint.compare 0
 
 # Inside Blender: maps, markers, normal maps, half rounding.
-check_in_blender glint "$SB_TMP/glint" --normal-map
+check_in_blender glint "$SB_TMP/glint" --normal-map --waves
 check_in_blender glint_k1 "$SB_TMP/glint_k1" --markers
 check_in_blender oblique "$SB_TMP/oblique" --markers
 check_in_blender half "$SB_TMP/half" --half-of "$SB_TMP/glint/manifest.json" --normal-map
@@ -158,7 +158,7 @@ check_match import.no_map.msg "$(cat "$SB_TMP/no_map.out")" \
 
 # The import's one-line summary.
 check_match import.summary "$(cat "$SB_TMP/import.out")" \
-    '^seabake_import: 1 ring and the horizon mesh \([0-9]+ x [0-9]+ nodes\) of 2 levels, the sensor.s image projected where it sees, frame 0, material emission, emission scale [0-9.e+-]+$'
+    '^seabake_import: 1 ring \(1 with waves\) and the horizon mesh \([0-9]+ x [0-9]+ nodes\) of 2 levels, the sensor.s image projected where it sees, frame 0, material emission, emission scale [0-9.e+-]+$'
 
 # An animation: bake --frames 0:7 --blender at 2 frames per second, imported
 # as image sequences (the scene's frame range 0..7 at 2 fps), every frame
@@ -207,6 +207,9 @@ for f in $(seq 0 "$LAST"); do
 done
 cycles_frame frames.last_against_0 "$SB_TMP/cy_000$LAST.exr" 0
 check_rc frames.last_against_0.differs 1
+# Each frame's waves: the import's meshes after frame_set against that
+# frame's height samples (the Displace modifier reads the sequence).
+check_in_blender frames "$fdir" --waves
 run_blender frames_bad "$fdir/seabake_import.py" -- "$fdir/manifest.json" --frame 9
 check_rc frames.bad_frame.rc 1
 check_match frames.bad_frame.msg "$(cat "$SB_TMP/frames_bad.out")" \
@@ -265,7 +268,7 @@ horizon_run() {
         --render "$SB_TMP/${name}_cycles.exr"
     check_rc "$name.import.rc" 0
     check_match "$name.summary" "$(cat "$SB_TMP/$name.out")" \
-        '^seabake_import: [0-9]+ rings and the horizon mesh \([0-9]+ x [0-9]+ nodes\)'
+        '^seabake_import: [0-9]+ rings( \([0-9]+ with waves\))? and the horizon mesh \([0-9]+ x [0-9]+ nodes\)'
     check_no_match "$name.no_flat_warning" "$(cat "$SB_TMP/$name.out")" 'this import is flat'
     hscale=$(sed -n 's/^[[:space:]]*"emission_scale":[[:space:]]*\([0-9.eE+-]*\),*$/\1/p' \
         "$hdir/manifest.json")
@@ -284,6 +287,8 @@ horizon_run() {
 horizon_run horizon 0.01 0.02
 check_match horizon.projected "$(cat "$SB_TMP/horizon.out")" \
     "^seabake_import: .* the sensor's image projected where it sees,"
+# Six levels of waves, the finer ones cut out, skirts at every edge.
+check_in_blender horizon "$SB_TMP/horizon" --waves
 # The maps alone: the horizon mesh (on the sphere, the map of low-resolution
 # radiances) with the bounds of tests/povray.sh (low-resolution pixels 2 %,
 # the 10 rows below the horizon 2 %, the image 5 %; measured as POV-Ray's,

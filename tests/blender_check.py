@@ -23,8 +23,15 @@
 #               (from the manifest's camera), which checks the camera and the
 #               UV orientation (row 0 north, v = 0 south) together.
 #   --normal-map  the normal maps through Blender's Normal Map node (tangent
-#               space of the UV map), re-encoded as 0.5 + 0.5 n, give back
-#               the map's colours: the maps are in the node's encoding.
+#               space of the UV map, the rings flat: their waves off),
+#               re-encoded as 0.5 + 0.5 n, give back the map's colours: the
+#               maps are in the node's encoding.
+#   --waves     every level with waves, at every baked frame (frame_set):
+#               each face corner's evaluated height (after the Displace
+#               modifier) is its height sample (the frame's height EXR at the
+#               corner's "heights" UV, seabake's reader) plus the level's
+#               layer offset, or that minus the skirt's depth, within 1e-5 m
+#               (float32 coordinates a few hundred metres from the origin).
 # Prints one line per check; exits 1 on any failure.
 
 import importlib.util
@@ -66,7 +73,7 @@ def report(ok, msg):
 
 def args():
     a = sys.argv[sys.argv.index("--") + 1:]
-    opts = {"half_of": None, "markers": False, "normal_map": False}
+    opts = {"half_of": None, "markers": False, "normal_map": False, "waves": False}
     pos = []
     i = 0
     while i < len(a):
@@ -78,6 +85,8 @@ def args():
             opts["markers"] = True
         elif a[i] == "--normal-map":
             opts["normal_map"] = True
+        elif a[i] == "--waves":
+            opts["waves"] = True
         else:
             pos.append(a[i])
         i += 1
@@ -122,6 +131,10 @@ def map_files(m, directory):
             yield lv["index"], group, len(lv["maps"][group]), os.path.join(directory, names["exr"])
     if "sensor" in m:
         yield None, "sensor", 3, os.path.join(directory, m["sensor"]["frames"][0]["exr"])
+    for lv in m["levels"]:
+        height = None if lv["low_res"] else lv["frames"][0].get("height")
+        if height is not None and "exr" in height:
+            yield lv["index"], "height", 3, os.path.join(directory, height["exr"])
 
 
 def check_maps(m, directory, driver, workdir):
@@ -336,6 +349,11 @@ def check_normal_map(m, directory, scene, workdir):
         return ma.outputs["Vector"]
 
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    # the encoding against the flat rings' tangent frame: the waves off
+    waves = [mod for obj in bpy.data.collections["seabake_sea"].objects
+             for mod in obj.modifiers if mod.type == "DISPLACE"]
+    for mod in waves:
+        mod.show_render = mod.show_viewport = False
     images = {}
     for which, build in (("plain", lambda nt, img: tex(nt, img)), ("node", decoded)):
         for obj in bpy.data.collections["seabake_sea"].objects:
@@ -347,6 +365,8 @@ def check_normal_map(m, directory, scene, workdir):
             obj.data.materials.clear()
             obj.data.materials.append(mat)
         images[which] = render(scene, os.path.join(workdir, "normal_%s.exr" % which))
+    for mod in waves:
+        mod.show_render = mod.show_viewport = True
     plain, node = images["plain"][:, :, :3], images["node"][:, :, :3]
     sea = np.any(plain > 0.0, axis=2)
     d = float(np.max(np.abs(node - plain)[sea]))
@@ -357,6 +377,50 @@ def check_normal_map(m, directory, scene, workdir):
            % (signal, NORMAL_MIN_SLOPE_SIGNAL * tol))
     report(d <= tol, "normal map: Normal Map node round trip over %d pixels, max |difference| "
            "%.3g (tolerance %g)" % (int(np.sum(sea)), d, tol))
+
+
+def check_waves(m, directory, scene, driver, workdir):
+    levels = [lv for lv in m["levels"] if not lv["low_res"] and "height" in lv["frames"][0]]
+    report(len(levels) > 0, "waves: %d levels with waves" % len(levels))
+    finest = min(float(lv["facet_m"]) for lv in m["levels"])
+    worst, corners = 0.0, 0
+    for entry in m["frames"]:
+        f = int(entry["frame"])
+        scene.frame_set(f)
+        dg = bpy.context.evaluated_depsgraph_get()
+        for lv in levels:
+            fe = next(e for e in lv["frames"] if int(e["frame"]) == f)
+            hgt = fe["height"]
+            ref, _ = dump(driver, os.path.join(directory, hgt["exr"]), workdir)
+            z_ref = ref[::-1, :, 2]  # row 0 south, as Blender's v = 0
+            n_w, n_h = int(hgt["width"]), int(hgt["height"])
+            rank = sum(1 for o in m["levels"] if o["facet_m"] < lv["facet_m"])
+            layer = -1e-3 * finest * rank
+            spans = [e["height"] for e in lv["frames"]]
+            depth = max(e["max_m"] for e in spans) - min(e["min_m"] for e in spans) + 1.0
+            obj = bpy.data.objects["seabake_level_%d" % lv["index"]]
+            mesh = obj.evaluated_get(dg).to_mesh()
+            co = np.empty(len(mesh.vertices) * 3)
+            mesh.vertices.foreach_get("co", co)
+            vi = np.empty(len(mesh.loops), dtype=np.int64)
+            mesh.loops.foreach_get("vertex_index", vi)
+            uv = np.empty(len(mesh.loops) * 2)
+            mesh.uv_layers["heights"].data.foreach_get("uv", uv)
+            uv = uv.reshape(-1, 2)
+            k = np.floor(uv[:, 0] * n_w).astype(np.int64)
+            j = np.floor(uv[:, 1] * n_h).astype(np.int64)
+            d = co.reshape(-1, 3)[vi, 2] - (z_ref[j, k] + layer)
+            err = np.minimum(np.abs(d), np.abs(d + depth))
+            top = int(np.sum(np.abs(d) < 1e-5))
+            e = float(err.max())
+            worst = max(worst, e)
+            corners += err.size
+            report(e < 1e-5 and top > 0,
+                   "waves: frame %d level %d: %d corners (%d on the surface), largest "
+                   "difference from the samples %.3g m" % (f, lv["index"], err.size, top, e))
+            obj.evaluated_get(dg).to_mesh_clear()
+    print("waves: %d corners compared over %d frames, largest difference %.3g m"
+          % (corners, len(m["frames"]), worst))
 
 
 def main():
@@ -373,6 +437,8 @@ def main():
         check_markers(m, directory, scene, workdir)
     if opts["normal_map"]:
         check_normal_map(m, directory, scene, workdir)
+    if opts["waves"]:
+        check_waves(m, directory, scene, driver, workdir)
     print("blender_check: %d failures" % failures)
     sys.exit(1 if failures else 0)
 

@@ -215,8 +215,9 @@ check_rc bake.frames.one.rc 0
 sb_mpirun 3 "${B[@]}" -o "$SB_TMP/bf_np3"
 check_rc bake.frames.np3.rc 0
 check_eq bake.frames.np3.silent "$SB_ERR" ""
-# 187 maps, previews and exported files, and the 5 frames' sensor images
-check_eq bake.frames.files "$(ls "$SB_TMP/bf_one" | wc -l)" 192
+# 187 maps, previews and exported files, the 5 frames' sensor images and
+# their waves (3 levels, a PNG and an EXR each)
+check_eq bake.frames.files "$(ls "$SB_TMP/bf_one" | wc -l)" 222
 same_tree bake.frames.np3.identical "$SB_TMP/bf_one" "$SB_TMP/bf_np3"
 
 # A parent that does not exist: found before any work, one message.

@@ -11,6 +11,8 @@
  *   pov_driver dump MAP.exr OUT.raw   a map's texels as seabake reads them
  *   pov_driver wide ...               the exported sensor's image from a
  *                                     camera of twice its field
+ *   pov_driver heights ...            a POV-Ray probe of the waves' heights
+ *   pov_driver same A.exr B.exr TOL   two images alike
  *
  * The scene must render to a uniform radiance (pov_nadir.ini: sun below the
  * horizon, sky as warm as the sea), so that each clipmap level's emission
@@ -479,14 +481,14 @@ done:
 
 /* wide SENSOR.exr LEVEL.exr SENSOR_WIDE.exr MAPS_WIDE.exr: a camera at the
  * sensor's position and axes with half its focal length, same pixel count
- * (twice the field both ways), renders the --emission-space sensor export
- * (SENSOR_WIDE) and the --emission-space map export (MAPS_WIDE) of one
- * bake.  Its pixel (i, j) looks along the sensor's image coordinates
+ * (twice the field both ways), renders an --emission-space sensor export
+ * with its sensor's image (SENSOR_WIDE) and without it (MAPS_WIDE: the
+ * maps alone, Seabake_Use_Sensor off).  Its pixel (i, j) looks along the sensor's image coordinates
  * (2 i + 1 - W/2, 2 j + 1 - H/2): inside the sensor's view the projection
  * falls between the 2 x 2 texels of sensor.exr from column 2 i - W/2, row
  * 2 j - H/2, so bilinear lookup gives their mean (checked where all four
  * are sea in LEVEL, the render's level AOV, within two half-float
- * roundings, 1e-3); outside it the sea shows its maps, so the two exports
+ * roundings, 1e-3); outside it the sea shows its maps, so the two renders
  * agree exactly.  Pixels within 1 of the view's edge are left out (there
  * the lookup meets the edge texels).  W and H must be even. */
 static int do_wide(const char *sensor, const char *level, const char *swide, const char *mwide)
@@ -539,7 +541,7 @@ static int do_wide(const char *sensor, const char *level, const char *swide, con
             }
         }
     printf("inside the sensor's view: %zu sea pixels, largest relative difference from the "
-           "2 x 2 mean %.3g; outside: %zu pixels, %zu differ from the maps' export\n",
+           "2 x 2 mean %.3g; outside: %zu pixels, %zu differ from the maps alone\n",
            n_in, max_in, n_out, bad_out);
     rc = n_in > 0 && n_out > 0 && max_in < 1e-3 && bad_out == 0 ? 0 : 1;
 done:
@@ -547,6 +549,115 @@ done:
     sea_exr_image_free(&l);
     sea_exr_image_free(&b);
     sea_exr_image_free(&c);
+    return rc;
+}
+
+/* heights SCENE.ini DIR S: writes DIR/probe.pov, which includes DIR's
+ * sea.inc (a bake of SCENE.ini at the scene's time, S height samples per
+ * facet side) and traces each level's height field, Seabake_Height_k,
+ * straight down at points of its rectangle: nodes of its sample grid and
+ * points between them, each against the height seabake render's surface
+ * has there (the frame's level surface, sea_heightfield_at, on its sea
+ * point: q_z + h n_z).  POV-Ray prints "heights: ..." with the largest
+ * differences over the nodes and over the points, and the misses. */
+enum { PROBE_NODES = 40, PROBE_POINTS = 40 };
+
+static double probe_rand(unsigned long long *x)
+{
+    *x = *x * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*x >> 11) / 9007199254740992.0;
+}
+
+static int do_heights(const char *scene, const char *dir, int S)
+{
+    sea_scene sc;
+    sea_render *r = NULL;
+    sea_multires_frame *fr = NULL;
+    sea_error e;
+    if (sea_scene_load(scene, &sc, &e) != SEA_OK || sea_render_prepare(&sc, &r, &e) != SEA_OK ||
+        sea_multires_frame_alloc(sea_render_multires(r), sc.time, NULL, NULL, &fr, &e) != SEA_OK) {
+        sea_render_free(r);
+        return die(scene, &e);
+    }
+    const sea_camera *cam = sea_render_camera(r);
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/probe.pov", dir);
+    FILE *f = fopen(path, "w");
+    if (f == NULL) {
+        perror(path);
+        sea_multires_frame_free(fr);
+        sea_render_free(r);
+        return 99;
+    }
+    fputs("#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n#include \"sea.inc\"\n"
+          "#declare Dn = 0; #declare Dp = 0; #declare Miss = 0; #declare N = <0, 0, 0>;\n"
+          "#macro Probe(Obj, X, Y, Z, Node)\n"
+          "  #declare Q = trace(Obj, <X, 1e7, Y>, -y, N);\n"
+          "  #if (vlength(N) = 0)\n    #declare Miss = Miss + 1;\n"
+          "  #elseif (Node)\n    #declare Dn = max(Dn, abs(Q.y - Z));\n"
+          "  #else\n    #declare Dp = max(Dp, abs(Q.y - Z));\n  #end\n#end\n",
+          f);
+    unsigned long long seed = 12345;
+    size_t k = 0;
+    for (size_t l = 0; l < n; l++) {
+        if (lv[l].low_res)
+            continue;
+        const sea_heightfield *hf = sea_multires_frame_level(fr, lv[l].level);
+        const double L = lv[l].facet, step = L / S;
+        const long nx = (long)lv[l].nx * S, ny = (long)lv[l].ny * S;
+        for (int q = 0; q < PROBE_NODES + PROBE_POINTS; q++) {
+            const int node = q < PROBE_NODES;
+            /* nodes inside the edge; points anywhere a sample inside */
+            const double gi = node ? (double)(1 + (long)(probe_rand(&seed) * (double)(nx - 1)))
+                                   : 1.0 + probe_rand(&seed) * (double)(nx - 2);
+            const double gj = node ? (double)(1 + (long)(probe_rand(&seed) * (double)(ny - 1)))
+                                   : 1.0 + probe_rand(&seed) * (double)(ny - 2);
+            const double x = (double)lv[l].i0 * L + gi * step, y = (double)lv[l].j0 * L + gj * step;
+            double p[3], nv[3];
+            sea_camera_sea_point(cam, x, y, p, nv);
+            const double z = p[2] + sea_heightfield_at(hf, x, y).h * nv[2];
+            fprintf(f, "Probe(Seabake_Height_%zu, %.17g, %.17g, %.17g, %d)\n", k, x, y, z, node);
+        }
+        k++;
+    }
+    fputs("#debug concat(\"heights: nodes \", str(Dn, 0, -1), \" m, points \", str(Dp, 0, -1),\n"
+          "              \" m, misses \", str(Miss, 0, 0), \"\\n\")\n"
+          "camera { location <0, 1e6, 0> look_at 0 }\n",
+          f);
+    const int bad = fclose(f) != 0;
+    printf("%zu levels, %d nodes and %d points each\n", k, PROBE_NODES, PROBE_POINTS);
+    sea_multires_frame_free(fr);
+    sea_render_free(r);
+    return bad ? 99 : 0;
+}
+
+/* same A.exr B.exr TOL: channel R of both within TOL relative (of B). */
+static int do_same(const char *pa, const char *pb, double tol)
+{
+    sea_exr_image a, b;
+    sea_error err;
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    int rc = 1;
+    if (sea_exr_read(pa, &a, &err) != SEA_OK || sea_exr_read(pb, &b, &err) != SEA_OK) {
+        fprintf(stderr, "FAIL: %s\n", err.msg);
+    } else {
+        const float *ra = sea_exr_image_channel(&a, "R"), *rb = sea_exr_image_channel(&b, "R");
+        if (ra == NULL || rb == NULL || a.width != b.width || a.height != b.height) {
+            fprintf(stderr, "FAIL: channels or sizes do not match\n");
+        } else {
+            double worst = 0.0;
+            const size_t np = (size_t)a.width * (size_t)a.height;
+            for (size_t q = 0; q < np; q++)
+                worst = fmax(worst, fabs(ra[q] - rb[q]) / fmax(fabs(rb[q]), 1e-30));
+            printf("%zu pixels, largest relative difference %.3g\n", np, worst);
+            rc = worst <= tol ? 0 : 1;
+        }
+    }
+    sea_exr_image_free(&a);
+    sea_exr_image_free(&b);
     return rc;
 }
 
@@ -560,13 +671,19 @@ int main(int argc, char **argv)
         return do_dump(argv[2], argv[3]);
     if (argc == 6 && strcmp(argv[1], "wide") == 0)
         return do_wide(argv[2], argv[3], argv[4], argv[5]);
+    if (argc == 5 && strcmp(argv[1], "heights") == 0)
+        return do_heights(argv[2], argv[3], atoi(argv[4]));
+    if (argc == 5 && strcmp(argv[1], "same") == 0)
+        return do_same(argv[2], argv[3], atof(argv[4]));
     if (argc != 4 || (strcmp(argv[1], "export") != 0 && strcmp(argv[1], "check") != 0)) {
         fprintf(stderr, "usage: pov_driver export|check SCENE.ini DIR\n"
                         "       pov_driver compare REF.exr LEVEL.exr POV.exr SCALE MAX_RMS "
                         "[RENDERER [MAX_RMS_HORIZON]]\n"
                         "       pov_driver dump MAP.exr OUT.raw\n"
                         "       pov_driver wide SENSOR.exr LEVEL.exr SENSOR_WIDE.exr "
-                        "MAPS_WIDE.exr\n");
+                        "MAPS_WIDE.exr\n"
+                        "       pov_driver heights SCENE.ini DIR S\n"
+                        "       pov_driver same A.exr B.exr TOL\n");
         return 99;
     }
     setup s;

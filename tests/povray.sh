@@ -157,6 +157,56 @@ bake_run bake_nadir_maps "$top_srcdir/tests/scenes/pov_glint.ini" 0.02 --emissio
 bake_run bake_slant "$top_srcdir/tests/scenes/pov_slant.ini" 0.007
 bake_run bake_slant_maps "$top_srcdir/tests/scenes/pov_slant.ini" 0.02 --emission-space map
 
+# The waves of the default export (the oblique bake above): each level's
+# height field (height_<l>.png, 4 samples per facet side) against the
+# surface seabake render marches, probed by POV-Ray's trace straight down
+# (pov_driver heights): at the samples within 1e-4 m (the PNG's 16 bits
+# over the level's range of about 3 m: 2.5e-5 m; 5.3e-5 measured), between
+# them within 2 cm (the height field's triangles against the render's
+# bicubic patches a quarter facet apart: 6.9 mm measured on 1 m facets).
+sdir="$SB_TMP/bake_bake_slant"
+sscene="$top_srcdir/tests/scenes/pov_slant.ini"
+check_match slant.waves "$(cat "$sdir/sea.inc")" '#declare Seabake_Height_0 = height_field'
+check slant.waves.png test -s "$sdir/height_0.png"
+SB_CMD="pov_driver heights $sscene $sdir 4"
+SB_ERR=$("$POV_DRIVER" heights "$sscene" "$sdir" 4 2>&1)
+SB_RC=$?
+check_rc slant.heights.probe 0
+SB_CMD="(cd $sdir && povray +Iprobe.pov -D +W1 +H1)"
+(cd "$sdir" && povray +Iprobe.pov -D +W1 +H1) >"$SB_TMP/pov.out" 2>&1
+SB_RC=$?
+SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
+check_rc slant.heights.povray 0
+hline=$(grep '^heights:' "$SB_TMP/pov.out")
+echo "slant: $hline"
+set -- $(echo "$hline" | sed -n 's/^heights: nodes \([0-9.e+-]*\) m, points \([0-9.e+-]*\) m, misses \([0-9]*\)$/\1 \2 \3/p')
+num_check slant.heights.nodes 'r < 1e-4' "r=${1:-nan}"
+num_check slant.heights.points 'r < 0.02' "r=${2:-nan}"
+check_eq slant.heights.misses "${3:-none}" 0
+# The finest level's map on its waves, seen straight down by an orthographic
+# camera with a pixel on every emission texel and the sensor's image off
+# (Seabake_Use_Sensor): the map itself (Seabake_Emission_Plane's planar
+# projection, north up), within one half-float rounding.
+set -- $(sed -n 's|^// level 0: facets of [0-9.e+-]* m, rectangle \[\([0-9.e+-]*\), \([0-9.e+-]*\)\] x \[\([0-9.e+-]*\), \([0-9.e+-]*\)\].*|\1 \2 \3 \4|p' "$sdir/sea.inc")
+printf '%s\n' '#version 3.7;' 'global_settings { assumed_gamma 1.0 }' \
+    '#declare Seabake_Use_Sensor = off;' '#include "sea.inc"' \
+    "camera { orthographic location <($1 + $2) / 2, 1e4, ($3 + $4) / 2> direction <0, -1, 0>" \
+    "         right <$2 - ($1), 0, 0> up <0, 0, $4 - ($3)> }" 'object { Seabake_Sea }' \
+    >"$sdir/ortho.pov"
+msize=$("$POV_DRIVER" dump "$sdir/emission_0.exr" "$SB_TMP/e0.raw" 2>/dev/null)
+check_match slant.ortho.size "$msize" '^[0-9]+ [0-9]+ 3$'
+set -- $msize
+SB_CMD="(cd $sdir && povray scene.ini +Iortho.pov +Oortho.exr +W$1 +H$2)"
+(cd "$sdir" && povray scene.ini +Iortho.pov +Oortho.exr "+W$1" "+H$2") >"$SB_TMP/pov.out" 2>&1
+SB_RC=$?
+SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
+check_rc slant.ortho.rc 0
+SB_CMD="pov_driver same ortho.exr emission_0.exr 1e-3"
+SB_ERR=$("$POV_DRIVER" same "$sdir/ortho.exr" "$sdir/emission_0.exr" 1e-3 2>&1)
+SB_RC=$?
+echo "slant: ortho: $SB_ERR"
+check_rc slant.ortho.same 0
+
 # A mast view of a round Earth (tests/scenes/pov_horizon.ini: 20 m, 88 deg,
 # a low sun ahead): the low-resolution sea is the horizon mesh, on the
 # sphere out to the horizon, its map the radiance a low-resolution pixel
@@ -214,27 +264,29 @@ lr_rms=$(sed -n 's/^  pixels of the .* m level: [0-9]*, relative RMS \([0-9.e+-]
     "$SB_TMP/cmp.out" | tail -n 1)
 num_check horizon.low_res 'r < 0.02' "r=${lr_rms:-nan}"
 check_no_match horizon_maps.no_sensor "$(cat "$SB_TMP/horizon_maps/sea.inc")" 'Seabake_Sensor'
-# Both exports seen by a camera of twice the sensor's field (its position
-# and axes, half the focal length, as many pixels): inside the sensor's
-# view the projection (the 2 x 2 mean of sensor.exr at each pixel), outside
-# it the maps, the same as the maps' export pixel for pixel
-# (pov_driver wide).
-for d in horizon horizon_maps; do
-    sed -n '/^#declare Seabake_Camera = camera {/,/^}/p' "$SB_TMP/$d/sea.inc" |
-        sed 's/^#declare Seabake_Camera = camera {/camera {/; s/^  direction </  direction 0.5 * </' \
-            >"$SB_TMP/$d/wide_camera.inc"
-    printf '%s\n' '#version 3.7;' 'global_settings { assumed_gamma 1.0 }' '#include "sea.inc"' \
-        '#include "wide_camera.inc"' 'Seabake_Sky(Seabake_Sky_Radiance)' 'object { Seabake_Sea }' \
-        >"$SB_TMP/$d/wide.pov"
-    SB_CMD="(cd $SB_TMP/$d && povray scene.ini +Iwide.pov +Owide.exr)"
-    (cd "$SB_TMP/$d" && povray scene.ini +Iwide.pov +Owide.exr) >"$SB_TMP/pov.out" 2>&1
+# The default export seen by a camera of twice the sensor's field (its
+# position and axes, half the focal length, as many pixels), with the
+# sensor's image and without it (Seabake_Use_Sensor off: the maps alone, on
+# the same waves): inside the sensor's view the projection (the 2 x 2 mean
+# of sensor.exr at each pixel), outside it the maps, the same pixel for
+# pixel (pov_driver wide).
+hdir="$SB_TMP/horizon"
+sed -n '/^#declare Seabake_Camera = camera {/,/^}/p' "$hdir/sea.inc" |
+    sed 's/^#declare Seabake_Camera = camera {/camera {/; s/^  direction </  direction 0.5 * </' \
+        >"$hdir/wide_camera.inc"
+for mode in on off; do
+    printf '%s\n' '#version 3.7;' 'global_settings { assumed_gamma 1.0 }' \
+        "#declare Seabake_Use_Sensor = $mode;" '#include "sea.inc"' '#include "wide_camera.inc"' \
+        'Seabake_Sky(Seabake_Sky_Radiance)' 'object { Seabake_Sea }' >"$hdir/wide_$mode.pov"
+    SB_CMD="(cd $hdir && povray scene.ini +Iwide_$mode.pov +Owide_$mode.exr)"
+    (cd "$hdir" && povray scene.ini "+Iwide_$mode.pov" "+Owide_$mode.exr") >"$SB_TMP/pov.out" 2>&1
     SB_RC=$?
     SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
-    check_rc "$d.wide.rc" 0
+    check_rc "horizon.wide_$mode.rc" 0
 done
 SB_CMD="pov_driver wide"
-"$POV_DRIVER" wide "$SB_TMP/horizon/sensor.exr" "$SB_TMP/href.level.exr" \
-    "$SB_TMP/horizon/wide.exr" "$SB_TMP/horizon_maps/wide.exr" >"$SB_TMP/cmp.out" 2>&1
+"$POV_DRIVER" wide "$hdir/sensor.exr" "$SB_TMP/href.level.exr" "$hdir/wide_on.exr" \
+    "$hdir/wide_off.exr" >"$SB_TMP/cmp.out" 2>&1
 SB_RC=$?
 SB_ERR=$(cat "$SB_TMP/cmp.out")
 sed "s/^/horizon.wide: /" "$SB_TMP/cmp.out"

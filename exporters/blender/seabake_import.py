@@ -50,6 +50,7 @@ import sys
 import traceback
 
 import bpy
+import numpy as np
 from mathutils import Matrix
 
 FORMAT = "seabake-bake"
@@ -207,6 +208,104 @@ def ring_mesh(name, x0, y0, w, h, kind, hole, z):
     return mesh
 
 
+def wave_mesh(name, x0, y0, w, h, n_w, n_h, finer, z, depth):
+    """A level's ring with the waves: the (n_w x n_h) height samples of the
+    manifest's "height" entry on a grid over [x0, x0 + w] x [y0, y0 + h] at
+    z (the Displace modifier of add_waves raises each vertex to its sample,
+    through the UV map "heights" at the samples' texel centres), the cells
+    whose centre lies in a finer level's rectangle (finer: (x0, y0, x1, y1))
+    left out, and a skirt hanging `depth` below every boundary edge (the
+    same samples, so it follows the edge), which closes the gaps where two
+    levels' surfaces meet at different heights.  UVs "UVMap" as ring_mesh."""
+    kk, jj = np.meshgrid(np.arange(n_w, dtype=np.float64), np.arange(n_h, dtype=np.float64))
+    sx, sy = w / (n_w - 1), h / (n_h - 1)
+    gx, gy = (x0 + kk * sx).ravel(), (y0 + jj * sy).ravel()
+    cx = x0 + (np.arange(n_w - 1) + 0.5) * sx
+    cy = y0 + (np.arange(n_h - 1) + 0.5) * sy
+    ccx, ccy = np.meshgrid(cx, cy)
+    present = np.ones((n_h - 1, n_w - 1), dtype=bool)
+    for fx0, fy0, fx1, fy1 in finer:
+        present &= ~((ccx > fx0) & (ccx < fx1) & (ccy > fy0) & (ccy < fy1))
+    # cells: vertex (j, k) is j n_w + k; counter-clockwise, normal +z
+    j, k = np.nonzero(present)
+    v = j * n_w + k
+    quads = [np.stack([v, v + 1, v + n_w + 1, v + n_w], axis=1)]
+    # boundary edges: between a present cell and an absent one or the outside
+    pad = np.zeros((n_h + 1, n_w + 1), dtype=bool)
+    pad[1:-1, 1:-1] = present
+    # horizontal edge (j, k)-(j, k+1): cells (j-1, k) and (j, k)
+    hj, hk = np.nonzero(pad[:-1, 1:-1] != pad[1:, 1:-1])
+    # vertical edge (j, k)-(j+1, k): cells (j, k-1) and (j, k)
+    vj, vk = np.nonzero(pad[1:-1, :-1] != pad[1:-1, 1:])
+    a = np.concatenate([hj * n_w + hk, vj * n_w + vk])
+    b = np.concatenate([hj * n_w + hk + 1, (vj + 1) * n_w + vk])
+    n_grid, n_edge = n_w * n_h, a.size
+    # each edge's two bottom vertices: copies of a and b
+    src = np.concatenate([np.arange(n_grid), a, b])
+    ia = n_grid + np.arange(n_edge)
+    ib = n_grid + n_edge + np.arange(n_edge)
+    quads.append(np.stack([a, b, ib, ia], axis=1))
+    quads = np.concatenate(quads)
+    vz = np.full(src.size, z)
+    vz[n_grid:] -= depth
+    # only the vertices that faces use (none inside the cut-out cells)
+    keep = np.unique(quads)
+    remap = np.full(src.size, -1, dtype=np.int64)
+    remap[keep] = np.arange(keep.size)
+    quads = remap[quads].astype(np.int32)
+    src, vz = src[keep], vz[keep]
+    co = np.stack([gx[src], gy[src], vz], axis=1)
+    mesh = bpy.data.meshes.new(name)
+    mesh.vertices.add(src.size)
+    mesh.vertices.foreach_set("co", co.astype(np.float32).ravel())
+    n_f = quads.shape[0]
+    mesh.loops.add(4 * n_f)
+    mesh.loops.foreach_set("vertex_index", quads.ravel())
+    mesh.polygons.add(n_f)
+    mesh.polygons.foreach_set("loop_start", np.arange(0, 4 * n_f, 4, dtype=np.int32))
+    mesh.polygons.foreach_set("loop_total", np.full(n_f, 4, dtype=np.int32))
+    loop_v = src[quads.ravel()]
+    uv = mesh.uv_layers.new(name="UVMap")
+    uv.data.foreach_set("uv", np.stack([(gx[loop_v] - x0) / w, (gy[loop_v] - y0) / h],
+                                       axis=1).astype(np.float32).ravel())
+    hu = mesh.uv_layers.new(name="heights")
+    hu.data.foreach_set("uv", np.stack([((loop_v % n_w) + 0.5) / n_w,
+                                        ((loop_v // n_w) + 0.5) / n_h],
+                                       axis=1).astype(np.float32).ravel())
+    mesh.uv_layers.active = uv
+    # smooth shading: the surface's normals, for the visible material
+    mesh.polygons.foreach_set("use_smooth", np.ones(n_f, dtype=bool))
+    mesh.update(calc_edges=True)
+    mesh.validate()
+    return mesh
+
+
+def add_waves(obj, img, name):
+    """The Displace modifier that raises the wave mesh's vertices to their
+    height samples: the image (metres, Non-Color: R = G = 0, B the height)
+    at UV "heights", nearest texel (the UVs sit at texel centres), as a
+    displacement vector (RGB to XYZ in the object's axes, which are the
+    world's), strength 1, mid-level 0, negative values kept (use_clamp
+    off)."""
+    tex = bpy.data.textures.new(name, type="IMAGE")
+    tex.image = img
+    tex.extension = "EXTEND"
+    tex.use_interpolation = False
+    tex.use_mipmap = False
+    # Blender sets negative texture values to zero for displacement by default
+    tex.use_clamp = False
+    follow_frames(tex.image_user, img)
+    mod = obj.modifiers.new("seabake_waves", "DISPLACE")
+    mod.texture = tex
+    mod.texture_coords = "UV"
+    mod.uv_layer = "heights"
+    mod.direction = "RGB_TO_XYZ"
+    mod.space = "LOCAL"
+    mod.strength = 1.0
+    mod.mid_level = 0.0
+    return mod
+
+
 def sea_point(hz, arc, az):
     """The world point of the sea at map distance arc (m) and azimuth az
     (rad) from the nadir point: flat, on z = 0; spherical, the azimuthal
@@ -222,9 +321,11 @@ def sea_point(hz, arc, az):
     return (x0 + horiz * ux, y0 + horiz * uy, r * math.cos(a) - r)
 
 
-def horizon_mesh(name, hz, z):
+def horizon_mesh(name, hz, z, cut=()):
     """The low-resolution sea to the horizon: the manifest's polar grid of
-    nodes, each at its sea point, lowered by z (< 0) below the rings; UVs
+    nodes, each at its sea point, lowered by z (< 0) below the rings, the
+    cells whose centre lies in a rectangle of cut (x0, y0, x1, y1) left out
+    (the rings with waves); UVs
     at the map's texel centres (node (i, j) -> ((j + 1/2) / n_az,
     (i + 1/2) / n_arc)); quads, a triangle where the first ring is the
     nadir point itself (the mesh2 of sea.inc)."""
@@ -240,10 +341,13 @@ def horizon_mesh(name, hz, z):
     for i in range(na - 1):
         for j in range(nz - 1):
             k = i * nz + j
-            if arcs[i] > 0.0:
-                faces.append((k, k + 1, k + nz + 1, k + nz))
-            else:
-                faces.append((k, k + nz + 1, k + nz))
+            face = (k, k + 1, k + nz + 1, k + nz) if arcs[i] > 0.0 else (k, k + nz + 1, k + nz)
+            # under a ring with waves (cut): left out
+            cx = sum(verts[q][0] for q in face) / len(face)
+            cy = sum(verts[q][1] for q in face) / len(face)
+            if any(x0 < cx < x1 and y0 < cy < y1 for x0, y0, x1, y1 in cut):
+                continue
+            faces.append(face)
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata(verts, [], faces)
     uv = mesh.uv_layers.new(name="UVMap")
@@ -272,20 +376,25 @@ def new_material(name):
 SEQUENCE = None
 
 
-def image_node(nt, img, interpolation, location):
-    node = nt.nodes.new("ShaderNodeTexImage")
-    node.image = img
-    node.interpolation = interpolation
+def follow_frames(iu, img):
+    """An image user that shows each scene frame its own file of a
+    sequence (nothing for a single image)."""
     if SEQUENCE is not None and img.source == "SEQUENCE":
         # Scene frame f reads file number (f - frame_start) + 1 + offset: the
         # files are numbered by frame, so offset = first - 1 gives file f.
         first, count = SEQUENCE
-        iu = node.image_user
         iu.frame_start = first
         iu.frame_offset = first - 1
         iu.frame_duration = count
         iu.use_cyclic = False
         iu.use_auto_refresh = True
+
+
+def image_node(nt, img, interpolation, location):
+    node = nt.nodes.new("ShaderNodeTexImage")
+    node.image = img
+    node.interpolation = interpolation
+    follow_frames(node.image_user, img)
     # Edges clamp (as POV-Ray's maps): REPEAT would blend the opposite edge
     # into the outermost half texel.
     node.extension = "EXTEND"
@@ -387,7 +496,8 @@ def math_node(nt, op, a, b, location, clamp=False):
 
 def visible_material(name, normal_img=None, rough_img=None, constants=None):
     """Visible: Principled BSDF with the normal map (tangent space of the UV
-    map: +x east, +y north) and the roughness map; constants (roughness,
+    map: +x east, +y north; none on a mesh with the waves, whose geometry
+    has the facets' slopes) and the roughness map; constants (roughness,
     anisotropy, rotation) for a low-resolution level."""
     mat, nt, out = new_material(name)
     bsdf = nt.nodes.new("ShaderNodeBsdfPrincipled")
@@ -405,19 +515,20 @@ def visible_material(name, normal_img=None, rough_img=None, constants=None):
     tan.uv_map = "UVMap"
     tan.location = (0, -500)
     nt.links.new(tan.outputs["Tangent"], bsdf.inputs["Tangent"])
-    if normal_img is None:
+    if rough_img is None:
         r, a, rot = constants
         bsdf.inputs["Roughness"].default_value = r
         bsdf.inputs["Anisotropic"].default_value = blender_anisotropy(a)
         bsdf.inputs["Anisotropic Rotation"].default_value = rot
         return mat
-    ntex = image_node(nt, normal_img, "Linear", (-600, 200))
-    nmap = nt.nodes.new("ShaderNodeNormalMap")
-    nmap.space = "TANGENT"
-    nmap.uv_map = "UVMap"
-    nmap.location = (-300, 200)
-    nt.links.new(ntex.outputs["Color"], nmap.inputs["Color"])
-    nt.links.new(nmap.outputs["Normal"], bsdf.inputs["Normal"])
+    if normal_img is not None:
+        ntex = image_node(nt, normal_img, "Linear", (-600, 200))
+        nmap = nt.nodes.new("ShaderNodeNormalMap")
+        nmap.space = "TANGENT"
+        nmap.uv_map = "UVMap"
+        nmap.location = (-300, 200)
+        nt.links.new(ntex.outputs["Color"], nmap.inputs["Color"])
+        nt.links.new(nmap.outputs["Normal"], bsdf.inputs["Normal"])
     rtex = image_node(nt, rough_img, "Linear", (-900, -200))
     sep = nt.nodes.new("ShaderNodeSeparateColor")
     sep.location = (-600, -200)
@@ -610,6 +721,7 @@ def build(manifest_path, frame, material):
     coll = bpy.data.collections.new("seabake_sea")
     scene.collection.children.link(coll)
     rings = 0
+    waves = 0
     horizon = m.get("horizon")
     horizon_built = False
     for lv in levels:
@@ -625,7 +737,11 @@ def build(manifest_path, frame, material):
         if lv["low_res"] and horizon is not None:
             # The low-resolution sea as the sensor sees it, to the horizon.
             rank = sum(1 for o in levels if not o["low_res"])
-            mesh = horizon_mesh("seabake_horizon", horizon, -LAYER * finest * rank)
+            # cut out under the rings with waves (whose troughs dip below it)
+            cut = [(o["origin_m"][0], o["origin_m"][1],
+                    o["origin_m"][0] + o["extent_m"][0], o["origin_m"][1] + o["extent_m"][1])
+                   for o in levels if not o["low_res"] and "height" in o["frames"][0]]
+            mesh = horizon_mesh("seabake_horizon", horizon, -LAYER * finest * rank, cut)
             img = load_map(directory, horizon["exr"], 3)
             em = emission_material("seabake_emission_%d" % idx, img=img)
             vis = visible_material("seabake_visible_%d" % idx,
@@ -641,8 +757,21 @@ def build(manifest_path, frame, material):
             print("seabake_import: level %d is covered by the finer levels: no ring" % idx)
             continue
         rank = sum(1 for o in levels if o["facet_m"] < lv["facet_m"])
-        mesh = ring_mesh("seabake_level_%d" % idx, x0, y0, w, h, kind, hole,
-                         -LAYER * finest * rank)
+        height = None if lv["low_res"] else \
+            frame_entry(lv, None if SEQUENCE else frame, manifest_path).get("height")
+        if height is not None:
+            # the waves: every finer level's rectangle cut out, a skirt as
+            # deep as the heights' spread over the frames
+            finer = [(o["origin_m"][0], o["origin_m"][1],
+                      o["origin_m"][0] + o["extent_m"][0], o["origin_m"][1] + o["extent_m"][1])
+                     for o in levels if not o["low_res"] and o["facet_m"] < lv["facet_m"]]
+            spans = [e["height"] for e in lv["frames"] if "height" in e]
+            depth = max(e["max_m"] for e in spans) - min(e["min_m"] for e in spans) + 1.0
+            mesh = wave_mesh("seabake_level_%d" % idx, x0, y0, w, h, int(height["width"]),
+                             int(height["height"]), finer, -LAYER * finest * rank, depth)
+        else:
+            mesh = ring_mesh("seabake_level_%d" % idx, x0, y0, w, h, kind, hole,
+                             -LAYER * finest * rank)
         if lv["low_res"]:
             const = float(lv["optics"]["radiance"]) * scale
             em = emission_material("seabake_emission_%d" % idx, constant=const)
@@ -659,7 +788,8 @@ def build(manifest_path, frame, material):
                 if need not in imgs:
                     fail("%s: level %d has no %s map" % (manifest_path, idx, need))
             em = emission_material("seabake_emission_%d" % idx, img=imgs["emission"])
-            vis = visible_material("seabake_visible_%d" % idx, normal_img=imgs["normal"],
+            vis = visible_material("seabake_visible_%d" % idx,
+                                   normal_img=imgs["normal"] if height is None else None,
                                    rough_img=imgs["roughness"])
         # The other material stays in the .blend for switching.
         em.use_fake_user = True
@@ -667,10 +797,16 @@ def build(manifest_path, frame, material):
         mesh.materials.append(em if material == "emission" else vis)
         obj = bpy.data.objects.new("seabake_level_%d" % idx, mesh)
         coll.objects.link(obj)
+        if height is not None:
+            if "exr" not in height:
+                fail("%s: level %d has heights but no EXR of them" % (manifest_path, idx))
+            add_waves(obj, load_map(directory, height["exr"], 3), "seabake_waves_%d" % idx)
+            waves += 1
         rings += 1
     scene.frame_set(first if frame is None else frame)
-    print("seabake_import: %d ring%s%s of %d levels%s, %s, material %s%s, emission scale %g"
+    print("seabake_import: %d ring%s%s%s of %d levels%s, %s, material %s%s, emission scale %g"
           % (rings, "" if rings == 1 else "s",
+             " (%d with waves)" % waves if waves else "",
              " and the horizon mesh (%d x %d nodes)"
              % (len(horizon["arc_m"]), len(horizon["azimuth_deg"])) if horizon_built else "",
              len(levels),

@@ -135,6 +135,11 @@ static const char BAKE_HELP[] =
     "  emission_<l>   RGB radiance x scale of what the sensor sees (the moments\n"
     "                 seabake render reads there), K x K texels per facet (RGB\n"
     "                 only, for POV-Ray and Blender)\n"
+    "With --pov or --blender (and --emission-space sensor, the default) also\n"
+    "  sensor[_FFFF].exr  the sensor's image (RGB radiance x scale), projected\n"
+    "                 by both exports where the sensor sees\n"
+    "  height_<l>     the waves' surface, 4 samples per facet side: .png 16-bit\n"
+    "                 (POV-Ray's height_field), .exr B in metres (Blender)\n"
     "Previews: one mapping per quantity for all levels and frames; normal in\n"
     "colour as stored, roughness in colour on an absolute scale (value\n"
     "roughness, saturation anisotropy, hue 2 x rotation); seabake(1), BAKE.\n"
@@ -159,8 +164,9 @@ static const char BAKE_HELP[] =
     "  --emission-space S  what the exported sea shows where the sensor sees it:\n"
     "                      sensor (default: the sensor's image, DIR/sensor.exr,\n"
     "                      projected from its position, so that the sensor's view\n"
-    "                      is seabake render's image) or map (each level's\n"
-    "                      emission map); only with --pov or --blender\n"
+    "                      is seabake render's image, on rings with the waves)\n"
+    "                      or map (each level's emission map on flat rings);\n"
+    "                      only with --pov or --blender\n"
     "  --pov               also a POV-Ray scene: DIR/scene.pov, sea.inc (the sea, to\n"
     "                      include in a scene of your own), scene.ini, seabake.inc;\n"
     "                      with --frames, scene.ini renders every frame\n"
@@ -840,6 +846,142 @@ static sea_status write_sensor(const bake_setup *s, const sea_image *img, long f
     return st;
 }
 
+/* The waves' surface of a level for the exports (--emission-space
+ * sensor): the surface seabake render marches (sea_heightfield_at of the
+ * level's facet moments, Hermite patches through the facet centres),
+ * sampled BAKE_HEIGHT_S times per facet side from the rectangle's
+ * south-west corner to its north-east one, (S nx + 1) x (S ny + 1) samples,
+ * row 0 the north edge; each sample's height is that of its sea point
+ * (sea_camera_sea_point: on a spherical Earth the sphere's drop) plus the
+ * surface's height along the local vertical. */
+enum { BAKE_HEIGHT_S = 4 };
+
+static sea_status level_heights(const sea_camera *cam, const sea_bake_level *bl, float **out,
+                                size_t *width, size_t *height, double *lo, double *hi,
+                                sea_error *err)
+{
+    const sea_clip_level *lv = &bl->level;
+    const size_t nx = lv->nx, ny = lv->ny, W = BAKE_HEIGHT_S * nx + 1,
+                 H = BAKE_HEIGHT_S * ny + 1;
+    *out = NULL;
+    sea_status st = sea_check_size(W, H * sizeof(float), "height samples", err);
+    if (st != SEA_OK)
+        return st;
+    sea_moments *south = malloc(nx * ny * sizeof *south);
+    float *z = malloc(W * H * sizeof *z);
+    sea_heightfield *hf = NULL;
+    if (south == NULL || z == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the heights of level %d", lv->level);
+    } else {
+        for (size_t row = 0; row < ny; row++)
+            memcpy(south + (ny - 1 - row) * nx, bl->moments + row * nx, nx * sizeof *south);
+        const sea_rect rect = {lv->facet, lv->i0, lv->j0, nx, ny};
+        st = sea_heightfield_alloc(&rect, south, &hf, err);
+    }
+    if (st == SEA_OK) {
+        const double step = lv->facet / BAKE_HEIGHT_S;
+#pragma omp parallel for schedule(static)
+        for (size_t r = 0; r < H; r++) {
+            const double y = (double)lv->j0 * lv->facet + (double)(H - 1 - r) * step;
+            for (size_t k = 0; k < W; k++) {
+                const double x = (double)lv->i0 * lv->facet + (double)k * step;
+                double q[3], n[3];
+                sea_camera_sea_point(cam, x, y, q, n);
+                z[r * W + k] = (float)(q[2] + sea_heightfield_at(hf, x, y).h * n[2]);
+            }
+        }
+        double a = INFINITY, b = -INFINITY;
+        for (size_t q = 0; q < W * H; q++) {
+            a = fmin(a, z[q]);
+            b = fmax(b, z[q]);
+        }
+        if (!(isfinite(a) && isfinite(b)))
+            st = sea_fail(err, SEA_ERR_NUMERIC, "level %d: a height is not finite", lv->level);
+        /* a flat level still gets a range */
+        if (!(b > a)) {
+            a -= 0.5;
+            b += 0.5;
+        }
+        *lo = a;
+        *hi = b;
+    }
+    sea_heightfield_free(hf);
+    free(south);
+    if (st != SEA_OK) {
+        free(z);
+        return st;
+    }
+    *out = z;
+    *width = W;
+    *height = H;
+    return SEA_OK;
+}
+
+/* The heights of level bl at frame f (level_heights): for --pov a 16-bit
+ * grey PNG from range[0] (black) to range[1] (white), set here,
+ * height_<l>[_FFFF].png, for --blender an EXR of the displacement in
+ * metres (R = G = 0, B the height), height_<l>[_FFFF].exr. */
+static sea_status write_heights(const bake_setup *s, const sea_camera *cam,
+                                const sea_bake_level *bl, long f, const char *tmp,
+                                double range[2], sea_error *err)
+{
+    float *z = NULL;
+    size_t W = 0, H = 0;
+    sea_status st = level_heights(cam, bl, &z, &W, &H, &range[0], &range[1], err);
+    if (st != SEA_OK)
+        return st;
+    const int level = bl->level.level;
+    char *png = map_name("height", level, s->framed, f, ".png");
+    char *exr = map_name("height", level, s->framed, f, ".exr");
+    char *path = NULL;
+    if (png == NULL || exr == NULL)
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    if (st == SEA_OK && s->pov) {
+        if ((path = sea_cli_path_join(tmp, png)) == NULL)
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        else
+            st = sea_png_write_gray(path, (int)W, (int)H, z, range[0], range[1], 16, err);
+        free(path);
+    }
+    if (st == SEA_OK && s->blender) {
+        /* a displacement vector (0, 0, height), as Blender's Displace
+         * modifier reads RGB */
+        float *zero = calloc(W * H, sizeof *zero);
+        const sea_exr_attr attrs[] = {{"seabake:quantity", "height"}};
+        const sea_exr_channel ch[3] = {{"R", zero}, {"G", zero}, {"B", z}};
+        if ((path = sea_cli_path_join(tmp, exr)) == NULL || zero == NULL)
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        else
+            st = sea_exr_write(path, (int)W, (int)H, ch, 3, attrs, 1, &s->exr, err);
+        free(path);
+        free(zero);
+    }
+    free(png);
+    free(exr);
+    free(z);
+    return st;
+}
+
+/* The "height" object of level lv's entry for frame f (write_heights). */
+static sea_status height_json(const bake_setup *s, const sea_clip_level *lv, long f,
+                              const double range[2], cJSON *entry, sea_error *err)
+{
+    char *png = map_name("height", lv->level, s->framed, f, ".png");
+    char *exr = map_name("height", lv->level, s->framed, f, ".exr");
+    cJSON *o = png != NULL && exr != NULL ? cJSON_AddObjectToObject(entry, "height") : NULL;
+    const bool ok =
+        o != NULL && cJSON_AddNumberToObject(o, "samples_per_facet", BAKE_HEIGHT_S) &&
+        cJSON_AddNumberToObject(o, "width", (double)(BAKE_HEIGHT_S * lv->nx + 1)) &&
+        cJSON_AddNumberToObject(o, "height", (double)(BAKE_HEIGHT_S * lv->ny + 1)) &&
+        cJSON_AddNumberToObject(o, "min_m", range[0]) &&
+        cJSON_AddNumberToObject(o, "max_m", range[1]) &&
+        (!s->pov || cJSON_AddStringToObject(o, "png", png)) &&
+        (!s->blender || cJSON_AddStringToObject(o, "exr", exr));
+    free(png);
+    free(exr);
+    return ok ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+}
+
 static cJSON *manifest_json(const bake_setup *s, const sea_render *r, const sea_bake *b,
                             const sea_bake_horizon *hz, double scale)
 {
@@ -936,41 +1078,66 @@ static double emission_scale(double top)
 /* The POV-Ray scene: one ring per level (finest first), each with its
  * emission map (with --frames, the map of POV-Ray's frame_number) and the
  * next finer level cut out; the low-resolution level as the horizon mesh
- * (HORIZON_MAP); the scene's spectral samples for Seabake_Blackbody. */
-static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_bake *b,
+ * (HORIZON_MAP); the scene's spectral samples for Seabake_Blackbody.  With
+ * the sensor's image (--emission-space sensor) the rings carry the waves:
+ * each level's height samples (write_heights) over their range of each
+ * frame, ranges[2 (frame nlev + l)], frames from the first.  lr_radiance:
+ * the low-resolution levels' radiance (index as sea_render_levels). */
+static sea_status write_pov(const bake_setup *s, const sea_render *r, const double *lr_radiance,
                             const sea_bake_horizon *hz, const char *tmp, double scale,
-                            sea_error *err)
+                            const double *ranges, sea_error *err)
 {
     sea_pov_level pl[SEA_CLIP_MAX_LEVELS];
-    char *names[SEA_CLIP_MAX_LEVELS] = {NULL};
+    char *names[SEA_CLIP_MAX_LEVELS] = {NULL}, *heights[SEA_CLIP_MAX_LEVELS] = {NULL};
     size_t n = 0;
     sea_status st = SEA_OK;
     const sea_camera *cam = sea_render_camera(r);
     const double far = 1000.0 * s->sc.altitude;
-    for (size_t l = 0; l < b->n_levels && st == SEA_OK; l++) {
-        const sea_bake_level *bl = &b->levels[l];
-        if (bl->level.low_res && hz != NULL)
+    const sea_clip_level *levels;
+    const size_t nlev = sea_render_levels(r, &levels);
+    const size_t n_frames = (size_t)(s->framed ? s->frame_b - s->frame_a + 1 : 1);
+    double *lo = NULL, *hi = NULL;
+    if (s->sensor && ((lo = malloc(nlev * n_frames * sizeof *lo)) == NULL ||
+                      (hi = malloc(nlev * n_frames * sizeof *hi)) == NULL))
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    for (size_t l = 0; l < nlev && st == SEA_OK; l++) {
+        const sea_clip_level *lv = &levels[l];
+        if (lv->low_res && hz != NULL)
             continue; /* the horizon mesh shows it */
         sea_pov_level *p = &pl[n];
         memset(p, 0, sizeof *p);
-        p->level = bl->level.level;
-        p->facet = bl->level.facet;
-        if (bl->level.low_res) {
+        p->level = lv->level;
+        p->facet = lv->facet;
+        if (lv->low_res) {
             p->x0 = cam->pos[0] - far;
             p->y0 = cam->pos[1] - far;
             p->w = p->h = 2.0 * far;
-            p->constant = bl->lr_optics.radiance * scale;
+            p->constant = lr_radiance[l] * scale;
         } else {
-            p->x0 = (double)bl->level.i0 * bl->level.facet;
-            p->y0 = (double)bl->level.j0 * bl->level.facet;
-            p->w = (double)bl->level.nx * bl->level.facet;
-            p->h = (double)bl->level.ny * bl->level.facet;
-            /* with frames, the name up to the frame number */
-            names[n] = s->framed ? map_name("emission", bl->level.level, false, 0, "_")
-                                 : map_name("emission", bl->level.level, false, 0, ".exr");
+            p->x0 = (double)lv->i0 * lv->facet;
+            p->y0 = (double)lv->j0 * lv->facet;
+            p->w = (double)lv->nx * lv->facet;
+            p->h = (double)lv->ny * lv->facet;
+            /* with frames, the names up to the frame number */
+            names[n] = s->framed ? map_name("emission", lv->level, false, 0, "_")
+                                 : map_name("emission", lv->level, false, 0, ".exr");
             if (names[n] == NULL)
                 st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
             p->emission_file = names[n];
+            if (s->sensor) {
+                heights[n] = s->framed ? map_name("height", lv->level, false, 0, "_")
+                                       : map_name("height", lv->level, false, 0, ".png");
+                if (heights[n] == NULL)
+                    st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+                p->height_file = heights[n];
+                p->height_samples = BAKE_HEIGHT_S;
+                p->height_lo = lo + n * n_frames;
+                p->height_hi = hi + n * n_frames;
+                for (size_t k = 0; k < n_frames; k++) {
+                    lo[n * n_frames + k] = ranges[2 * (k * nlev + l)];
+                    hi[n * n_frames + k] = ranges[2 * (k * nlev + l) + 1];
+                }
+            }
         }
         if (n > 0) {
             p->has_hole = 1;
@@ -1001,8 +1168,12 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const sea_
     o.weight = wt;
     if (st == SEA_OK)
         st = sea_pov_write(tmp, cam, pl, n, sky_radiance(r) * scale, scale, &o, err);
-    for (size_t l = 0; l < n; l++)
+    for (size_t l = 0; l < SEA_CLIP_MAX_LEVELS; l++) {
         free(names[l]);
+        free(heights[l]);
+    }
+    free(lo);
+    free(hi);
     return st;
 }
 
@@ -1108,6 +1279,11 @@ typedef struct {
     double top;          /* deferring: the largest radiance so far */
     double seconds;      /* spent writing */
     size_t texels;
+    double *ranges;      /* --emission-space sensor: each frame's and level's height
+                            range (write_heights), frame (frame - first) nlev + l */
+    long first;
+    size_t nlev;
+    const sea_camera *cam;
 } bake_writer;
 
 /* Runs the jobs (group indices) of a level in parallel, the first failure
@@ -1214,6 +1390,9 @@ static sea_status level_ready(void *ctx, const sea_bake *b, size_t l, sea_error 
             jobs[nj++] = g;
     if (st == SEA_OK)
         st = run_jobs(w, &c, jobs, nj, level_job, err);
+    if (st == SEA_OK && w->ranges != NULL)
+        st = write_heights(w->s, w->cam, bl, w->frame, w->tmp,
+                           &w->ranges[2 * ((size_t)(w->frame - w->first) * w->nlev + l)], err);
     if (c.spill >= 0 && close(c.spill) != 0 && st == SEA_OK)
         st = sea_fail(err, SEA_ERR_IO, "cannot write a spill file: %s", strerror(errno));
     w->texels += n;
@@ -1750,7 +1929,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     if (threads < 1)
         threads = 1;
     const size_t k2 = (size_t)(s->view_k * s->view_k);
-    bake_writer w = {s, tmp, 0, 0.0, true, 1.0, NULL, threads, nmax, NULL, NULL, 0.0, 0.0, 0};
+    bake_writer w = {s, tmp, 0, 0.0, true, 1.0, NULL, threads, nmax, NULL, NULL, 0.0, 0.0, 0, NULL, 0, 0, NULL};
     /* each writer's GROUP_CH_MAX channels, and the emission map's K x K
      * texels per facet */
     sea_status st = sea_check_size(nmax, (threads * GROUP_CH_MAX + k2) * sizeof(float),
@@ -1786,6 +1965,18 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         for (int k = 0; sending != NULL && k < size; k++)
             sending[k] = true;
     }
+    /* the exports' waves: each frame's height range of each level, and the
+     * low-resolution levels' radiance, for the POV-Ray scene written last */
+    double *ranges = NULL, lr_radiance[SEA_CLIP_MAX_LEVELS] = {0};
+    if (st == SEA_OK && s->sensor &&
+        (st = sea_check_size((size_t)(last - first + 1), 2 * nlev * sizeof *ranges,
+                             "height ranges", err)) == SEA_OK &&
+        (ranges = calloc((size_t)(last - first + 1) * 2 * nlev, sizeof *ranges)) == NULL)
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the height ranges");
+    w.ranges = ranges;
+    w.first = first;
+    w.nlev = nlev;
+    w.cam = sea_render_camera(r);
     long f = first;
     for (; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
@@ -1880,9 +2071,13 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             cJSON_AddItemToArray(cJSON_GetObjectItem(cJSON_GetArrayItem(levels, (int)l), "frames"),
                                  entry);
             st = files_json(s, b.levels[l].level.level, f, files, err);
+            if (st == SEA_OK && s->sensor)
+                st = height_json(s, &b.levels[l].level, f,
+                                 &ranges[2 * ((size_t)(f - first) * nlev + l)], entry, err);
         }
-        if (st == SEA_OK && s->pov && f == first)
-            st = write_pov(s, r, &b, hz, tmp, w.scale, err);
+        if (f == first)
+            for (size_t l = 0; l < b.n_levels && l < SEA_CLIP_MAX_LEVELS; l++)
+                lr_radiance[l] = b.levels[l].lr_optics.radiance;
         sea_bake_free(&b);
         stats->write += sea_cli_seconds() - t0;
         if (owner != 0) {
@@ -1911,6 +2106,12 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     free(in.view);
     free(sending);
     stats->texels = w.texels;
+    if (st == SEA_OK && s->pov) {
+        const double t0 = sea_cli_seconds();
+        st = write_pov(s, r, lr_radiance, hz, tmp, w.scale, ranges, err);
+        stats->write += sea_cli_seconds() - t0;
+    }
+    free(ranges);
     if (st == SEA_OK && s->blender)
         st = write_text(tmp, SEA_BLENDER_SCRIPT, sea_blender_import_text, err);
     sea_cli_progress_end(&prog.bar);
