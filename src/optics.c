@@ -41,6 +41,7 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_integration.h>
+#include <gsl/gsl_linalg.h>
 
 #include "seabake.h"
 #include "internal.h"
@@ -111,13 +112,29 @@ typedef struct {
     double a[SEA_FRESNEL_INTERVALS][4];
 } fresnel_table;
 
+/* The spectral basis of a block of tables (the second hits' inner sums,
+ * spectral_basis_of): rank tables B_r and weights A_kr such that table k's
+ * cubics are sum_r A_kr B_r's within SEA_BASIS_TOL of the reflectance. */
+enum { SEA_BASIS_CACHE = 8, SEA_BASIS_RANK_MAX = 12, SEA_BASIS_MIN_N = 4, SEA_BASIS_BLOCK = 32 };
+static const double SEA_BASIS_TOL = 1e-9;
+typedef struct {
+    size_t n;
+    double complex N[SEA_BASIS_BLOCK];
+    int rank; /* 0: no basis saves work (rank would be n - 1 or more) */
+    double A[SEA_BASIS_BLOCK][SEA_BASIS_RANK_MAX];
+    fresnel_table *B[SEA_BASIS_RANK_MAX];
+} spectral_basis;
+
 struct sea_optics {
     /* The Fresnel tables, filled on first use of an index under the lock;
      * n_fresnel is published after its table is complete, so readers scan
-     * without the lock. */
+     * without the lock.  The spectral bases likewise. */
     pthread_mutex_t fresnel_lock;
     atomic_size_t n_fresnel;
     fresnel_table *fresnel[SEA_FRESNEL_CACHE];
+    atomic_size_t n_basis;
+    spectral_basis *basis[SEA_BASIS_CACHE];
+    int use_basis; /* the second hits' inner sums through the spectral basis */
     gsl_integration_glfixed_table *gl_inner;
     double gl_x[SEA_TRI(SEA_EMIS_GL_MAX)]; /* Gauss-Legendre nodes on [-1, 1] */
     double gl_w[SEA_TRI(SEA_EMIS_GL_MAX)];
@@ -135,6 +152,8 @@ sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     pthread_mutex_init(&p->fresnel_lock, NULL);
     atomic_init(&p->n_fresnel, 0);
+    atomic_init(&p->n_basis, 0);
+    p->use_basis = 1;
 #ifdef SEA_OPTICS_AVX2
     __builtin_cpu_init();
     p->avx2 = __builtin_cpu_supports("avx2") != 0;
@@ -186,6 +205,11 @@ int sea_optics_set_simd(sea_optics *p, int on)
     return p->avx2;
 }
 
+void sea_optics_set_spectral_basis(sea_optics *p, int on)
+{
+    p->use_basis = on != 0;
+}
+
 void sea_optics_free(sea_optics *p)
 {
     if (p == NULL)
@@ -195,6 +219,12 @@ void sea_optics_free(sea_optics *p)
     const size_t n = atomic_load(&p->n_fresnel);
     for (size_t i = 0; i < n; i++)
         free(p->fresnel[i]);
+    const size_t nb = atomic_load(&p->n_basis);
+    for (size_t i = 0; i < nb; i++) {
+        for (int r = 0; r < p->basis[i]->rank; r++)
+            free(p->basis[i]->B[r]);
+        free(p->basis[i]);
+    }
     pthread_mutex_destroy(&p->fresnel_lock);
     free(p);
 }
@@ -816,25 +846,45 @@ __attribute__((target("avx2"))) static double flat_sum_avx2(const fresnel_table 
 
 /* flat_sum_avx2 of four tables at once, one table a lane: node q's four
  * coefficient rows, one from each table, transposed, into accumulator
- * q mod 4; each table's sums in flat_sum_avx2's order. */
-__attribute__((target("avx2"))) static void flat_sum4_avx2(const fresnel_table *const tb[4],
-                                                           const fixed_nodes *nd, double out[4])
+ * q mod 4; each table's sums in flat_sum_avx2's order.  raw (a constant
+ * at each call): sum_q w_q B(c_q) instead, unclamped, nodes of weight <= 0
+ * left out (the spectral basis's sums). */
+__attribute__((target("avx2"), always_inline)) static inline void
+sum4_avx2(const fresnel_table *const tb[4], const fixed_nodes *nd, double out[4], const int raw)
 {
     const int *k = nd->tab_k;
     const double *t = nd->tab_t, *w = nd->w_q;
-    __m256d acc[4] = { _mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd(),
-                       _mm256_setzero_pd() };
+    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    __m256d acc[4] = { zero, zero, zero, zero };
     for (int q = 0; q < nd->n_q; q += 4)
         for (int m = 0; m < 4; m++) {
             const int kq = k[q + m];
-            const __m256d c0 = _mm256_loadu_pd(tb[0]->a[kq]), c1 = _mm256_loadu_pd(tb[1]->a[kq]);
-            const __m256d c2 = _mm256_loadu_pd(tb[2]->a[kq]), c3 = _mm256_loadu_pd(tb[3]->a[kq]);
-            acc[m] = _mm256_add_pd(acc[m], _mm256_mul_pd(_mm256_set1_pd(w[q + m]),
-                                                         one_minus_cubic4(c0, c1, c2, c3,
-                                                                          _mm256_set1_pd(t[q + m]))));
+            __m256d a[4] = { _mm256_loadu_pd(tb[0]->a[kq]), _mm256_loadu_pd(tb[1]->a[kq]),
+                             _mm256_loadu_pd(tb[2]->a[kq]), _mm256_loadu_pd(tb[3]->a[kq]) };
+            sea_transpose4_avx2(a);
+            const __m256d tt = _mm256_set1_pd(t[q + m]);
+            __m256d v = _mm256_add_pd(a[2], _mm256_mul_pd(tt, a[3]));
+            v = _mm256_add_pd(a[1], _mm256_mul_pd(tt, v));
+            v = _mm256_add_pd(a[0], _mm256_mul_pd(tt, v));
+            if (!raw)
+                v = _mm256_sub_pd(one, _mm256_min_pd(_mm256_max_pd(v, zero), one));
+            const double wq = raw && !(w[q + m] > 0.0) ? 0.0 : w[q + m];
+            acc[m] = _mm256_add_pd(acc[m], _mm256_mul_pd(_mm256_set1_pd(wq), v));
         }
     _mm256_storeu_pd(out, _mm256_add_pd(_mm256_add_pd(acc[0], acc[1]),
                                         _mm256_add_pd(acc[2], acc[3])));
+}
+
+__attribute__((target("avx2"))) static void flat_sum4_avx2(const fresnel_table *const tb[4],
+                                                           const fixed_nodes *nd, double out[4])
+{
+    sum4_avx2(tb, nd, out, 0);
+}
+
+__attribute__((target("avx2"))) static void raw_sum4_avx2(const fresnel_table *const tb[4],
+                                                          const fixed_nodes *nd, double out[4])
+{
+    sum4_avx2(tb, nd, out, 1);
 }
 #endif
 
@@ -1176,6 +1226,192 @@ static void emissivity_of_nodes_n(const fixed_nodes *nd, const emis_ctx *ec, siz
 /* The fixed rule of a call: the given orders, Eq 12's 64 nodes (fast), or
  * the default's orders from the view frame (auto, and full where a fixed
  * rule is needed). */
+/* ------------------------------------------------------ spectral basis */
+
+/* The second hits' inner emissivity sums the n Fresnel tables of a block of
+ * spectral samples over the same nodes, n table lookups a node.  A band's
+ * tables are nearly linearly dependent (water over 3-5 um: singular values
+ * 1, 3.4e-2, 1.9e-3, 5.5e-5, 1.6e-5, 5.1e-7, 3.1e-8, 2.2e-10 of the
+ * first), so the singular value decomposition of the matrix of their
+ * cubics' coefficients gives rank tables B_r (left singular vectors) and
+ * weights A_kr (singular value times right singular vector) with table
+ * k's cubics within SEA_BASIS_TOL of sum_r A_kr B_r's everywhere (the
+ * residual's coefficients, summed, bound it on every interval), rank the
+ * smallest that does.  The sums then take rank lookups a node:
+ *     sum_q w_q (1 - rho_k) = W - sum_r A_kr sum_q w_q B_r,
+ * W = sum_q w_q, unclamped (the tables' own sums clamp rho to [0, 1],
+ * which changes nothing above SEA_BASIS_TOL on water).  No basis when the
+ * rank would save less than one lookup in four. */
+static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
+{
+    enum { M = SEA_FRESNEL_INTERVALS, C = 4 * SEA_FRESNEL_INTERVALS };
+    spectral_basis *b = calloc(1, sizeof *b);
+    gsl_matrix *X = gsl_matrix_alloc(C, n);
+    gsl_matrix *V = gsl_matrix_alloc(n, n);
+    gsl_vector *S = gsl_vector_alloc(n), *work = gsl_vector_alloc(n);
+    /* each table's residual after the first R terms, R = 0, 1, ... */
+    double *res = malloc(n * C * sizeof *res);
+    int ok = b != NULL && X != NULL && V != NULL && S != NULL && work != NULL && res != NULL;
+    if (ok) {
+        b->n = n;
+        for (size_t k = 0; k < n; k++) {
+            b->N[k] = ec[k].N;
+            for (int q = 0; q < M; q++)
+                for (int c = 0; c < 4; c++) {
+                    gsl_matrix_set(X, 4 * (size_t)q + (size_t)c, k, ec[k].table->a[q][c]);
+                    res[k * C + 4 * (size_t)q + (size_t)c] = ec[k].table->a[q][c];
+                }
+        }
+        ok = gsl_linalg_SV_decomp(X, V, S, work) == GSL_SUCCESS;
+    }
+    int rank = 0;
+    const int max_rank = (int)(3 * n / 4) < SEA_BASIS_RANK_MAX ? (int)(3 * n / 4)
+                                                               : SEA_BASIS_RANK_MAX;
+    for (int R = 1; ok && R <= max_rank && rank == 0; R++) {
+        const double sr = gsl_vector_get(S, (size_t)R - 1);
+        double worst = 0.0;
+        for (size_t k = 0; k < n; k++) {
+            const double a = sr * gsl_matrix_get(V, k, (size_t)R - 1);
+            double *e = &res[k * C];
+            for (size_t i = 0; i < C; i++)
+                e[i] -= a * gsl_matrix_get(X, i, (size_t)R - 1);
+            for (int q = 0; q < M; q++)
+                worst = fmax(worst, fabs(e[4 * q]) + fabs(e[4 * q + 1]) + fabs(e[4 * q + 2]) +
+                                        fabs(e[4 * q + 3]));
+        }
+        if (worst <= SEA_BASIS_TOL)
+            rank = R;
+    }
+    for (int r = 0; ok && r < rank; r++) {
+        if ((b->B[r] = malloc(sizeof *b->B[r])) == NULL) {
+            ok = 0;
+            break;
+        }
+        b->B[r]->N = 0.0;
+        b->B[r]->usable = 1;
+        for (int q = 0; q < M; q++)
+            for (int c = 0; c < 4; c++)
+                b->B[r]->a[q][c] = gsl_matrix_get(X, 4 * (size_t)q + (size_t)c, (size_t)r);
+        for (size_t k = 0; k < n; k++)
+            b->A[k][r] = gsl_vector_get(S, (size_t)r) * gsl_matrix_get(V, k, (size_t)r);
+    }
+    if (b != NULL)
+        b->rank = ok ? rank : 0;
+    if (b != NULL && !ok)
+        for (int r = 0; r < SEA_BASIS_RANK_MAX; r++) {
+            free(b->B[r]);
+            b->B[r] = NULL;
+        }
+    gsl_matrix_free(X);
+    gsl_matrix_free(V);
+    gsl_vector_free(S);
+    gsl_vector_free(work);
+    free(res);
+    return b;
+}
+
+/* The first nb bases': the one of the block ec[0..n), or NULL. */
+static const spectral_basis *find_basis(const sea_optics *p, const emis_ctx *ec, size_t n,
+                                        size_t nb)
+{
+    for (size_t i = 0; i < nb; i++) {
+        const spectral_basis *b = p->basis[i];
+        size_t k = 0;
+        while (b->n == n && k < n && b->N[k] == ec[k].N)
+            k++;
+        if (k == n)
+            return b;
+    }
+    return NULL;
+}
+
+/* The basis of the block ec[0..n) (every index tabulated), built on first
+ * use under the tables' lock; NULL when there is none to use. */
+static const spectral_basis *spectral_basis_of(const sea_optics *pc, const emis_ctx *ec, size_t n)
+{
+    sea_optics *p = (sea_optics *)pc;
+    if (!p->use_basis || n < SEA_BASIS_MIN_N || n > SEA_BASIS_BLOCK)
+        return NULL;
+    for (size_t k = 0; k < n; k++)
+        if (ec[k].table == NULL)
+            return NULL;
+    size_t nb = atomic_load_explicit(&p->n_basis, memory_order_acquire);
+    const spectral_basis *found = find_basis(p, ec, n, nb);
+    if (found == NULL) {
+        pthread_mutex_lock(&p->fresnel_lock);
+        nb = atomic_load_explicit(&p->n_basis, memory_order_relaxed);
+        found = find_basis(p, ec, n, nb);
+        if (found == NULL && nb < SEA_BASIS_CACHE) {
+            spectral_basis *b = basis_build(ec, n);
+            if (b != NULL) { /* out of memory: no basis */
+                p->basis[nb] = b;
+                atomic_store_explicit(&p->n_basis, nb + 1, memory_order_release);
+                found = b;
+            }
+        }
+        pthread_mutex_unlock(&p->fresnel_lock);
+    }
+    return found != NULL && found->rank > 0 ? found : NULL;
+}
+
+int sea_optics_spectral_rank(const sea_optics *p, const double complex *N, size_t n)
+{
+    emis_ctx ec[SEA_BASIS_BLOCK];
+    size_t slot = 0;
+    if (n > SEA_BASIS_BLOCK)
+        return 0;
+    for (size_t k = 0; k < n; k++)
+        ec[k] = (emis_ctx){ N[k], fresnel_of(p, N[k], &slot) };
+    const spectral_basis *b = spectral_basis_of(p, ec, n);
+    return b != NULL ? b->rank : 0;
+}
+
+
+/* emissivity_of_nodes_n through the basis b of the block (the general
+ * nodes: not zero, not plain, n_j > 1, table positions set). */
+static void emissivity_of_nodes_basis(const fixed_nodes *nd, const spectral_basis *b,
+                                      double *out)
+{
+    double den = 0.0, W = 0.0, G[SEA_BASIS_RANK_MAX] = { 0.0 };
+    for (int i = 0; i < nd->n_i; i++)
+        if (nd->w_i[i] > 0.0)
+            den += nd->w_i[i];
+    for (int q = 0; q < nd->n_q; q++)
+        if (nd->w_q[q] > 0.0)
+            W += nd->w_q[q];
+#ifdef SEA_OPTICS_AVX2
+    if (nd->avx2) {
+        /* four tables a pass, the last pass's spare lanes on its last table */
+        for (int r = 0; r < b->rank; r += 4) {
+            const fresnel_table *tb[4];
+            double g4[4];
+            for (int m = 0; m < 4; m++)
+                tb[m] = b->B[r + m < b->rank ? r + m : b->rank - 1];
+            raw_sum4_avx2(tb, nd, g4);
+            for (int m = 0; m < 4 && r + m < b->rank; m++)
+                G[r + m] = g4[m];
+        }
+    } else
+#endif
+    {
+        for (int r = 0; r < b->rank; r++) {
+            double g = 0.0;
+            for (int q = 0; q < nd->n_q; q++)
+                if (nd->w_q[q] > 0.0) {
+                    const double *a = b->B[r]->a[nd->tab_k[q]], t = nd->tab_t[q];
+                    g += nd->w_q[q] * (a[0] + t * (a[1] + t * (a[2] + t * a[3])));
+                }
+            G[r] = g;
+        }
+    }
+    for (size_t k = 0; k < b->n; k++) {
+        double sum = W;
+        for (int r = 0; r < b->rank; r++)
+            sum -= b->A[k][r] * G[r];
+        out[k] = den > 0.0 ? sum / den : 0.0;
+    }
+}
+
 static fixed_rule fixed_rule_of(const view_frame *f, sea_emis_method method,
                                 const sea_emis_rule *rule)
 {
@@ -1541,7 +1777,8 @@ static double hit_chance(const sea_slope_stats *st, const double g[3], double L_
 
 static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
                           double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
-                          const sea_sky *sky, size_t k0, double *out, double *kout);
+                          const sea_sky *sky, size_t k0, const spectral_basis *sb, double *out,
+                          double *kout);
 
 /* What the mirror rays that meet the sea again add (R >= 2), per index k:
  *     T_k = E_w[rho_k P E_(R-1),k(-r)],
@@ -1561,7 +1798,8 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
  * shares of the average. */
 static void second_hit(const sea_optics *p, const sea_slope_stats *st, const view_frame *f,
                        double L_in, const emis_ctx *ec, size_t n, int R, fixed_rule a,
-                       double w_tot, const sea_sky *sky, size_t k0, double *T, double *D)
+                       double w_tot, const sea_sky *sky, size_t k0, const spectral_basis *sb,
+                       double *T, double *D)
 {
     for (size_t k = 0; k < n; k++)
         T[k] = D[k] = 0.0;
@@ -1646,7 +1884,7 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                 /* no facet turned toward the ray (a slope distribution
                  * without spread, tilted): there is nothing to meet, and
                  * the ray escapes (so the closure holds) */
-                if (!emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, eB,
+                if (!emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, sb, eB,
                                     sky != NULL ? kB : NULL))
                     continue;
                 int tk;
@@ -1682,7 +1920,8 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
  * kout are 0), else 1. */
 static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
                           double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
-                          const sea_sky *sky, size_t k0, double *out, double *kout)
+                          const sea_sky *sky, size_t k0, const spectral_basis *sb, double *out,
+                          double *kout)
 {
     const int first = r0 != NULL;
     const view_frame f = *fd;
@@ -1697,7 +1936,11 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
     }
     fixed_nodes nd;
     nodes_fixed(p, &f, a, &nd);
-    emissivity_of_nodes_n(&nd, ec, n, out);
+    /* the facets met again: through the spectral basis when there is one */
+    if (!first && sb != NULL && !nd.zero && !nd.plain && nd.n_j > 1)
+        emissivity_of_nodes_basis(&nd, sb, out);
+    else
+        emissivity_of_nodes_n(&nd, ec, n, out);
     if (kout != NULL)
         for (size_t k = 0; k < n; k++)
             kout[k] = 0.0;
@@ -1749,7 +1992,7 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
             w_tot = 0.5 * (t_hi - t_lo) * s;
         }
         double T[SEA_MULTI_BLOCK], D[SEA_MULTI_BLOCK];
-        second_hit(p, st, &f, L_in, ec, n, R, a, w_tot, sky, k0, T, D);
+        second_hit(p, st, &f, L_in, ec, n, R, a, w_tot, sky, k0, sb, T, D);
         for (size_t k = 0; k < n; k++) {
             out[k] += T[k];
             if (kout != NULL)
@@ -1790,8 +2033,9 @@ static sea_status emissivity_general(const sea_optics *p, sea_emis_method method
         size_t slot = 0;
         for (size_t k = 0; k < m; k++)
             ec[k] = (emis_ctx){ N[k0 + k], fresnel_of(p, N[k0 + k], &slot) };
-        (void)emis_multi_rec(p, st, &f, L_in, ec, m, reflections, &r0, sky, k0, &out[k0],
-                       sky != NULL ? &sky_out[k0] : NULL);
+        (void)emis_multi_rec(p, st, &f, L_in, ec, m, reflections, &r0, sky, k0,
+                             spectral_basis_of(p, ec, m), &out[k0],
+                             sky != NULL ? &sky_out[k0] : NULL);
     }
     return SEA_OK;
 }

@@ -694,6 +694,57 @@ static void test_emissivity_simd(void)
     sea_optics_free(q);
 }
 
+/* The second hits' inner sums through the spectral basis of a band's
+ * Fresnel tables (sea_optics_set_spectral_basis): 16 samples of water over
+ * 3-5 um have a basis of a few tables (8 measured), and E_2 and E_3 with
+ * it are within SEA_BASIS_TOL (1e-9, its bound on every reflectance;
+ * 5e-13 measured) of the sums table by table, with the AVX2 loops and
+ * without, over random stats and views (grazing ones, where the second
+ * hits matter, half the time). */
+static void test_spectral_basis(void)
+{
+    sea_optics *q = NULL;
+    sea_water *w = NULL;
+    sea_error err = { "" };
+    CU_ASSERT_FATAL(sea_optics_alloc(&q, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, &err) == SEA_OK);
+    double complex N[16];
+    for (int i = 0; i < 16; i++)
+        CU_ASSERT_FATAL(sea_water_index(w, 3e-6 + 2e-6 * (i + 0.5) / 16, &N[i], &err) == SEA_OK);
+    const int rank = sea_optics_spectral_rank(q, N, 16);
+    printf("\n    spectral basis of 16 samples over 3-5 um: rank %d", rank);
+    CU_ASSERT(rank >= 2 && rank <= 12);
+    CU_ASSERT_EQUAL(sea_optics_spectral_rank(q, N, 3), 0); /* too few to gain */
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 5);
+    double with[16], without[16], worst = 0.0, spread = 0.0;
+    for (int c = 0; c < 120; c++) {
+        const double sx = 0.05 + 0.25 * gsl_rng_uniform(rng), sy = 0.05 + 0.25 * gsl_rng_uniform(rng);
+        sea_slope_stats st = { { 0.4 * gsl_rng_uniform(rng) - 0.2, 0.4 * gsl_rng_uniform(rng) - 0.2 },
+                               { sx * sx, sy * sy, 0.3 * sx * sy } };
+        const double th = c % 2 ? 60.0 + 29.0 * gsl_rng_uniform(rng) : 85.0 * gsl_rng_uniform(rng);
+        sea_dir v = { th * DEG, 2 * M_PI * gsl_rng_uniform(rng) };
+        const int R = c % 3 == 0 ? 3 : 2;
+        sea_optics_set_shadowing(q, c % 4 < 2 ? SEA_SHADOW_SMITH : SEA_SHADOW_CORRELATED);
+        sea_optics_set_simd(q, c % 5 != 0);
+        for (int on = 1; on >= 0; on--) {
+            sea_optics_set_spectral_basis(q, on);
+            CU_ASSERT_FATAL(sea_emissivity_multi_n(q, SEA_EMIS_AUTO, NULL, N, 16, &st, v, R,
+                                                   on ? with : without, &err) == SEA_OK);
+        }
+        for (int i = 0; i < 16; i++) {
+            worst = fmax(worst, fabs(with[i] - without[i]));
+            spread = fmax(spread, fabs(without[i] - without[0]));
+        }
+    }
+    printf(", largest difference %.2g (emissivities spread over %.2g)", worst, spread);
+    CU_ASSERT(worst <= 1e-9);
+    CU_ASSERT(spread > 1e-4); /* the samples differ: the basis has work to do */
+    gsl_rng_free(rng);
+    sea_water_free(w);
+    sea_optics_free(q);
+}
+
 static void test_errors(void)
 {
     sea_slope_stats bad = { { 0, 0 }, { 0.01, 0.01, 0.02 } };
@@ -797,6 +848,7 @@ int test_optics_register(void)
            !CU_add_test(s, "property sweep", test_property_sweep) ||
            !CU_add_test(s, "many indices at once (emissivity, reflectivity), to the bit", test_emissivity_n) ||
            !CU_add_test(s, "AVX2 emissivity loops = portable ones, to the bit", test_emissivity_simd) ||
+           !CU_add_test(s, "second hits through the spectral basis", test_spectral_basis) ||
            !CU_add_test(s, "sun disc", test_sun_disc) ||
            !CU_add_test(s, "sun disc: series against quadrature", test_sun_disc_series) ||
            !CU_add_test(s, "correlated shadowing: Fresnel, auto vs full", test_correlated_shadowing) ||
