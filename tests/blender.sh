@@ -155,6 +155,15 @@ run_blender no_map "$dir/seabake_import.py" -- "$dir/manifest.json"
 check_rc import.no_map.rc 1
 check_match import.no_map.msg "$(cat "$SB_TMP/no_map.out")" \
     'seabake_import: error: .*normal_0.exr: map not found'
+mv "$dir/moved.exr" "$dir/normal_0.exr"
+for f in sensor.exr height_0.exr; do
+    mv "$dir/$f" "$dir/moved.exr"
+    run_blender "no_$f" "$dir/seabake_import.py" -- "$dir/manifest.json"
+    check_rc "import.no_$f.rc" 1
+    check_match "import.no_$f.msg" "$(cat "$SB_TMP/no_$f.out")" \
+        "seabake_import: error: .*$f: map not found"
+    mv "$dir/moved.exr" "$dir/$f"
+done
 
 # The import's one-line summary.
 check_match import.summary "$(cat "$SB_TMP/import.out")" \
