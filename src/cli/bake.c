@@ -138,8 +138,9 @@ static const char BAKE_HELP[] =
     "With --pov or --blender (and --emission-space sensor, the default) also\n"
     "  sensor[_FFFF].exr  the sensor's image (RGB radiance x scale), projected\n"
     "                 by both exports where the sensor sees\n"
-    "  height_<l>     the waves' surface, 4 samples per facet side: .png 16-bit\n"
-    "                 (POV-Ray's height_field), .exr B in metres (Blender)\n"
+    "  height_<l>     the waves' surface, 4 samples per facet side (fewer past\n"
+    "                 256 facets a side): .png 16-bit (POV-Ray's height_field),\n"
+    "                 .exr B in metres (Blender)\n"
     "Previews: one mapping per quantity for all levels and frames; normal in\n"
     "colour as stored, roughness in colour on an absolute scale (value\n"
     "roughness, saturation anisotropy, hue 2 x rotation); seabake(1), BAKE.\n"
@@ -849,39 +850,60 @@ static sea_status write_sensor(const bake_setup *s, const sea_image *img, long f
 /* The waves' surface of a level for the exports (--emission-space
  * sensor): the surface seabake render marches (sea_heightfield_at of the
  * level's facet moments, Hermite patches through the facet centres),
- * sampled BAKE_HEIGHT_S times per facet side from the rectangle's
- * south-west corner to its north-east one, (S nx + 1) x (S ny + 1) samples,
- * row 0 the north edge; each sample's height is that of its sea point
- * (sea_camera_sea_point: on a spherical Earth the sphere's drop) plus the
- * surface's height along the local vertical. */
-enum { BAKE_HEIGHT_S = 4 };
+ * sampled S = height_samples(level) times per facet side from the
+ * rectangle's south-west corner to its north-east one, (S nx + 1) x
+ * (S ny + 1) samples, row 0 the north edge; each sample's height is that of
+ * its sea point (sea_camera_sea_point: on a spherical Earth the sphere's
+ * drop) plus the surface's height along the local vertical.  S is
+ * BAKE_HEIGHT_S_MAX (6.9 mm from the surface between samples on 1 m
+ * facets, where 2 gave 5.1 cm), fewer on a level wider than
+ * BAKE_HEIGHT_SIDE / BAKE_HEIGHT_S_MAX facets so that a side keeps at most
+ * BAKE_HEIGHT_SIDE + 1 samples (at least one a facet: a 2048-facet level
+ * has 2049 x 2049, 8 MB of PNG, not 8193 x 8193). */
+enum { BAKE_HEIGHT_S_MAX = 4, BAKE_HEIGHT_SIDE = 1024, BAKE_HEIGHT_STRIP = 64 };
+
+static int height_samples(const sea_clip_level *lv)
+{
+    const size_t side = lv->nx > lv->ny ? lv->nx : lv->ny;
+    const size_t s = side > 0 ? BAKE_HEIGHT_SIDE / side : BAKE_HEIGHT_S_MAX;
+    return s < 1 ? 1 : s > BAKE_HEIGHT_S_MAX ? BAKE_HEIGHT_S_MAX : (int)s;
+}
 
 static sea_status level_heights(const sea_camera *cam, const sea_bake_level *bl, float **out,
                                 size_t *width, size_t *height, double *lo, double *hi,
                                 sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
-    const size_t nx = lv->nx, ny = lv->ny, W = BAKE_HEIGHT_S * nx + 1,
-                 H = BAKE_HEIGHT_S * ny + 1;
+    const size_t S = (size_t)height_samples(lv), nx = lv->nx, ny = lv->ny, W = S * nx + 1,
+                 H = S * ny + 1;
     *out = NULL;
     sea_status st = sea_check_size(W, H * sizeof(float), "height samples", err);
     if (st != SEA_OK)
         return st;
-    sea_moments *south = malloc(nx * ny * sizeof *south);
+    /* by strips of BAKE_HEIGHT_STRIP node rows (and the next), each a
+     * surface of its own: a sample between two node rows reads only them
+     * (beyond the outer rows the surface continues from the outer cell), so
+     * the whole level's surface is never held twice */
+    const size_t strip = ny - 1 < BAKE_HEIGHT_STRIP ? ny - 1 : BAKE_HEIGHT_STRIP;
+    sea_moments *south = malloc((strip + 1) * nx * sizeof *south);
     float *z = malloc(W * H * sizeof *z);
-    sea_heightfield *hf = NULL;
-    if (south == NULL || z == NULL) {
+    if (south == NULL || z == NULL)
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the heights of level %d", lv->level);
-    } else {
-        for (size_t row = 0; row < ny; row++)
-            memcpy(south + (ny - 1 - row) * nx, bl->moments + row * nx, nx * sizeof *south);
-        const sea_rect rect = {lv->facet, lv->i0, lv->j0, nx, ny};
-        st = sea_heightfield_alloc(&rect, south, &hf, err);
-    }
-    if (st == SEA_OK) {
-        const double step = lv->facet / BAKE_HEIGHT_S;
+    for (size_t j0 = 0; st == SEA_OK && j0 + 1 < ny; j0 += strip) {
+        const size_t j1 = j0 + strip < ny - 1 ? j0 + strip : ny - 1; /* node rows j0..j1 */
+        for (size_t j = j0; j <= j1; j++) /* bl->moments: north first */
+            memcpy(south + (j - j0) * nx, bl->moments + (ny - 1 - j) * nx, nx * sizeof *south);
+        const sea_rect rect = {lv->facet, lv->i0, lv->j0 + (long)j0, nx, j1 - j0 + 1};
+        sea_heightfield *hf = NULL;
+        if ((st = sea_heightfield_alloc(&rect, south, &hf, err)) != SEA_OK)
+            break;
+        const double step = lv->facet / (double)S;
 #pragma omp parallel for schedule(static)
         for (size_t r = 0; r < H; r++) {
+            /* sample row m = H - 1 - r, at node row position m / S - 1/2 */
+            const double fm = (double)(H - 1 - r) / (double)S - 0.5;
+            if (!((j0 == 0 || fm >= (double)j0) && (j1 == ny - 1 || fm < (double)j1)))
+                continue;
             const double y = (double)lv->j0 * lv->facet + (double)(H - 1 - r) * step;
             for (size_t k = 0; k < W; k++) {
                 const double x = (double)lv->i0 * lv->facet + (double)k * step;
@@ -890,6 +912,9 @@ static sea_status level_heights(const sea_camera *cam, const sea_bake_level *bl,
                 z[r * W + k] = (float)(q[2] + sea_heightfield_at(hf, x, y).h * n[2]);
             }
         }
+        sea_heightfield_free(hf);
+    }
+    if (st == SEA_OK) {
         double a = INFINITY, b = -INFINITY;
         for (size_t q = 0; q < W * H; q++) {
             a = fmin(a, z[q]);
@@ -905,7 +930,6 @@ static sea_status level_heights(const sea_camera *cam, const sea_bake_level *bl,
         *lo = a;
         *hi = b;
     }
-    sea_heightfield_free(hf);
     free(south);
     if (st != SEA_OK) {
         free(z);
@@ -970,9 +994,9 @@ static sea_status height_json(const bake_setup *s, const sea_clip_level *lv, lon
     char *exr = map_name("height", lv->level, s->framed, f, ".exr");
     cJSON *o = png != NULL && exr != NULL ? cJSON_AddObjectToObject(entry, "height") : NULL;
     const bool ok =
-        o != NULL && cJSON_AddNumberToObject(o, "samples_per_facet", BAKE_HEIGHT_S) &&
-        cJSON_AddNumberToObject(o, "width", (double)(BAKE_HEIGHT_S * lv->nx + 1)) &&
-        cJSON_AddNumberToObject(o, "height", (double)(BAKE_HEIGHT_S * lv->ny + 1)) &&
+        o != NULL && cJSON_AddNumberToObject(o, "samples_per_facet", height_samples(lv)) &&
+        cJSON_AddNumberToObject(o, "width", (double)(height_samples(lv) * (int)lv->nx + 1)) &&
+        cJSON_AddNumberToObject(o, "height", (double)(height_samples(lv) * (int)lv->ny + 1)) &&
         cJSON_AddNumberToObject(o, "min_m", range[0]) &&
         cJSON_AddNumberToObject(o, "max_m", range[1]) &&
         (!s->pov || cJSON_AddStringToObject(o, "png", png)) &&
@@ -1130,7 +1154,7 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const doub
                 if (heights[n] == NULL)
                     st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
                 p->height_file = heights[n];
-                p->height_samples = BAKE_HEIGHT_S;
+                p->height_samples = height_samples(lv);
                 p->height_lo = lo + n * n_frames;
                 p->height_hi = hi + n * n_frames;
                 for (size_t k = 0; k < n_frames; k++) {
@@ -1989,6 +2013,21 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         w.top = 0.0;
         const double written = w.seconds;
         double t0 = sea_cli_seconds();
+        /* the sensor's image of this frame, as seabake render gives it:
+         * first, so that the render's surfaces are freed before the bake's
+         * levels are made */
+        sea_image view = {0};
+        sea_status vst = SEA_OK; /* its failure stops the bake once the frame is in */
+        sea_error verr;
+        if (s->sensor) {
+            const sea_camera *cam = sea_render_camera(r);
+            vst = sea_image_alloc(&view, cam->width, cam->height, &verr);
+            if (vst == SEA_OK)
+                vst = sea_render_frame(r, t, &view, NULL, NULL, &verr);
+            const double t1 = sea_cli_seconds();
+            stats->compute += t1 - t0;
+            t0 = t1;
+        }
         if (size > 1 && !s->framed)
             st = bake_rows_frame(&w, &in, sending, r, t, &prog, &b, err);
         else if (owner == 0)
@@ -1999,12 +2038,19 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         /* under MPI "maps" is rank 0's computing and waiting for the others */
         stats->compute += sea_cli_seconds() - t0 - (w.seconds - written);
         stats->write += w.seconds - written;
+        if (st == SEA_OK && vst != SEA_OK) {
+            sea_bake_free(&b);
+            st = vst;
+            if (err != NULL)
+                *err = verr;
+        }
         if (sea_cli_interrupted() != 0) {
             if (st == SEA_OK)
                 sea_bake_free(&b);
             st = bake_interrupted(err);
         }
         if (st != SEA_OK) {
+            sea_image_free(&view);
             if (owner != 0) {
                 const int stop = BAKE_ACK_STOP;
                 sea_cli_mpi_send(&stop, sizeof stop, owner, BAKE_TAG_ACK);
@@ -2013,17 +2059,6 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             break;
         }
         t0 = sea_cli_seconds();
-        /* the sensor's image of this frame, as seabake render gives it */
-        sea_image view = {0};
-        if (s->sensor) {
-            const sea_camera *cam = sea_render_camera(r);
-            st = sea_image_alloc(&view, cam->width, cam->height, err);
-            if (st == SEA_OK)
-                st = sea_render_frame(r, t, &view, NULL, NULL, err);
-            const double t1 = sea_cli_seconds();
-            stats->compute += t1 - t0;
-            t0 = t1;
-        }
         if (st == SEA_OK && manifest == NULL && (s->pov || s->blender)) {
             st = sea_bake_horizon_make(r, fmax(1e-5, s->sc.tolerance), &hz_store, err);
             if (st == SEA_OK)
