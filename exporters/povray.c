@@ -481,8 +481,9 @@ static void write_waves(FILE *f, const sea_pov_level *lv, size_t n, size_t k, co
     put_object_texture(f, tex, drop, o);
     fputs("}\n", f);
     /* Curtains from this surface down to the floor along its rectangle and
-     * the finer levels' (SEA_POV_CURTAIN), clipped as the ring with the
-     * finer rectangles shrunk a little so that their own edges stay. */
+     * the finer levels' that meet it (Seabake_Curtain in seabake.inc),
+     * clipped as the ring with the finer rectangles shrunk a little so that
+     * their own edges stay. */
     const double step = l->facet / (double)l->height_samples;
     for (size_t m = 0; m <= n; m++) {
         const sea_pov_level *r = m == n ? l : &lv[m];

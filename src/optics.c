@@ -115,13 +115,16 @@ typedef struct {
 /* The spectral basis of a block of tables (the second hits' inner sums,
  * spectral_basis_of): rank tables B_r and weights A_kr such that table k's
  * cubics are sum_r A_kr B_r's within SEA_BASIS_TOL of the reflectance. */
-enum { SEA_BASIS_CACHE = 8, SEA_BASIS_RANK_MAX = 12, SEA_BASIS_MIN_N = 4, SEA_BASIS_BLOCK = 32 };
+/* Indices whose tables are looked up at once (stack arrays), by
+ * sea_emissivity_n and by one recursion of the multiple reflections. */
+enum { SEA_EMIS_BLOCK = 32 };
+enum { SEA_BASIS_CACHE = 8, SEA_BASIS_RANK_MAX = 12, SEA_BASIS_MIN_N = 4 };
 static const double SEA_BASIS_TOL = 1e-9;
 typedef struct {
     size_t n;
-    double complex N[SEA_BASIS_BLOCK];
+    double complex N[SEA_EMIS_BLOCK];
     int rank; /* 0: no basis saves work (rank would be n - 1 or more) */
-    double A[SEA_BASIS_BLOCK][SEA_BASIS_RANK_MAX];
+    double A[SEA_EMIS_BLOCK][SEA_BASIS_RANK_MAX];
     fresnel_table *B[SEA_BASIS_RANK_MAX];
 } spectral_basis;
 
@@ -592,10 +595,15 @@ static inline double fresnel_pos(double c, int *k)
 
 /* The table's cubic of interval k at offset t, clamped to [0, 1] (a
  * reflectance, as the formula's). */
-static inline double fresnel_eval(const fresnel_table *tb, int k, double t)
+static inline double cubic_at(const fresnel_table *tb, int k, double t)
 {
     const double *a = tb->a[k];
-    const double r = a[0] + t * (a[1] + t * (a[2] + t * a[3]));
+    return a[0] + t * (a[1] + t * (a[2] + t * a[3]));
+}
+
+static inline double fresnel_eval(const fresnel_table *tb, int k, double t)
+{
+    const double r = cubic_at(tb, k, t);
     return r < 0.0 ? 0.0 : r > 1.0 ? 1.0 : r;
 }
 
@@ -803,23 +811,27 @@ __attribute__((target("avx2"))) static void row_nodes_avx2(double num, double on
     }
 }
 
-/* 1 - the reflectance of four coefficient rows c0..c3 (a0 a1 a2 a3 each,
- * one row a lane after the transpose) at the offsets tt: fresnel_eval's
- * cubic a0 + t (a1 + t (a2 + t a3)) clamped to [0, 1], the same operations
- * in the same order, four lanes at once. */
+/* The cubics of four coefficient rows c0..c3 (a0 a1 a2 a3 each, one row a
+ * lane after the transpose) at the offsets tt: cubic_at's operations in the
+ * same order, four lanes at once. */
+__attribute__((target("avx2"))) static inline __m256d cubic4(__m256d c0, __m256d c1, __m256d c2,
+                                                             __m256d c3, __m256d tt)
+{
+    __m256d a[4] = { c0, c1, c2, c3 };
+    sea_transpose4_avx2(a);
+    __m256d v = _mm256_add_pd(a[2], _mm256_mul_pd(tt, a[3]));
+    v = _mm256_add_pd(a[1], _mm256_mul_pd(tt, v));
+    return _mm256_add_pd(a[0], _mm256_mul_pd(tt, v));
+}
+
+/* 1 - the reflectance: cubic4 clamped to [0, 1] (fresnel_eval's). */
 __attribute__((target("avx2"))) static inline __m256d one_minus_cubic4(__m256d c0, __m256d c1,
                                                                        __m256d c2, __m256d c3,
                                                                        __m256d tt)
 {
     const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-    __m256d a[4] = { c0, c1, c2, c3 };
-    sea_transpose4_avx2(a);
-    const __m256d a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3];
-    __m256d v = _mm256_add_pd(a2, _mm256_mul_pd(tt, a3));
-    v = _mm256_add_pd(a1, _mm256_mul_pd(tt, v));
-    v = _mm256_add_pd(a0, _mm256_mul_pd(tt, v));
-    v = _mm256_min_pd(_mm256_max_pd(v, zero), one);
-    return _mm256_sub_pd(one, v);
+    const __m256d v = cubic4(c0, c1, c2, c3, tt);
+    return _mm256_sub_pd(one, _mm256_min_pd(_mm256_max_pd(v, zero), one));
 }
 
 /* The sum over the nodes of w_q (1 - rho) from table tb, four nodes at a
@@ -854,20 +866,16 @@ sum4_avx2(const fresnel_table *const tb[4], const fixed_nodes *nd, double out[4]
 {
     const int *k = nd->tab_k;
     const double *t = nd->tab_t, *w = nd->w_q;
-    const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    const __m256d zero = _mm256_setzero_pd();
     __m256d acc[4] = { zero, zero, zero, zero };
     for (int q = 0; q < nd->n_q; q += 4)
         for (int m = 0; m < 4; m++) {
             const int kq = k[q + m];
-            __m256d a[4] = { _mm256_loadu_pd(tb[0]->a[kq]), _mm256_loadu_pd(tb[1]->a[kq]),
-                             _mm256_loadu_pd(tb[2]->a[kq]), _mm256_loadu_pd(tb[3]->a[kq]) };
-            sea_transpose4_avx2(a);
+            const __m256d c0 = _mm256_loadu_pd(tb[0]->a[kq]), c1 = _mm256_loadu_pd(tb[1]->a[kq]);
+            const __m256d c2 = _mm256_loadu_pd(tb[2]->a[kq]), c3 = _mm256_loadu_pd(tb[3]->a[kq]);
             const __m256d tt = _mm256_set1_pd(t[q + m]);
-            __m256d v = _mm256_add_pd(a[2], _mm256_mul_pd(tt, a[3]));
-            v = _mm256_add_pd(a[1], _mm256_mul_pd(tt, v));
-            v = _mm256_add_pd(a[0], _mm256_mul_pd(tt, v));
-            if (!raw)
-                v = _mm256_sub_pd(one, _mm256_min_pd(_mm256_max_pd(v, zero), one));
+            const __m256d v = raw ? cubic4(c0, c1, c2, c3, tt)
+                                  : one_minus_cubic4(c0, c1, c2, c3, tt);
             const double wq = raw && !(w[q + m] > 0.0) ? 0.0 : w[q + m];
             acc[m] = _mm256_add_pd(acc[m], _mm256_mul_pd(_mm256_set1_pd(wq), v));
         }
@@ -1192,10 +1200,6 @@ static void table_positions(fixed_nodes *nd)
     }
 }
 
-/* Indices whose tables are looked up at once (stack arrays), by
- * sea_emissivity_n and by one recursion of the multiple reflections. */
-enum { SEA_EMIS_BLOCK = 32 };
-
 /* emissivity_of_nodes of n indices, four with tables at once where the
  * nodes allow (emissivity_of_nodes4: the same values). */
 static void emissivity_of_nodes_n(const fixed_nodes *nd, const emis_ctx *ec, size_t n,
@@ -1330,7 +1334,7 @@ static const spectral_basis *find_basis(const sea_optics *p, const emis_ctx *ec,
 static const spectral_basis *spectral_basis_of(const sea_optics *pc, const emis_ctx *ec, size_t n)
 {
     sea_optics *p = (sea_optics *)pc;
-    if (!p->use_basis || n < SEA_BASIS_MIN_N || n > SEA_BASIS_BLOCK)
+    if (!p->use_basis || n < SEA_BASIS_MIN_N || n > SEA_EMIS_BLOCK)
         return NULL;
     for (size_t k = 0; k < n; k++)
         if (ec[k].table == NULL)
@@ -1356,9 +1360,9 @@ static const spectral_basis *spectral_basis_of(const sea_optics *pc, const emis_
 
 int sea_optics_spectral_rank(const sea_optics *p, const double complex *N, size_t n)
 {
-    emis_ctx ec[SEA_BASIS_BLOCK];
+    emis_ctx ec[SEA_EMIS_BLOCK];
     size_t slot = 0;
-    if (n > SEA_BASIS_BLOCK)
+    if (n > SEA_EMIS_BLOCK)
         return 0;
     for (size_t k = 0; k < n; k++)
         ec[k] = (emis_ctx){ N[k], fresnel_of(p, N[k], &slot) };
@@ -1397,10 +1401,8 @@ static void emissivity_of_nodes_basis(const fixed_nodes *nd, const spectral_basi
         for (int r = 0; r < b->rank; r++) {
             double g = 0.0;
             for (int q = 0; q < nd->n_q; q++)
-                if (nd->w_q[q] > 0.0) {
-                    const double *a = b->B[r]->a[nd->tab_k[q]], t = nd->tab_t[q];
-                    g += nd->w_q[q] * (a[0] + t * (a[1] + t * (a[2] + t * a[3])));
-                }
+                if (nd->w_q[q] > 0.0)
+                    g += nd->w_q[q] * cubic_at(b->B[r], nd->tab_k[q], nd->tab_t[q]);
             G[r] = g;
         }
     }

@@ -256,21 +256,13 @@ check_rc visible.lit 0
 hscene="$top_srcdir/tests/scenes/pov_horizon.ini"
 htol=()
 [ -n "$SEABAKE_WRAPPER" ] && htol=(--set model.tolerance=1e-2)
-SB_CMD="seabake render $hscene ${htol[*]}"
-$SEABAKE_WRAPPER "$SEABAKE" render "$hscene" -o "$SB_TMP/href.exr" --aov level --png none \
-    --quiet "${htol[@]}" 2>"$SB_TMP/err"
-SB_RC=$?
-SB_ERR=$(cat "$SB_TMP/err")
+sb_run render "$hscene" -o "$SB_TMP/href.exr" --aov level --png none --quiet "${htol[@]}"
 check_rc horizon.render.rc 0
 # horizon_run NAME MAX MAX_BELOW_HORIZON [BAKE OPTIONS]
 horizon_run() {
     local name=$1 max=$2 hmax=$3 hdir="$SB_TMP/$1" hscale
     shift 3
-    SB_CMD="seabake bake $hscene --blender ${htol[*]} $*"
-    $SEABAKE_WRAPPER "$SEABAKE" bake "$hscene" -o "$hdir" --blender --quiet "${htol[@]}" "$@" \
-        2>"$SB_TMP/err"
-    SB_RC=$?
-    SB_ERR=$(cat "$SB_TMP/err")
+    sb_run bake "$hscene" -o "$hdir" --blender --quiet "${htol[@]}" "$@"
     check_rc "$name.bake.rc" 0
     check_match "$name.manifest" "$(cat "$hdir/manifest.json")" '"horizon":'
     run_blender "$name" "$hdir/seabake_import.py" -- "$hdir/manifest.json" \

@@ -112,16 +112,9 @@ pov_run oblique
 bake_run() {
     local name=$1 scene=$2 max=$3 dir="$SB_TMP/bake_$1" scale
     shift 3
-    SB_CMD="seabake render $scene"
-    $SEABAKE_WRAPPER "$SEABAKE" render "$scene" -o "$SB_TMP/ref.exr" --aov level --png none \
-        --quiet 2>"$SB_TMP/err"
-    SB_RC=$?
-    SB_ERR=$(cat "$SB_TMP/err")
+    sb_run render "$scene" -o "$SB_TMP/ref.exr" --aov level --png none --quiet
     check_rc "$name.render.rc" 0
-    SB_CMD="seabake bake $scene --pov $*"
-    $SEABAKE_WRAPPER "$SEABAKE" bake "$scene" -o "$dir" --pov --quiet "$@" 2>"$SB_TMP/err"
-    SB_RC=$?
-    SB_ERR=$(cat "$SB_TMP/err")
+    sb_run bake "$scene" -o "$dir" --pov --quiet "$@"
     check_rc "$name.bake.rc" 0
     for f in scene.pov sea.inc scene.ini seabake.inc manifest.json emission_0.exr; do
         check "$name.bake.$f" test -s "$dir/$f"
@@ -215,21 +208,13 @@ check_rc slant.ortho.same 0
 hscene="$top_srcdir/tests/scenes/pov_horizon.ini"
 htol=()
 [ -n "$SEABAKE_WRAPPER" ] && htol=(--set model.tolerance=1e-2)
-SB_CMD="seabake render $hscene ${htol[*]}"
-$SEABAKE_WRAPPER "$SEABAKE" render "$hscene" -o "$SB_TMP/href.exr" --aov level --png none \
-    --quiet "${htol[@]}" 2>"$SB_TMP/err"
-SB_RC=$?
-SB_ERR=$(cat "$SB_TMP/err")
+sb_run render "$hscene" -o "$SB_TMP/href.exr" --aov level --png none --quiet "${htol[@]}"
 check_rc horizon.render.rc 0
 # horizon_run NAME MAX MAX_BELOW_HORIZON [BAKE OPTIONS]
 horizon_run() {
     local name=$1 max=$2 hmax=$3 hdir="$SB_TMP/$1" hscale
     shift 3
-    SB_CMD="seabake bake $hscene --pov ${htol[*]} $*"
-    $SEABAKE_WRAPPER "$SEABAKE" bake "$hscene" -o "$hdir" --pov --quiet "${htol[@]}" "$@" \
-        2>"$SB_TMP/err"
-    SB_RC=$?
-    SB_ERR=$(cat "$SB_TMP/err")
+    sb_run bake "$hscene" -o "$hdir" --pov --quiet "${htol[@]}" "$@"
     check_rc "$name.bake.rc" 0
     check "$name.map" test -s "$hdir/horizon.exr"
     check_match "$name.mesh" "$(cat "$hdir/sea.inc")" '#declare Seabake_Horizon = mesh2'

@@ -208,6 +208,12 @@ def ring_mesh(name, x0, y0, w, h, kind, hole, z):
     return mesh
 
 
+def level_rect(lv):
+    """A high-resolution level's rectangle (x0, y0, x1, y1), metres."""
+    (x0, y0), (w, h) = lv["origin_m"], lv["extent_m"]
+    return (x0, y0, x0 + w, y0 + h)
+
+
 def wave_mesh(name, x0, y0, w, h, n_w, n_h, finer, z, depth):
     """A level's ring with the waves: the (n_w x n_h) height samples of the
     manifest's "height" entry on a grid over [x0, x0 + w] x [y0, y0 + h] at
@@ -738,9 +744,8 @@ def build(manifest_path, frame, material):
             # The low-resolution sea as the sensor sees it, to the horizon.
             rank = sum(1 for o in levels if not o["low_res"])
             # cut out under the rings with waves (whose troughs dip below it)
-            cut = [(o["origin_m"][0], o["origin_m"][1],
-                    o["origin_m"][0] + o["extent_m"][0], o["origin_m"][1] + o["extent_m"][1])
-                   for o in levels if not o["low_res"] and "height" in o["frames"][0]]
+            cut = [level_rect(o) for o in levels
+                   if not o["low_res"] and "height" in o["frames"][0]]
             mesh = horizon_mesh("seabake_horizon", horizon, -LAYER * finest * rank, cut)
             img = load_map(directory, horizon["exr"], 3)
             em = emission_material("seabake_emission_%d" % idx, img=img)
@@ -762,9 +767,8 @@ def build(manifest_path, frame, material):
         if height is not None:
             # the waves: every finer level's rectangle cut out, a skirt as
             # deep as the heights' spread over the frames
-            finer = [(o["origin_m"][0], o["origin_m"][1],
-                      o["origin_m"][0] + o["extent_m"][0], o["origin_m"][1] + o["extent_m"][1])
-                     for o in levels if not o["low_res"] and o["facet_m"] < lv["facet_m"]]
+            finer = [level_rect(o) for o in levels
+                     if not o["low_res"] and o["facet_m"] < lv["facet_m"]]
             spans = [e["height"] for e in lv["frames"] if "height" in e]
             depth = max(e["max_m"] for e in spans) - min(e["min_m"] for e in spans) + 1.0
             mesh = wave_mesh("seabake_level_%d" % idx, x0, y0, w, h, int(height["width"]),

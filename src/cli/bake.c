@@ -942,16 +942,16 @@ static sea_status level_heights(const sea_camera *cam, const sea_bake_level *bl,
 }
 
 /* The heights of level bl at frame f (level_heights): for --pov a 16-bit
- * grey PNG from range[0] (black) to range[1] (white), set here,
+ * grey PNG from *lo (black) to *hi (white), set here,
  * height_<l>[_FFFF].png, for --blender an EXR of the displacement in
  * metres (R = G = 0, B the height), height_<l>[_FFFF].exr. */
 static sea_status write_heights(const bake_setup *s, const sea_camera *cam,
-                                const sea_bake_level *bl, long f, const char *tmp,
-                                double range[2], sea_error *err)
+                                const sea_bake_level *bl, long f, const char *tmp, double *lo,
+                                double *hi, sea_error *err)
 {
     float *z = NULL;
     size_t W = 0, H = 0;
-    sea_status st = level_heights(cam, bl, &z, &W, &H, &range[0], &range[1], err);
+    sea_status st = level_heights(cam, bl, &z, &W, &H, lo, hi, err);
     if (st != SEA_OK)
         return st;
     const int level = bl->level.level;
@@ -964,7 +964,7 @@ static sea_status write_heights(const bake_setup *s, const sea_camera *cam,
         if ((path = sea_cli_path_join(tmp, png)) == NULL)
             st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         else
-            st = sea_png_write_gray(path, (int)W, (int)H, z, range[0], range[1], 16, err);
+            st = sea_png_write_gray(path, (int)W, (int)H, z, *lo, *hi, 16, err);
         free(path);
     }
     if (st == SEA_OK && s->blender) {
@@ -987,18 +987,18 @@ static sea_status write_heights(const bake_setup *s, const sea_camera *cam,
 }
 
 /* The "height" object of level lv's entry for frame f (write_heights). */
-static sea_status height_json(const bake_setup *s, const sea_clip_level *lv, long f,
-                              const double range[2], cJSON *entry, sea_error *err)
+static sea_status height_json(const bake_setup *s, const sea_clip_level *lv, long f, double lo,
+                              double hi, cJSON *entry, sea_error *err)
 {
+    const int S = height_samples(lv);
     char *png = map_name("height", lv->level, s->framed, f, ".png");
     char *exr = map_name("height", lv->level, s->framed, f, ".exr");
     cJSON *o = png != NULL && exr != NULL ? cJSON_AddObjectToObject(entry, "height") : NULL;
     const bool ok =
-        o != NULL && cJSON_AddNumberToObject(o, "samples_per_facet", height_samples(lv)) &&
-        cJSON_AddNumberToObject(o, "width", (double)(height_samples(lv) * (int)lv->nx + 1)) &&
-        cJSON_AddNumberToObject(o, "height", (double)(height_samples(lv) * (int)lv->ny + 1)) &&
-        cJSON_AddNumberToObject(o, "min_m", range[0]) &&
-        cJSON_AddNumberToObject(o, "max_m", range[1]) &&
+        o != NULL && cJSON_AddNumberToObject(o, "samples_per_facet", S) &&
+        cJSON_AddNumberToObject(o, "width", (double)(S * (int)lv->nx + 1)) &&
+        cJSON_AddNumberToObject(o, "height", (double)(S * (int)lv->ny + 1)) &&
+        cJSON_AddNumberToObject(o, "min_m", lo) && cJSON_AddNumberToObject(o, "max_m", hi) &&
         (!s->pov || cJSON_AddStringToObject(o, "png", png)) &&
         (!s->blender || cJSON_AddStringToObject(o, "exr", exr));
     free(png);
@@ -1105,11 +1105,11 @@ static double emission_scale(double top)
  * (HORIZON_MAP); the scene's spectral samples for Seabake_Blackbody.  With
  * the sensor's image (--emission-space sensor) the rings carry the waves:
  * each level's height samples (write_heights) over their range of each
- * frame, ranges[2 (frame nlev + l)], frames from the first.  lr_radiance:
- * the low-resolution levels' radiance (index as sea_render_levels). */
+ * frame, height_lo and height_hi (bake_writer's).  lr_radiance: the
+ * low-resolution levels' radiance (index as sea_render_levels). */
 static sea_status write_pov(const bake_setup *s, const sea_render *r, const double *lr_radiance,
                             const sea_bake_horizon *hz, const char *tmp, double scale,
-                            const double *ranges, sea_error *err)
+                            const double *height_lo, const double *height_hi, sea_error *err)
 {
     sea_pov_level pl[SEA_CLIP_MAX_LEVELS];
     char *names[SEA_CLIP_MAX_LEVELS] = {NULL}, *heights[SEA_CLIP_MAX_LEVELS] = {NULL};
@@ -1120,10 +1120,6 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const doub
     const sea_clip_level *levels;
     const size_t nlev = sea_render_levels(r, &levels);
     const size_t n_frames = (size_t)(s->framed ? s->frame_b - s->frame_a + 1 : 1);
-    double *lo = NULL, *hi = NULL;
-    if (s->sensor && ((lo = malloc(nlev * n_frames * sizeof *lo)) == NULL ||
-                      (hi = malloc(nlev * n_frames * sizeof *hi)) == NULL))
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     for (size_t l = 0; l < nlev && st == SEA_OK; l++) {
         const sea_clip_level *lv = &levels[l];
         if (lv->low_res && hz != NULL)
@@ -1155,12 +1151,8 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const doub
                     st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
                 p->height_file = heights[n];
                 p->height_samples = height_samples(lv);
-                p->height_lo = lo + n * n_frames;
-                p->height_hi = hi + n * n_frames;
-                for (size_t k = 0; k < n_frames; k++) {
-                    lo[n * n_frames + k] = ranges[2 * (k * nlev + l)];
-                    hi[n * n_frames + k] = ranges[2 * (k * nlev + l) + 1];
-                }
+                p->height_lo = height_lo + l * n_frames;
+                p->height_hi = height_hi + l * n_frames;
             }
         }
         if (n > 0) {
@@ -1196,8 +1188,6 @@ static sea_status write_pov(const bake_setup *s, const sea_render *r, const doub
         free(names[l]);
         free(heights[l]);
     }
-    free(lo);
-    free(hi);
     return st;
 }
 
@@ -1303,10 +1293,11 @@ typedef struct {
     double top;          /* deferring: the largest radiance so far */
     double seconds;      /* spent writing */
     size_t texels;
-    double *ranges;      /* --emission-space sensor: each frame's and level's height
-                            range (write_heights), frame (frame - first) nlev + l */
+    /* --emission-space sensor: each level's and frame's height range
+     * (write_heights), level l's frame f at l n_frames + f - first */
+    double *height_lo, *height_hi;
     long first;
-    size_t nlev;
+    size_t n_frames;
     const sea_camera *cam;
 } bake_writer;
 
@@ -1414,9 +1405,10 @@ static sea_status level_ready(void *ctx, const sea_bake *b, size_t l, sea_error 
             jobs[nj++] = g;
     if (st == SEA_OK)
         st = run_jobs(w, &c, jobs, nj, level_job, err);
-    if (st == SEA_OK && w->ranges != NULL)
-        st = write_heights(w->s, w->cam, bl, w->frame, w->tmp,
-                           &w->ranges[2 * ((size_t)(w->frame - w->first) * w->nlev + l)], err);
+    const size_t h = l * w->n_frames + (size_t)(w->frame - w->first);
+    if (st == SEA_OK && w->height_lo != NULL)
+        st = write_heights(w->s, w->cam, bl, w->frame, w->tmp, &w->height_lo[h],
+                           &w->height_hi[h], err);
     if (c.spill >= 0 && close(c.spill) != 0 && st == SEA_OK)
         st = sea_fail(err, SEA_ERR_IO, "cannot write a spill file: %s", strerror(errno));
     w->texels += n;
@@ -1953,7 +1945,8 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     if (threads < 1)
         threads = 1;
     const size_t k2 = (size_t)(s->view_k * s->view_k);
-    bake_writer w = {s, tmp, 0, 0.0, true, 1.0, NULL, threads, nmax, NULL, NULL, 0.0, 0.0, 0, NULL, 0, 0, NULL};
+    bake_writer w = {s,    tmp, 0,   0.0, true, 1.0,  NULL, threads, nmax, NULL,
+                     NULL, 0.0, 0.0, 0,   NULL, NULL, 0,    0,       NULL};
     /* each writer's GROUP_CH_MAX channels, and the emission map's K x K
      * texels per facet */
     sea_status st = sea_check_size(nmax, (threads * GROUP_CH_MAX + k2) * sizeof(float),
@@ -1991,16 +1984,17 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     }
     /* the exports' waves: each frame's height range of each level, and the
      * low-resolution levels' radiance, for the POV-Ray scene written last */
-    double *ranges = NULL, lr_radiance[SEA_CLIP_MAX_LEVELS] = {0};
-    if (st == SEA_OK && s->sensor &&
-        (st = sea_check_size((size_t)(last - first + 1), 2 * nlev * sizeof *ranges,
-                             "height ranges", err)) == SEA_OK &&
-        (ranges = calloc((size_t)(last - first + 1) * 2 * nlev, sizeof *ranges)) == NULL)
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the height ranges");
-    w.ranges = ranges;
+    double lr_radiance[SEA_CLIP_MAX_LEVELS] = {0};
     w.first = first;
-    w.nlev = nlev;
+    w.n_frames = (size_t)(last - first + 1);
     w.cam = sea_render_camera(r);
+    if (st == SEA_OK && s->sensor &&
+        (st = sea_check_size(w.n_frames, 2 * nlev * sizeof(double), "height ranges", err)) ==
+            SEA_OK &&
+        (w.height_lo = calloc(2 * nlev * w.n_frames, sizeof(double))) == NULL)
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the height ranges");
+    if (w.height_lo != NULL)
+        w.height_hi = w.height_lo + nlev * w.n_frames;
     long f = first;
     for (; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
@@ -2108,7 +2102,8 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
             st = files_json(s, b.levels[l].level.level, f, files, err);
             if (st == SEA_OK && s->sensor)
                 st = height_json(s, &b.levels[l].level, f,
-                                 &ranges[2 * ((size_t)(f - first) * nlev + l)], entry, err);
+                                 w.height_lo[l * w.n_frames + (size_t)(f - first)],
+                                 w.height_hi[l * w.n_frames + (size_t)(f - first)], entry, err);
         }
         if (f == first)
             for (size_t l = 0; l < b.n_levels && l < SEA_CLIP_MAX_LEVELS; l++)
@@ -2143,10 +2138,10 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     stats->texels = w.texels;
     if (st == SEA_OK && s->pov) {
         const double t0 = sea_cli_seconds();
-        st = write_pov(s, r, lr_radiance, hz, tmp, w.scale, ranges, err);
+        st = write_pov(s, r, lr_radiance, hz, tmp, w.scale, w.height_lo, w.height_hi, err);
         stats->write += sea_cli_seconds() - t0;
     }
-    free(ranges);
+    free(w.height_lo);
     if (st == SEA_OK && s->blender)
         st = write_text(tmp, SEA_BLENDER_SCRIPT, sea_blender_import_text, err);
     sea_cli_progress_end(&prog.bar);
