@@ -130,7 +130,7 @@ def map_files(m, directory):
         for group, names in lv["frames"][0]["files"].items():
             yield lv["index"], group, len(lv["maps"][group]), os.path.join(directory, names["exr"])
     if "sensor" in m:
-        yield None, "sensor", 3, os.path.join(directory, m["sensor"]["frames"][0]["exr"])
+        yield None, "sensor", 1, os.path.join(directory, m["sensor"]["frames"][0]["exr"])
     for lv in m["levels"]:
         height = None if lv["low_res"] else lv["frames"][0].get("height")
         if height is not None and "exr" in height:

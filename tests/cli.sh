@@ -1520,10 +1520,12 @@ print(" ".join(str(b) for b in zlib.decompress(idat)[1:4]))' "$BDIR/out/roughnes
     check_match bake.roughness_not_mid_grey "$px" '^[0-9]+ [0-9]+ [0-9]+$'
     check bake.roughness_not_mid_grey [ "$px" != "128 128 128" ]
 fi
-# Channels: R,G,B,A FLOAT for a 4-quantity group; RGB only for emission
+# Channels: R,G,B,A FLOAT for a 4-quantity group; one grey Y for emission
 # (name, NUL, pixel type 2 = FLOAT, pLinear 0).
 check_match bake.float_channels "$(exr_header "$BDIR/out/optics_$l0.exr")" "410002000000.*520002000000"
 check_no_match bake.emission_no_alpha "$(exr_header "$BDIR/out/emission_$l0.exr")" "410002000000"
+check_match bake.emission_grey "$(exr_header "$BDIR/out/emission_$l0.exr")" "^13000000590002000000"
+check_no_match bake.emission_no_red "$(exr_header "$BDIR/out/emission_$l0.exr")" "520002000000"
 check bake.exr_attr grep -qa "seabake:channels" "$BDIR/out/moments_$l0.exr"
 check bake.manifest_units grep -q '"radiance":[[:space:]]*"W m^-2 sr^-1 um^-1"' "$BDIR/out/manifest.json"
 check bake.manifest_scale grep -qE '"emission_scale":[[:space:]]*[0-9]' "$BDIR/out/manifest.json"

@@ -327,10 +327,19 @@ static int do_check(const char *dir, setup *s)
     return fails ? 1 : 0;
 }
 
+/* The grey value of a map: its Y channel (seabake's grey maps), else its R
+ * (a renderer's output, R = G = B). */
+static const float *grey_of(const sea_exr_image *img)
+{
+    const float *y = sea_exr_image_channel(img, "Y");
+    return y != NULL ? y : sea_exr_image_channel(img, "R");
+}
+
 /* dump MAP.exr OUT.raw: the file's R, G, B, A channels as seabake's EXR
  * reader gives them, float32 in native byte order, RGBA interleaved, row 0
- * at the top; a file without A gets 1 there (as Blender shows an RGB image).
- * Prints "WIDTH HEIGHT CHANNELS".  For tests/blender_check.py. */
+ * at the top; a file without A gets 1 there (as Blender shows an RGB image),
+ * a grey file (Y alone) Y in R, G and B (as Blender shows it).  Prints
+ * "WIDTH HEIGHT CHANNELS".  For tests/blender_check.py. */
 static int do_dump(const char *map, const char *raw)
 {
     sea_exr_image img;
@@ -343,9 +352,14 @@ static int do_dump(const char *map, const char *raw)
     for (int c = 0; c < 4; c++)
         if ((ch[c] = sea_exr_image_channel(&img, names[c])) != NULL)
             n = c + 1;
+    const float *y = sea_exr_image_channel(&img, "Y");
+    if (n == 0 && y != NULL && img.n_channels == 1) {
+        ch[0] = ch[1] = ch[2] = y;
+        n = 1;
+    }
     int rc = 0;
-    if (n < 3 || ch[0] == NULL || ch[1] == NULL || ch[2] == NULL) {
-        fprintf(stderr, "pov_driver: %s: no R, G and B channels\n", map);
+    if ((n < 3 && n != 1) || ch[0] == NULL || ch[1] == NULL || ch[2] == NULL) {
+        fprintf(stderr, "pov_driver: %s: neither R, G and B channels nor Y alone\n", map);
         rc = 99;
     }
     FILE *f = rc ? NULL : fopen(raw, "wb");
@@ -505,7 +519,7 @@ static int do_wide(const char *sensor, const char *level, const char *swide, con
         fprintf(stderr, "FAIL: %s\n", err.msg);
         goto done;
     }
-    const float *pa = sea_exr_image_channel(&a, "R"), *pl = sea_exr_image_channel(&l, "Y");
+    const float *pa = grey_of(&a), *pl = sea_exr_image_channel(&l, "Y");
     const float *pb = sea_exr_image_channel(&b, "R"), *pc = sea_exr_image_channel(&c, "R");
     const int W = a.width, H = a.height;
     if (pa == NULL || pl == NULL || pb == NULL || pc == NULL || W % 2 || H % 2 ||
@@ -633,7 +647,8 @@ static int do_heights(const char *scene, const char *dir, int S)
     return bad ? 99 : 0;
 }
 
-/* same A.exr B.exr TOL: channel R of both within TOL relative (of B). */
+/* same A.exr B.exr TOL: the grey values (grey_of) of both within TOL
+ * relative (of B). */
 static int do_same(const char *pa, const char *pb, double tol)
 {
     sea_exr_image a, b;
@@ -644,7 +659,7 @@ static int do_same(const char *pa, const char *pb, double tol)
     if (sea_exr_read(pa, &a, &err) != SEA_OK || sea_exr_read(pb, &b, &err) != SEA_OK) {
         fprintf(stderr, "FAIL: %s\n", err.msg);
     } else {
-        const float *ra = sea_exr_image_channel(&a, "R"), *rb = sea_exr_image_channel(&b, "R");
+        const float *ra = grey_of(&a), *rb = grey_of(&b);
         if (ra == NULL || rb == NULL || a.width != b.width || a.height != b.height) {
             fprintf(stderr, "FAIL: channels or sizes do not match\n");
         } else {

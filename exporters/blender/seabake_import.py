@@ -461,7 +461,8 @@ def sensor_projection(nt, em_map):
 
 def emission_material(name, constant=None, img=None,
                       interpolation="Linear"):
-    """Emission: the map's RGB (or a constant) emitted with strength 1; with
+    """Emission: the map's colour (a grey map: Blender gives Y as R = G = B;
+    or a constant) emitted with strength 1; with
     SENSOR, the sensor's image projected where the sensor sees."""
     mat, nt, out = new_material(name)
     em = nt.nodes.new("ShaderNodeEmission")
@@ -712,7 +713,7 @@ def build(manifest_path, frame, material):
         if entry is None:
             fail("%s: no sensor image for frame %d" % (manifest_path, frame))
         focal = float(cam["focal_px"])
-        SENSOR = (load_map(directory, entry["exr"], 3), cam_obj,
+        SENSOR = (load_map(directory, entry["exr"], 1), cam_obj,
                   focal / int(cam["width"]), focal / int(cam["height"]))
     sun = None
     if material == "visible":
@@ -747,7 +748,7 @@ def build(manifest_path, frame, material):
             cut = [level_rect(o) for o in levels
                    if not o["low_res"] and "height" in o["frames"][0]]
             mesh = horizon_mesh("seabake_horizon", horizon, -LAYER * finest * rank, cut)
-            img = load_map(directory, horizon["exr"], 3)
+            img = load_map(directory, horizon["exr"], 1)
             em = emission_material("seabake_emission_%d" % idx, img=img)
             vis = visible_material("seabake_visible_%d" % idx,
                                    constants=lr_constants(lv["moments"]))

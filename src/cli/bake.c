@@ -111,11 +111,18 @@ static const struct {
     {"optics", 4, {Q_EMISSIVITY, Q_REFLECTIVITY, Q_RADIANCE, Q_TEMPERATURE}, 2},
     {"normal", 3, {Q_NX, Q_NY, Q_NZ}, 0},
     {"roughness", 3, {Q_ROUGHNESS, Q_ANISOTROPY, Q_ROTATION}, 0},
-    /* K x K texels a facet: one quantity, so only buf[0] is that large */
-    {"emission", 3, {Q_EMISSION, Q_EMISSION, Q_EMISSION}, 0},
+    /* K x K texels a facet: one grey channel, Y (POV-Ray and Blender read
+     * it as R = G = B), so only buf[0] is that large */
+    {"emission", 1, {Q_EMISSION}, 0},
 };
 enum { BAKE_N_GROUPS = sizeof BAKE_GROUPS / sizeof BAKE_GROUPS[0] };
 static const char *const CHANNEL_NAMES[GROUP_CH_MAX] = {"R", "G", "B", "A"};
+
+/* Channel c of group g: Y alone, or R, G, B, A. */
+static const char *channel_name(size_t g, size_t c)
+{
+    return BAKE_GROUPS[g].n == 1 ? "Y" : CHANNEL_NAMES[c];
+}
 
 /* ------------------------------------------------------------ help text */
 
@@ -124,7 +131,8 @@ static const char BAKE_HELP[] =
     "\n"
     "Bakes the clipmap levels a scene's view needs (seabake-scene(5)) into DIR:\n"
     "for every high-resolution level l and frame, single-part EXR maps of plain\n"
-    "R,G,B(,A) channels, <quantity>_<l>[_<frame>].exr, and a PNG preview of each:\n"
+    "R,G,B(,A) channels (Y alone for emission), <quantity>_<l>[_<frame>].exr, and\n"
+    "a PNG preview of each:\n"
     "  moments_<l>    R mx, G my, B mx^2+C_xx, A my^2+C_yy (LEAN moments)\n"
     "  moments2_<l>   R mx my+C_xy, G height (m), B unused (0)\n"
     "  optics_<l>     R emissivity, G reflectivity sun -> sensor (sr^-1),\n"
@@ -132,11 +140,11 @@ static const char BAKE_HELP[] =
     "  normal_<l>     RGB (n+1)/2 of the mean-slope normal (+x east, +y north)\n"
     "  roughness_<l>  R roughness (GGX, Blender: sqrt(sqrt(C_xx+C_yy))),\n"
     "                 G anisotropy, B rotation (turns from east)\n"
-    "  emission_<l>   RGB radiance x scale of what the sensor sees (the moments\n"
-    "                 seabake render reads there), K x K texels per facet (RGB\n"
-    "                 only, for POV-Ray and Blender)\n"
+    "  emission_<l>   Y radiance x scale of what the sensor sees (the moments\n"
+    "                 seabake render reads there), K x K texels per facet (one\n"
+    "                 grey channel: POV-Ray and Blender read it as R = G = B)\n"
     "With --pov or --blender (and --emission-space sensor, the default) also\n"
-    "  sensor[_FFFF].exr  the sensor's image (RGB radiance x scale), projected\n"
+    "  sensor[_FFFF].exr  the sensor's image (Y radiance x scale), projected\n"
     "                 by both exports where the sensor sees\n"
     "  height_<l>     the waves' surface, 4 samples per facet side (fewer past\n"
     "                 256 facets a side): .png 16-bit (POV-Ray's height_field),\n"
@@ -399,8 +407,7 @@ static sea_status write_preview(const char *path, size_t g, size_t width, size_t
 }
 
 /* Fills the channels of group g of level bl: out[c] for each channel c
- * that is not a repeat of the one before (the emission group's one channel
- * of K x K texels a facet); the values of texel_value, computed once a
+ * (the emission group's one channel of K x K texels a facet); the values of texel_value, computed once a
  * texel (the normal and the roughness give their three channels at once). */
 static void fill_group(const sea_bake_level *bl, size_t g, double scale,
                        float *const out[GROUP_CH_MAX])
@@ -460,11 +467,10 @@ static sea_status write_group(const bake_setup *s, const char *tmp, const sea_cl
     sea_exr_channel ch[GROUP_CH_MAX];
     for (size_t c = 0; c < BAKE_GROUPS[g].n; c++) {
         const bake_quantity k = BAKE_GROUPS[g].q[c];
-        ch[c].name = CHANNEL_NAMES[c];
-        /* the same quantity again (emission's RGB) */
-        ch[c].data = c > 0 && k == BAKE_GROUPS[g].q[c - 1] ? ch[c - 1].data : data[c];
+        ch[c].name = channel_name(g, c);
+        ch[c].data = data[c];
         int w = snprintf(channels + used, sizeof channels - used, "%s%s=%s", c ? "," : "",
-                         CHANNEL_NAMES[c], BAKE_Q[k].name);
+                         channel_name(g, c), BAKE_Q[k].name);
         if (w > 0 && (size_t)w < sizeof channels - used)
             used += (size_t)w;
     }
@@ -704,7 +710,7 @@ static cJSON *levels_json(const bake_setup *s, const sea_bake *b)
             for (size_t c = 0; c < BAKE_GROUPS[g].n; c++) {
                 const bake_quantity k = BAKE_GROUPS[g].q[c];
                 cJSON *ch = cJSON_CreateObject();
-                cJSON_AddStringToObject(ch, "channel", CHANNEL_NAMES[c]);
+                cJSON_AddStringToObject(ch, "channel", channel_name(g, c));
                 cJSON_AddStringToObject(ch, "quantity", BAKE_Q[k].name);
                 cJSON_AddStringToObject(ch, "unit", quantity_unit(&s->sc, k));
                 cJSON_AddStringToObject(ch, "meaning", BAKE_Q[k].meaning);
@@ -768,10 +774,10 @@ static cJSON *horizon_json(const sea_bake_horizon *hz, const sea_camera *cam)
     return o;
 }
 
-/* tmp/name: a w x h RGB map of one value per texel (row 0 at the top),
- * value(ctx, q) x scale at texel q, with the attributes quantity, the
- * scale and one more (key, value). */
-static sea_status write_rgb(const bake_setup *s, const char *tmp, const char *name, size_t w,
+/* tmp/name: a w x h grey map (channel Y) of one value per texel (row 0 at
+ * the top), value(ctx, q) x scale at texel q, with the attributes
+ * quantity, the scale and one more (key, value). */
+static sea_status write_grey(const bake_setup *s, const char *tmp, const char *name, size_t w,
                             size_t h, double (*value)(const void *, size_t), const void *ctx,
                             double scale, const char *quantity, const char *key,
                             const char *key_value, sea_error *err)
@@ -789,8 +795,8 @@ static sea_status write_rgb(const bake_setup *s, const char *tmp, const char *na
         const sea_exr_attr attrs[] = {{"seabake:quantity", quantity},
                                       {"seabake:emission_scale", scale_s},
                                       {key, key_value}};
-        const sea_exr_channel ch[3] = {{"R", map}, {"G", map}, {"B", map}};
-        st = sea_exr_write(path, (int)w, (int)h, ch, 3, attrs, 3, &s->exr, err);
+        const sea_exr_channel ch[1] = {{"Y", map}};
+        st = sea_exr_write(path, (int)w, (int)h, ch, 1, attrs, 3, &s->exr, err);
     }
     free(map);
     free(path);
@@ -806,13 +812,13 @@ static double horizon_texel(const void *ctx, size_t q)
     return hz->radiance[i * w + q % w];
 }
 
-/* HORIZON_MAP: n_az x n_arc texels, RGB = radiance x scale. */
+/* HORIZON_MAP: n_az x n_arc texels, Y = radiance x scale. */
 static sea_status write_horizon(const bake_setup *s, const sea_bake_horizon *hz, const char *tmp,
                                 double scale, sea_error *err)
 {
     char err_s[32];
     snprintf(err_s, sizeof err_s, "%.3g", hz->max_err);
-    return write_rgb(s, tmp, HORIZON_MAP, hz->n_az, hz->n_arc, horizon_texel, hz, scale,
+    return write_grey(s, tmp, HORIZON_MAP, hz->n_az, hz->n_arc, horizon_texel, hz, scale,
                      "horizon", "seabake:max_error", err_s, err);
 }
 
@@ -821,7 +827,7 @@ static double image_texel(const void *ctx, size_t q)
     return ((const sea_image *)ctx)->radiance[q];
 }
 
-/* The sensor's image of frame f (--emission-space sensor): RGB = the
+/* The sensor's image of frame f (--emission-space sensor): Y = the
  * radiance seabake render gives each pixel x scale, row 0 at the top, and
  * its entry in the manifest's "sensor" object. */
 static sea_status write_sensor(const bake_setup *s, const sea_image *img, long f, double t,
@@ -833,7 +839,7 @@ static sea_status write_sensor(const bake_setup *s, const sea_image *img, long f
     else
         snprintf(name, sizeof name, "sensor.exr");
     snprintf(time_s, sizeof time_s, "%.17g", t);
-    const sea_status st = write_rgb(s, tmp, name, (size_t)img->width, (size_t)img->height,
+    const sea_status st = write_grey(s, tmp, name, (size_t)img->width, (size_t)img->height,
                                     image_texel, img, scale, "sensor", "seabake:time_s", time_s,
                                     err);
     if (st == SEA_OK) {
