@@ -250,6 +250,12 @@ static sea_status exr_write_fail(sea_error *err, const char *path, const char *w
                     exr_get_default_error_message(rv));
 }
 
+/* zlib's level for ZIP: the fastest.  On the float maps of a bench bake
+ * (1024 x 1024 facets, 6 levels, 363 MB compressed) level 1 writes 0.6 %
+ * more bytes than zlib's default (6) and takes 8.1 s of the bake's file
+ * time instead of 10.8 s. */
+enum { SEA_EXR_ZIP_LEVEL = 1 };
+
 /* Chunks per thread in a batch: enough to balance chunks of uneven cost,
  * few enough that a batch's buffers stay small (a 2048-wide RGBA float
  * chunk of 16 lines is 0.5 MB packed). */
@@ -338,6 +344,9 @@ static sea_status encode_image(exr_context_t ctx, const char *path, int width, i
     rv = exr_initialize_required_attr_simple(ctx, part, width, height, comp[opt->compression]);
     if (rv != EXR_ERR_SUCCESS)
         return exr_write_fail(err, path, "exr_initialize_required_attr_simple", rv, sink);
+    if (opt->compression == SEA_EXR_ZIP &&
+        (rv = exr_set_zip_compression_level(ctx, part, SEA_EXR_ZIP_LEVEL)) != EXR_ERR_SUCCESS)
+        return exr_write_fail(err, path, "exr_set_zip_compression_level", rv, sink);
     for (size_t c = 0; c < n_channels; c++) {
         /* Linear: these are data, not colours (only lossy codecs use it). */
         rv = exr_add_channel(ctx, part, channels[c].name, ptype, EXR_PERCEPTUALLY_LINEAR, 1, 1);

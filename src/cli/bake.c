@@ -1317,6 +1317,15 @@ static sea_status run_jobs(bake_writer *w, const void *ctx, const size_t *jobs, 
 {
     sea_status st[BAKE_N_GROUPS + 1];
     sea_error e[BAKE_N_GROUPS + 1];
+#ifdef _OPENMP
+    /* A job's EXR file compresses its chunks on a team of its own
+     * (sea_exr_write): let that team run inside this one, so that the
+     * largest file (emission, K^2 texels a facet) does not compress on one
+     * thread while the others, done with the small groups, wait. */
+    const int levels = omp_get_max_active_levels();
+    if (levels < 2)
+        omp_set_max_active_levels(2);
+#endif
 #pragma omp parallel for schedule(dynamic, 1) num_threads((int)w->threads) if (w->threads > 1)
     for (size_t i = 0; i < n; i++) {
         size_t id = 0;
@@ -1328,6 +1337,9 @@ static sea_status run_jobs(bake_writer *w, const void *ctx, const size_t *jobs, 
             buf[c] = w->pool + (id * GROUP_CH_MAX + c) * w->nmax;
         st[i] = job(w, ctx, jobs[i], buf, &e[i]);
     }
+#ifdef _OPENMP
+    omp_set_max_active_levels(levels);
+#endif
     for (size_t i = 0; i < n; i++)
         if (st[i] != SEA_OK) {
             if (err != NULL)
