@@ -53,9 +53,42 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
     *sun = sea_camera_local_dir(&g, sun_vec);
 }
 
+/* A level's arrays handed back by the caller (sea_bake_frame_each) for
+ * the next level, with room for cap facets: the clipmap's levels have one
+ * size, and fresh arrays would be faulted in page by page again (at 2048^2
+ * facets and K = 3, 640 MB a level). */
+typedef struct {
+    sea_moments *moments;
+    sea_facet_optics *optics;
+    double *view;
+    size_t cap; /* facets (view: cap K^2) */
+} level_spare;
+
+static void spare_free(level_spare *sp)
+{
+    free(sp->moments);
+    free(sp->optics);
+    free(sp->view);
+    memset(sp, 0, sizeof *sp);
+}
+
+/* Level bl's arrays into sp (those of sp it cannot reuse freed first). */
+static void spare_keep(sea_bake_level *bl, level_spare *sp)
+{
+    spare_free(sp);
+    sp->moments = bl->moments;
+    sp->optics = bl->optics;
+    sp->view = bl->view;
+    sp->cap = bl->level.nx * bl->level.ny;
+    bl->moments = NULL;
+    bl->optics = NULL;
+    bl->view = NULL;
+}
+
 /* The facet moments of one high-resolution level, north first, from the
- * frame's (rows south first). */
-static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl, sea_error *err)
+ * frame's (rows south first), in sp's arrays when they have room. */
+static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl, level_spare *sp,
+                                sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, n = nx * ny, k2 = bl->view_k * bl->view_k;
@@ -64,9 +97,17 @@ static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl,
                                    "bake level", err);
     if (st != SEA_OK)
         return st;
-    bl->moments = malloc(n * sizeof *bl->moments);
-    bl->optics = malloc(n * sizeof *bl->optics);
-    bl->view = malloc(n * k2 * sizeof *bl->view);
+    if (sp->moments != NULL && sp->optics != NULL && sp->view != NULL && sp->cap >= n) {
+        bl->moments = sp->moments;
+        bl->optics = sp->optics;
+        bl->view = sp->view;
+        memset(sp, 0, sizeof *sp);
+    } else {
+        spare_free(sp);
+        bl->moments = malloc(n * sizeof *bl->moments);
+        bl->optics = malloc(n * sizeof *bl->optics);
+        bl->view = malloc(n * k2 * sizeof *bl->view);
+    }
     if (bl->moments == NULL || bl->optics == NULL || bl->view == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for level %d (%zu x %zu texels)",
                         lv->level, nx, ny);
@@ -342,6 +383,7 @@ sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int ro
     } while (0)
     synth_progress sp = { &bp, synth };
     sea_multires_frame *f = NULL;
+    level_spare spare = { NULL, NULL, NULL, 0 };
     st = sea_multires_frame_alloc(sea_render_multires(r), t, progress != NULL ? synth_report : NULL,
                                   &sp, &f, err);
     if (st == SEA_OK)
@@ -359,7 +401,7 @@ sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int ro
         sea_bake_level *bl = &out->levels[l];
         if (lv[l].low_res)
             continue;
-        if ((st = level_moments(f, bl, err)) != SEA_OK)
+        if ((st = level_moments(f, bl, &spare, err)) != SEA_OK)
             break;
         double hole[4];
         const int has_hole = l > 0 && !lv[l - 1].low_res;
@@ -385,10 +427,11 @@ sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int ro
         free(mask);
         if (st == SEA_OK && each != NULL) {
             st = each(each_ctx, out, l, err);
-            level_free(bl);
+            spare_keep(bl, &spare);
         }
     }
 #undef PROGRESS
+    spare_free(&spare);
     sea_multires_frame_free(f);
     if (st != SEA_OK)
         sea_bake_free(out);
