@@ -1697,14 +1697,16 @@ static void frame_vec_to_global(const view_frame *f, double x, double y, double 
     g[2] = z * l;
 }
 
-/* The view frame toward the unit vector g (any zenith angle). */
+/* The view frame toward the unit vector g (any zenith angle), for the
+ * facets met again: its azimuth by cosine and sine alone (phi NAN: only
+ * the energy balance's reflectance_fn reads the angle, an atan2 a node
+ * of the outer rule saved). */
 static void view_frame_of_vec(const sea_optics *p, const sea_slope_stats *st, const double g[3],
                               view_frame *f)
 {
     const double h = sqrt(g[0] * g[0] + g[1] * g[1]); /* a unit vector: no overflow */
     const double c = h > 0.0 ? g[0] / h : 1.0, s = h > 0.0 ? g[1] / h : 0.0;
-    view_frame_init_cs(p, st, g[2], h, atan2(g[1], g[0]), c, s,
-                       g[2] > 0.0 && h < SEA_NADIR_THETA, f);
+    view_frame_init_cs(p, st, g[2], h, NAN, c, s, g[2] > 0.0 && h < SEA_NADIR_THETA, f);
     /* a facet met again counts by its projected area along the ray alone
      * (the rate at which the ray meets it), whatever the shadowing */
     f->corr = 0;
