@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 static void level_free(sea_bake_level *bl)
 {
@@ -324,15 +325,34 @@ sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_ba
     return sea_bake_frame_rows(r, t, view_k, 0, 1, out, progress, ctx, each, each_ctx, err);
 }
 
+static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0, int step,
+                             sea_image *img, sea_bake *out, sea_progress_fn progress, void *ctx,
+                             sea_bake_level_fn each, void *each_ctx, sea_error *err);
+
+sea_status sea_bake_frame_image(const sea_render *r, double t, int view_k, sea_image *img,
+                                sea_bake *out, sea_progress_fn progress, void *ctx,
+                                sea_bake_level_fn each, void *each_ctx, sea_error *err)
+{
+    return bake_frame(r, t, view_k, 0, 1, img, out, progress, ctx, each, each_ctx, err);
+}
+
+sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int row0, int step,
+                               sea_bake *out, sea_progress_fn progress, void *ctx,
+                               sea_bake_level_fn each, void *each_ctx, sea_error *err)
+{
+    return bake_frame(r, t, view_k, row0, step, NULL, out, progress, ctx, each, each_ctx, err);
+}
+
 /* Texel rows of an ny-row level that row0, row0 + step, ... are. */
 static size_t share_rows(size_t ny, size_t row0, size_t step)
 {
     return row0 < ny ? (ny - row0 + step - 1) / step : 0;
 }
 
-sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int row0, int step,
-                               sea_bake *out, sea_progress_fn progress, void *ctx,
-                               sea_bake_level_fn each, void *each_ctx, sea_error *err)
+/* sea_bake_frame_rows, and with img not NULL sea_bake_frame_image. */
+static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0, int step,
+                             sea_image *img, sea_bake *out, sea_progress_fn progress, void *ctx,
+                             sea_bake_level_fn each, void *each_ctx, sea_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!isfinite(t))
@@ -344,6 +364,10 @@ sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int ro
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "texel rows from %d every %d (allowed: step >= 1, 0 <= first row < step)",
                         row0, step);
+    const sea_camera *cam0 = sea_render_camera(r);
+    if (img != NULL && (img->width != cam0->width || img->height != cam0->height))
+        return sea_fail(err, SEA_ERR_DOMAIN, "image %d x %d does not match the scene's %d x %d",
+                        img->width, img->height, cam0->width, cam0->height);
     const size_t r0 = (size_t)row0, rs = (size_t)step;
     out->time = t;
     const sea_clip_level *lv;
@@ -388,6 +412,10 @@ sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int ro
                                   &sp, &f, err);
     if (st == SEA_OK)
         PROGRESS(synth);
+    /* the sensor's image from the same surfaces, before the levels' maps
+     * are made (the frame is the one sea_render_frame would synthesise) */
+    if (st == SEA_OK && img != NULL)
+        st = sea_render_frame_in(r, f, t, img, err);
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
         bl->level = lv[l];

@@ -143,6 +143,12 @@ SEA_INTERNAL void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, 
                                             const sea_multires_hint *below,
                                             sea_multires_hint *top, sea_multires_sample *out);
 
+/* render.c, for the bake: sea_render_frame from the frame f of r's
+ * multiresolution sea at time t (sea_multires_frame_alloc of
+ * sea_render_multires(r)), not one of its own: the same pixels. */
+SEA_INTERNAL sea_status sea_render_frame_in(const sea_render *r, const sea_multires_frame *f,
+                                            double t, sea_image *img, sea_error *err);
+
 /* sensor.c, for the multiresolution plan.  Where the ray through image
  * point (u, v) meets the sea: 1 and its map point (x, y) as
  * sea_camera_pixel gives it, or 0 (a miss; x and y then unspecified). */

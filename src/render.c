@@ -652,8 +652,27 @@ static sea_status shade_pixel(const sea_render *r, const pixel_consts *pc,
     return SEA_OK;
 }
 
+static sea_status render_rows(const sea_render *r, const sea_multires_frame *given, double t,
+                              int row0, int step, sea_image *img, sea_progress_fn progress,
+                              void *ctx, sea_error *err);
+
 sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, sea_image *img,
                            sea_progress_fn progress, void *ctx, sea_error *err)
+{
+    return render_rows(r, NULL, t, row0, step, img, progress, ctx, err);
+}
+
+sea_status sea_render_frame_in(const sea_render *r, const sea_multires_frame *f, double t,
+                               sea_image *img, sea_error *err)
+{
+    return render_rows(r, f, t, 0, 1, img, NULL, NULL, err);
+}
+
+/* sea_render_rows from the frame given (of r's multiresolution sea at t),
+ * or from one of its own (NULL). */
+static sea_status render_rows(const sea_render *r, const sea_multires_frame *given, double t,
+                              int row0, int step, sea_image *img, sea_progress_fn progress,
+                              void *ctx, sea_error *err)
 {
     const sea_scene *sc = &r->sc;
     if (img->width != sc->width || img->height != sc->height)
@@ -678,10 +697,13 @@ sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, se
         const size_t j_lo = ((size_t)row0 + jb * (size_t)step) * B;
         nrows += (j_lo + B < H ? j_lo + B : H) - j_lo;
     }
-    sea_multires_frame *f = NULL;
-    sea_status st = sea_multires_frame_alloc(r->mr, t, NULL, NULL, &f, err);
-    if (st != SEA_OK)
-        return st;
+    sea_multires_frame *own = NULL;
+    if (given == NULL) {
+        const sea_status st = sea_multires_frame_alloc(r->mr, t, NULL, NULL, &own, err);
+        if (st != SEA_OK)
+            return st;
+    }
+    const sea_multires_frame *f = given != NULL ? given : own;
     const sea_clip_level *lv;
     const size_t nlev = sea_multires_levels(r->mr, &lv);
     pixel_consts pc;
@@ -770,7 +792,7 @@ sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, se
         }
         free(hints);
     }
-    sea_multires_frame_free(f);
+    sea_multires_frame_free(own);
     if (failed) {
         if (err != NULL)
             *err = first;

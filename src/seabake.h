@@ -1276,6 +1276,16 @@ sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_ba
                                sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
                                void *each_ctx, sea_error *err);
 
+/* sea_bake_frame_each that also renders the sensor's image of the frame
+ * into img (allocated for the scene's size), pixel for pixel what
+ * sea_render_frame gives, from the surfaces the bake synthesises for its
+ * levels, before the first level is handed to each: one synthesis of the
+ * frame instead of two (bench/clipmap2048.ini: six levels of 2048^2
+ * facets).  Its progress does not count the image. */
+sea_status sea_bake_frame_image(const sea_render *r, double t, int view_k, sea_image *img,
+                                sea_bake *out, sea_progress_fn progress, void *ctx,
+                                sea_bake_level_fn each, void *each_ctx, sea_error *err);
+
 /* sea_bake_frame_each for a share of the texels, so that one frame can be
  * baked by several processes: of every high-resolution level only the
  * texel rows row0, row0 + step, ... (rows north first, as stored; 0 <=

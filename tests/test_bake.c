@@ -495,6 +495,46 @@ static void test_each_level(void)
     sea_render_free(r);
 }
 
+/* sea_bake_frame_image: the sensor's image is sea_render_frame's bit for
+ * bit (every channel; rendered from the bake's own surfaces), and the
+ * levels are sea_bake_frame_each's (each_level compares them with a whole
+ * bake's); an image of the wrong size is refused with nothing to free. */
+static void test_frame_image(void)
+{
+    const sea_scene sc = bake_scene();
+    sea_render *r = prepare(&sc);
+    sea_bake all, b;
+    sea_error err;
+    const int k = UNIT_QUICK ? 1 : 3;
+    CU_ASSERT_EQUAL_FATAL(sea_bake_frame(r, 0.4, k, &all, NULL, NULL, &err), SEA_OK);
+    sea_image ref, img, small;
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&ref, sc.width, sc.height, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, sc.width, sc.height, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 0.4, &ref, NULL, NULL, &err), SEA_OK);
+    each_ctx c = {&all, 0, 0, 0, 0, -1};
+    CU_ASSERT_EQUAL_FATAL(
+        sea_bake_frame_image(r, 0.4, k, &img, &b, NULL, NULL, each_level, &c, &err), SEA_OK);
+    CU_ASSERT_EQUAL(c.calls, count_hr(&all));
+    CU_ASSERT_EQUAL(c.diff, 0);
+    const size_t np = (size_t)sc.width * (size_t)sc.height;
+    CU_ASSERT(memcmp(img.radiance, ref.radiance, np * sizeof *img.radiance) == 0);
+    CU_ASSERT(memcmp(img.temperature, ref.temperature, np * sizeof *img.temperature) == 0);
+    CU_ASSERT(memcmp(img.level, ref.level, np * sizeof *img.level) == 0);
+    CU_ASSERT(memcmp(img.emissivity, ref.emissivity, np * sizeof *img.emissivity) == 0);
+    CU_ASSERT(memcmp(img.reflectivity, ref.reflectivity, np * sizeof *img.reflectivity) == 0);
+    sea_bake_free(&b);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&small, sc.width - 1, sc.height, &err), SEA_OK);
+    CU_ASSERT_EQUAL(sea_bake_frame_image(r, 0.4, k, &small, &b, NULL, NULL, NULL, NULL, &err),
+                    SEA_ERR_DOMAIN);
+    CU_ASSERT(strstr(err.msg, "does not match") != NULL);
+    CU_ASSERT_EQUAL(b.n_levels, 0);
+    sea_image_free(&small);
+    sea_image_free(&img);
+    sea_image_free(&ref);
+    sea_bake_free(&all);
+    sea_render_free(r);
+}
+
 /* The horizon grid (sea_bake_horizon_make), on both earths, at a mast
  * view with the horizon in view and at a nadir view (the full turn):
  *  - it reaches every pixel centre's sea point: each lies inside the grid
@@ -713,6 +753,7 @@ int test_bake_register(void)
            !CU_add_test(s, "view maps reproduce seabake render", test_view_matches_render) ||
            !CU_add_test(s, "cancelled by the progress function", test_cancel) ||
            !CU_add_test(s, "one level at a time", test_each_level) ||
+           !CU_add_test(s, "the sensor's image from the bake's surfaces", test_frame_image) ||
            !CU_add_test(s, "rows: shares bit for bit", test_bake_rows) ||
            !CU_add_test(s, "horizon grid: extent and interpolation", test_horizon) ||
            !CU_add_test(s, "the view mask's hit test", test_camera_hits) ||

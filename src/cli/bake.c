@@ -2026,15 +2026,17 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         const double written = w.seconds;
         double t0 = sea_cli_seconds();
         /* the sensor's image of this frame, as seabake render gives it:
-         * first, so that the render's surfaces are freed before the bake's
-         * levels are made */
+         * made by the bake from the surfaces of its levels where this
+         * process bakes the whole frame, else first, so that the render's
+         * surfaces are freed before the bake's levels are made */
         sea_image view = {0};
         sea_status vst = SEA_OK; /* its failure stops the bake once the frame is in */
         sea_error verr;
+        const bool whole = !(size > 1 && !s->framed) && owner == 0;
         if (s->sensor) {
             const sea_camera *cam = sea_render_camera(r);
             vst = sea_image_alloc(&view, cam->width, cam->height, &verr);
-            if (vst == SEA_OK)
+            if (vst == SEA_OK && !whole)
                 vst = sea_render_frame(r, t, &view, NULL, NULL, &verr);
             const double t1 = sea_cli_seconds();
             stats->compute += t1 - t0;
@@ -2042,6 +2044,9 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         }
         if (size > 1 && !s->framed)
             st = bake_rows_frame(&w, &in, sending, r, t, &prog, &b, err);
+        else if (owner == 0 && s->sensor && vst == SEA_OK)
+            st = sea_bake_frame_image(r, t, (int)s->view_k, &view, &b, bake_progress_compute,
+                                      &prog, level_ready, &w, err);
         else if (owner == 0)
             st = sea_bake_frame_each(r, t, (int)s->view_k, &b, bake_progress_compute, &prog,
                                      level_ready, &w, err);
