@@ -521,7 +521,12 @@ static void phasors(double a, double k, double p0, long c0, double step, size_t 
 
 /* Sums of the first nc sinusoids at the centres of cells [i0, i0+nx) x
  * [j0, j0+ny) of size step (nx <= TILE_X, ny <= TILE_Y) into h, sx, sy
- * (nx * ny each, overwritten).  col: 2 nx doubles, row: 2 ny doubles. */
+ * (nx * ny each, overwritten).  col: 2 nx doubles, row: 2 ny doubles.
+ * The components go four at a time over each row (TILE_BLOCK): a cell's
+ * sums are loaded and stored once per four rather than once per component,
+ * and each cell adds the components in their order, so the sums are bit
+ * for bit those of one component at a time. */
+enum { TILE_BLOCK = 4 };
 SEA_WIDE_SIMD
 static void sinusoid_tile(const sea_waves *w, size_t nc, double step, long i0, long j0, size_t nx,
                           size_t ny, double t, double *restrict h, double *restrict sx,
@@ -533,7 +538,50 @@ static void sinusoid_tile(const sea_waves *w, size_t nc, double step, long i0, l
     memset(sy, 0, np * sizeof *sy);
     double *restrict cre = col, *restrict cim = col + nx;
     double *restrict rre = row, *restrict rim = row + ny;
-    for (size_t c = 0; c < nc; c++) {
+    double bre[TILE_BLOCK][TILE_X], bim[TILE_BLOCK][TILE_X];
+    double brr[TILE_BLOCK][TILE_Y], bri[TILE_BLOCK][TILE_Y], bkx[TILE_BLOCK], bky[TILE_BLOCK];
+    size_t c = 0;
+    for (; c + TILE_BLOCK <= nc; c += TILE_BLOCK) {
+        for (size_t b = 0; b < TILE_BLOCK; b++) {
+            const component *o = &w->comp[c + b];
+            phasors(o->amplitude, o->kx, o->phase - o->omega * t, i0, step, nx, bre[b], bim[b]);
+            phasors(1.0, o->ky, 0.0, j0, step, ny, brr[b], bri[b]);
+            bkx[b] = o->kx;
+            bky[b] = o->ky;
+        }
+        const double kx0 = bkx[0], kx1 = bkx[1], kx2 = bkx[2], kx3 = bkx[3];
+        const double ky0 = bky[0], ky1 = bky[1], ky2 = bky[2], ky3 = bky[3];
+        const double *restrict re0 = bre[0], *restrict re1 = bre[1], *restrict re2 = bre[2],
+                               *restrict re3 = bre[3];
+        const double *restrict im0 = bim[0], *restrict im1 = bim[1], *restrict im2 = bim[2],
+                               *restrict im3 = bim[3];
+        for (size_t j = 0; j < ny; j++) {
+            const double rr0 = brr[0][j], ri0 = bri[0][j], rr1 = brr[1][j], ri1 = bri[1][j];
+            const double rr2 = brr[2][j], ri2 = bri[2][j], rr3 = brr[3][j], ri3 = bri[3][j];
+            double *restrict hj = h + j * nx, *restrict xj = sx + j * nx, *restrict yj = sy + j * nx;
+#pragma omp simd
+            for (size_t i = 0; i < nx; i++) {
+                double hv = hj[i], xv = xj[i], yv = yj[i];
+#define SEA_TILE_ADD(re, im, rr, ri, kx, ky)                                                      \
+    do {                                                                                          \
+        const double r_ = re[i] * rr - im[i] * ri;                                                \
+        const double m_ = re[i] * ri + im[i] * rr;                                                \
+        hv += r_;                                                                                 \
+        xv -= kx * m_;                                                                            \
+        yv -= ky * m_;                                                                            \
+    } while (0)
+                SEA_TILE_ADD(re0, im0, rr0, ri0, kx0, ky0);
+                SEA_TILE_ADD(re1, im1, rr1, ri1, kx1, ky1);
+                SEA_TILE_ADD(re2, im2, rr2, ri2, kx2, ky2);
+                SEA_TILE_ADD(re3, im3, rr3, ri3, kx3, ky3);
+#undef SEA_TILE_ADD
+                hj[i] = hv;
+                xj[i] = xv;
+                yj[i] = yv;
+            }
+        }
+    }
+    for (; c < nc; c++) {
         const component *o = &w->comp[c];
         const double p0 = o->phase - o->omega * t, a = o->amplitude;
         const double kx = o->kx, ky = o->ky;
