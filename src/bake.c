@@ -54,42 +54,14 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
     *sun = sea_camera_local_dir(&g, sun_vec);
 }
 
-/* A level's arrays handed back by the caller (sea_bake_frame_each) for
- * the next level, with room for cap facets: the clipmap's levels have one
- * size, and fresh arrays would be faulted in page by page again (at 2048^2
- * facets and K = 3, 640 MB a level). */
-typedef struct {
-    sea_moments *moments;
-    sea_facet_optics *optics;
-    double *view;
-    size_t cap; /* facets (view: cap K^2) */
-} level_spare;
-
-static void spare_free(level_spare *sp)
-{
-    free(sp->moments);
-    free(sp->optics);
-    free(sp->view);
-    memset(sp, 0, sizeof *sp);
-}
-
-/* Level bl's arrays into sp (those of sp it cannot reuse freed first). */
-static void spare_keep(sea_bake_level *bl, level_spare *sp)
-{
-    spare_free(sp);
-    sp->moments = bl->moments;
-    sp->optics = bl->optics;
-    sp->view = bl->view;
-    sp->cap = bl->level.nx * bl->level.ny;
-    bl->moments = NULL;
-    bl->optics = NULL;
-    bl->view = NULL;
-}
-
 /* The facet moments of one high-resolution level, north first, from the
- * frame's (rows south first), in sp's arrays when they have room. */
-static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl, level_spare *sp,
-                                sea_error *err)
+ * frame's (rows south first).  The arrays are spare's, the level before's
+ * once handed to the caller (sea_bake_frame_each), when they have room (its
+ * level's facets, view_k alike): the clipmap's levels have one size, and
+ * fresh arrays would be faulted in page by page again (at 2048^2 facets and
+ * K = 3, 640 MB a level). */
+static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl,
+                                sea_bake_level *spare, sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, n = nx * ny, k2 = bl->view_k * bl->view_k;
@@ -98,13 +70,15 @@ static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl,
                                    "bake level", err);
     if (st != SEA_OK)
         return st;
-    if (sp->moments != NULL && sp->optics != NULL && sp->view != NULL && sp->cap >= n) {
-        bl->moments = sp->moments;
-        bl->optics = sp->optics;
-        bl->view = sp->view;
-        memset(sp, 0, sizeof *sp);
+    if (spare->moments != NULL && spare->level.nx * spare->level.ny >= n) {
+        bl->moments = spare->moments;
+        bl->optics = spare->optics;
+        bl->view = spare->view;
+        spare->moments = NULL;
+        spare->optics = NULL;
+        spare->view = NULL;
     } else {
-        spare_free(sp);
+        level_free(spare);
         bl->moments = malloc(n * sizeof *bl->moments);
         bl->optics = malloc(n * sizeof *bl->optics);
         bl->view = malloc(n * k2 * sizeof *bl->view);
@@ -364,10 +338,9 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "texel rows from %d every %d (allowed: step >= 1, 0 <= first row < step)",
                         row0, step);
-    const sea_camera *cam0 = sea_render_camera(r);
-    if (img != NULL && (img->width != cam0->width || img->height != cam0->height))
-        return sea_fail(err, SEA_ERR_DOMAIN, "image %d x %d does not match the scene's %d x %d",
-                        img->width, img->height, cam0->width, cam0->height);
+    sea_status st = img != NULL ? sea_render_check_image(r, img, err) : SEA_OK;
+    if (st != SEA_OK)
+        return st; /* before the frame is synthesised */
     const size_t r0 = (size_t)row0, rs = (size_t)step;
     out->time = t;
     const sea_clip_level *lv;
@@ -385,7 +358,7 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     const sea_moments lrm = sea_render_lr_moments(r);
     const sea_slope_stats lrs = sea_moments_stats(&lrm);
     sea_facet_optics lro;
-    sea_status st = sea_render_facet_optics(r, &lrs, lr_obs, lr_sun, &lro, err);
+    st = sea_render_facet_optics(r, &lrs, lr_obs, lr_sun, &lro, err);
     if (st != SEA_OK)
         return st;
     out->n_levels = n;
@@ -407,7 +380,8 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     } while (0)
     synth_progress sp = { &bp, synth };
     sea_multires_frame *f = NULL;
-    level_spare spare = { NULL, NULL, NULL, 0 };
+    sea_bake_level spare; /* (level_moments) */
+    memset(&spare, 0, sizeof spare);
     st = sea_multires_frame_alloc(sea_render_multires(r), t, progress != NULL ? synth_report : NULL,
                                   &sp, &f, err);
     if (st == SEA_OK)
@@ -455,11 +429,15 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
         free(mask);
         if (st == SEA_OK && each != NULL) {
             st = each(each_ctx, out, l, err);
-            spare_keep(bl, &spare);
+            level_free(&spare);
+            spare = *bl;
+            bl->moments = NULL;
+            bl->optics = NULL;
+            bl->view = NULL;
         }
     }
 #undef PROGRESS
-    spare_free(&spare);
+    level_free(&spare);
     sea_multires_frame_free(f);
     if (st != SEA_OK)
         sea_bake_free(out);

@@ -148,6 +148,9 @@ SEA_INTERNAL void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, 
  * sea_render_multires(r)), not one of its own: the same pixels. */
 SEA_INTERNAL sea_status sea_render_frame_in(const sea_render *r, const sea_multires_frame *f,
                                             double t, sea_image *img, sea_error *err);
+/* SEA_ERR_DOMAIN unless img is the scene's size (sea_render_rows' check). */
+SEA_INTERNAL sea_status sea_render_check_image(const sea_render *r, const sea_image *img,
+                                               sea_error *err);
 
 /* sensor.c, for the multiresolution plan.  Where the ray through image
  * point (u, v) meets the sea: 1 and its map point (x, y) as

@@ -668,6 +668,15 @@ sea_status sea_render_frame_in(const sea_render *r, const sea_multires_frame *f,
     return render_rows(r, f, t, 0, 1, img, NULL, NULL, err);
 }
 
+sea_status sea_render_check_image(const sea_render *r, const sea_image *img, sea_error *err)
+{
+    const sea_scene *sc = &r->sc;
+    if (img->width != sc->width || img->height != sc->height)
+        return sea_fail(err, SEA_ERR_DOMAIN, "image %d x %d does not match the scene's %d x %d",
+                        img->width, img->height, sc->width, sc->height);
+    return SEA_OK;
+}
+
 /* sea_render_rows from the frame given (of r's multiresolution sea at t),
  * or from one of its own (NULL). */
 static sea_status render_rows(const sea_render *r, const sea_multires_frame *given, double t,
@@ -675,9 +684,9 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
                               void *ctx, sea_error *err)
 {
     const sea_scene *sc = &r->sc;
-    if (img->width != sc->width || img->height != sc->height)
-        return sea_fail(err, SEA_ERR_DOMAIN, "image %d x %d does not match the scene's %d x %d",
-                        img->width, img->height, sc->width, sc->height);
+    sea_status st = sea_render_check_image(r, img, err);
+    if (st != SEA_OK)
+        return st;
     if (!isfinite(t))
         return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
     if (row0 < 0 || step < 1)
@@ -698,11 +707,8 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
         nrows += (j_lo + B < H ? j_lo + B : H) - j_lo;
     }
     sea_multires_frame *own = NULL;
-    if (given == NULL) {
-        const sea_status st = sea_multires_frame_alloc(r->mr, t, NULL, NULL, &own, err);
-        if (st != SEA_OK)
-            return st;
-    }
+    if (given == NULL && (st = sea_multires_frame_alloc(r->mr, t, NULL, NULL, &own, err)) != SEA_OK)
+        return st;
     const sea_multires_frame *f = given != NULL ? given : own;
     const sea_clip_level *lv;
     const size_t nlev = sea_multires_levels(r->mr, &lv);

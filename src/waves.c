@@ -521,86 +521,83 @@ static void phasors(double a, double k, double p0, long c0, double step, size_t 
 
 /* Sums of the first nc sinusoids at the centres of cells [i0, i0+nx) x
  * [j0, j0+ny) of size step (nx <= TILE_X, ny <= TILE_Y) into h, sx, sy
- * (nx * ny each, overwritten).  col: 2 nx doubles, row: 2 ny doubles.
- * The components go four at a time over each row (TILE_BLOCK): a cell's
- * sums are loaded and stored once per four rather than once per component,
- * and each cell adds the components in their order, so the sums are bit
+ * (nx * ny each, overwritten).  The components go four at a time over each
+ * row (TILE_BLOCK), the last few one at a time: a cell's sums are loaded
+ * and stored once per four rather than once per component, and each cell
+ * adds the components in their order (SEA_TILE_ADD), so the sums are bit
  * for bit those of one component at a time. */
 enum { TILE_BLOCK = 4 };
+/* A component's share at cell i of a row: column factor (re, im), row
+ * factor (rr, ri), wavenumber (kx, ky). */
+#define SEA_TILE_ADD(re, im, rr, ri, kx, ky)                                                      \
+    do {                                                                                          \
+        const double r_ = (re)[i] * (rr) - (im)[i] * (ri);                                        \
+        const double m_ = (re)[i] * (ri) + (im)[i] * (rr);                                        \
+        hv += r_;                                                                                 \
+        xv -= (kx) * m_;                                                                          \
+        yv -= (ky) * m_;                                                                          \
+    } while (0)
 SEA_WIDE_SIMD
 static void sinusoid_tile(const sea_waves *w, size_t nc, double step, long i0, long j0, size_t nx,
                           size_t ny, double t, double *restrict h, double *restrict sx,
-                          double *restrict sy, double *restrict col, double *restrict row)
+                          double *restrict sy)
 {
     const size_t np = nx * ny;
     memset(h, 0, np * sizeof *h);
     memset(sx, 0, np * sizeof *sx);
     memset(sy, 0, np * sizeof *sy);
-    double *restrict cre = col, *restrict cim = col + nx;
-    double *restrict rre = row, *restrict rim = row + ny;
+    /* the block's column and row factors and wavenumbers */
     double bre[TILE_BLOCK][TILE_X], bim[TILE_BLOCK][TILE_X];
     double brr[TILE_BLOCK][TILE_Y], bri[TILE_BLOCK][TILE_Y], bkx[TILE_BLOCK], bky[TILE_BLOCK];
-    size_t c = 0;
-    for (; c + TILE_BLOCK <= nc; c += TILE_BLOCK) {
-        for (size_t b = 0; b < TILE_BLOCK; b++) {
+    for (size_t c = 0; c < nc; c += TILE_BLOCK) {
+        const size_t m = nc - c < TILE_BLOCK ? nc - c : TILE_BLOCK;
+        for (size_t b = 0; b < m; b++) {
             const component *o = &w->comp[c + b];
             phasors(o->amplitude, o->kx, o->phase - o->omega * t, i0, step, nx, bre[b], bim[b]);
             phasors(1.0, o->ky, 0.0, j0, step, ny, brr[b], bri[b]);
             bkx[b] = o->kx;
             bky[b] = o->ky;
         }
-        const double kx0 = bkx[0], kx1 = bkx[1], kx2 = bkx[2], kx3 = bkx[3];
-        const double ky0 = bky[0], ky1 = bky[1], ky2 = bky[2], ky3 = bky[3];
-        const double *restrict re0 = bre[0], *restrict re1 = bre[1], *restrict re2 = bre[2],
-                               *restrict re3 = bre[3];
-        const double *restrict im0 = bim[0], *restrict im1 = bim[1], *restrict im2 = bim[2],
-                               *restrict im3 = bim[3];
         for (size_t j = 0; j < ny; j++) {
-            const double rr0 = brr[0][j], ri0 = bri[0][j], rr1 = brr[1][j], ri1 = bri[1][j];
-            const double rr2 = brr[2][j], ri2 = bri[2][j], rr3 = brr[3][j], ri3 = bri[3][j];
             double *restrict hj = h + j * nx, *restrict xj = sx + j * nx, *restrict yj = sy + j * nx;
+            if (m == TILE_BLOCK) {
+                const double *restrict re0 = bre[0], *restrict re1 = bre[1],
+                                       *restrict re2 = bre[2], *restrict re3 = bre[3];
+                const double *restrict im0 = bim[0], *restrict im1 = bim[1],
+                                       *restrict im2 = bim[2], *restrict im3 = bim[3];
+                const double kx0 = bkx[0], kx1 = bkx[1], kx2 = bkx[2], kx3 = bkx[3];
+                const double ky0 = bky[0], ky1 = bky[1], ky2 = bky[2], ky3 = bky[3];
+                const double rr0 = brr[0][j], ri0 = bri[0][j], rr1 = brr[1][j], ri1 = bri[1][j];
+                const double rr2 = brr[2][j], ri2 = bri[2][j], rr3 = brr[3][j], ri3 = bri[3][j];
 #pragma omp simd
-            for (size_t i = 0; i < nx; i++) {
-                double hv = hj[i], xv = xj[i], yv = yj[i];
-#define SEA_TILE_ADD(re, im, rr, ri, kx, ky)                                                      \
-    do {                                                                                          \
-        const double r_ = re[i] * rr - im[i] * ri;                                                \
-        const double m_ = re[i] * ri + im[i] * rr;                                                \
-        hv += r_;                                                                                 \
-        xv -= kx * m_;                                                                            \
-        yv -= ky * m_;                                                                            \
-    } while (0)
-                SEA_TILE_ADD(re0, im0, rr0, ri0, kx0, ky0);
-                SEA_TILE_ADD(re1, im1, rr1, ri1, kx1, ky1);
-                SEA_TILE_ADD(re2, im2, rr2, ri2, kx2, ky2);
-                SEA_TILE_ADD(re3, im3, rr3, ri3, kx3, ky3);
-#undef SEA_TILE_ADD
-                hj[i] = hv;
-                xj[i] = xv;
-                yj[i] = yv;
+                for (size_t i = 0; i < nx; i++) {
+                    double hv = hj[i], xv = xj[i], yv = yj[i];
+                    SEA_TILE_ADD(re0, im0, rr0, ri0, kx0, ky0);
+                    SEA_TILE_ADD(re1, im1, rr1, ri1, kx1, ky1);
+                    SEA_TILE_ADD(re2, im2, rr2, ri2, kx2, ky2);
+                    SEA_TILE_ADD(re3, im3, rr3, ri3, kx3, ky3);
+                    hj[i] = hv;
+                    xj[i] = xv;
+                    yj[i] = yv;
+                }
+                continue;
             }
-        }
-    }
-    for (; c < nc; c++) {
-        const component *o = &w->comp[c];
-        const double p0 = o->phase - o->omega * t, a = o->amplitude;
-        const double kx = o->kx, ky = o->ky;
-        phasors(a, kx, p0, i0, step, nx, cre, cim);
-        phasors(1.0, ky, 0.0, j0, step, ny, rre, rim);
-        for (size_t j = 0; j < ny; j++) {
-            const double rr = rre[j], ri = rim[j];
-            double *restrict hj = h + j * nx, *restrict xj = sx + j * nx, *restrict yj = sy + j * nx;
+            for (size_t b = 0; b < m; b++) {
+                const double *restrict re = bre[b], *restrict im = bim[b];
+                const double rr = brr[b][j], ri = bri[b][j], kx = bkx[b], ky = bky[b];
 #pragma omp simd
-            for (size_t i = 0; i < nx; i++) {
-                const double re = cre[i] * rr - cim[i] * ri;
-                const double im = cre[i] * ri + cim[i] * rr;
-                hj[i] += re;
-                xj[i] -= kx * im;
-                yj[i] -= ky * im;
+                for (size_t i = 0; i < nx; i++) {
+                    double hv = hj[i], xv = xj[i], yv = yj[i];
+                    SEA_TILE_ADD(re, im, rr, ri, kx, ky);
+                    hj[i] = hv;
+                    xj[i] = xv;
+                    yj[i] = yv;
+                }
             }
         }
     }
 }
+#undef SEA_TILE_ADD
 
 /* Checks a lattice step against an FFT plan: step = L0 2^m; returns the
  * level grid size M = N / 2^m through *M. */
@@ -757,7 +754,7 @@ sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, dou
     int fail = 0;
 #pragma omp parallel
     {
-        double *buf = malloc((3 * TILE_X * TILE_Y + 2 * TILE_X + 2 * TILE_Y) * sizeof(double));
+        double *buf = malloc(3 * TILE_X * TILE_Y * sizeof(double));
         if (buf == NULL) {
 #pragma omp atomic write
             fail = 1;
@@ -772,8 +769,7 @@ sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, dou
                 const size_t wy = ny - oy < TILE_Y ? ny - oy : TILE_Y;
                 double *th = buf, *tsx = buf + TILE_X * TILE_Y, *tsy = buf + 2 * TILE_X * TILE_Y;
                 sinusoid_tile(w, nc, r->step, r->i0 + (long)ox, r->j0 + (long)oy, wx, wy, t, th,
-                              tsx, tsy, buf + 3 * TILE_X * TILE_Y,
-                              buf + 3 * TILE_X * TILE_Y + 2 * TILE_X);
+                              tsx, tsy);
                 for (size_t j = 0; j < wy; j++) {
                     const size_t d = (oy + j) * nx + ox;
                     if (h != NULL)
@@ -939,7 +935,7 @@ sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double
     int fail = 0;
 #pragma omp parallel
     {
-        double *buf = malloc((3 * TILE_X * TILE_Y + 2 * TILE_X + 2 * TILE_Y) * sizeof(double));
+        double *buf = malloc(3 * TILE_X * TILE_Y * sizeof(double));
         sums *acc = malloc(band * nx * sizeof(sums));
         if (buf == NULL || acc == NULL) {
 #pragma omp atomic write
@@ -960,8 +956,7 @@ sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double
                     double *th = buf, *tsx = buf + TILE_X * TILE_Y,
                            *tsy = buf + 2 * TILE_X * TILE_Y;
                     sinusoid_tile(w, nc, delta, si0 + (long)ox, sj0 + (long)oy, wx, wy, t, th,
-                                  tsx, tsy, buf + 3 * TILE_X * TILE_Y,
-                                  buf + 3 * TILE_X * TILE_Y + 2 * TILE_X);
+                                  tsx, tsy);
                     for (size_t b = 0; b < wy; b++) {
                         sums *arow = acc + ((oy + b) / sub) * nx;
                         for (size_t a = 0; a < wx; a++) {

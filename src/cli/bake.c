@@ -407,8 +407,9 @@ static sea_status write_preview(const char *path, size_t g, size_t width, size_t
 }
 
 /* Fills the channels of group g of level bl: out[c] for each channel c
- * (the emission group's one channel of K x K texels a facet); the values of texel_value, computed once a
- * texel (the normal and the roughness give their three channels at once). */
+ * (the emission group's one channel of K x K texels a facet); the values
+ * of texel_value, computed once a texel (the normal and the roughness give
+ * their three channels at once). */
 static void fill_group(const sea_bake_level *bl, size_t g, double scale,
                        float *const out[GROUP_CH_MAX])
 {
@@ -2044,7 +2045,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         }
         if (size > 1 && !s->framed)
             st = bake_rows_frame(&w, &in, sending, r, t, &prog, &b, err);
-        else if (owner == 0 && s->sensor && vst == SEA_OK)
+        else if (whole && s->sensor && vst == SEA_OK)
             st = sea_bake_frame_image(r, t, (int)s->view_k, &view, &b, bake_progress_compute,
                                       &prog, level_ready, &w, err);
         else if (owner == 0)
