@@ -37,12 +37,13 @@ SEA_INTERNAL void sea_planck_coefficients(double wavelength, double *a, double *
  * tests compare them with the portable loops. */
 struct sea_optics;
 SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
-/* Whether reflections >= 2 sum the second hits' inner emissivity through
- * the spectral basis of a band's Fresnel tables (on by default; off: each
- * table, for the tests that compare the two). */
+/* Whether reflections >= 2 sum the second hits' reflectances and
+ * emissivities through the spectral basis of a band's Fresnel tables (on by
+ * default; off: each table, for the tests that compare the two). */
 SEA_INTERNAL void sea_optics_set_spectral_basis(struct sea_optics *p, int on);
 /* The rank of the spectral basis of the block N[0..n) (built if need be), 0
- * when it has none (fewer than 4 indices, one without a table, no saving). */
+ * when it has none (an index without a table, none within its tolerance,
+ * or one that would not halve the lookups). */
 SEA_INTERNAL int sea_optics_spectral_rank(const struct sea_optics *p, const double complex *N,
                                           size_t n);
 

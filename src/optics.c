@@ -112,20 +112,34 @@ typedef struct {
     double a[SEA_FRESNEL_INTERVALS][4];
 } fresnel_table;
 
-/* The spectral basis of a block of tables (the second hits' inner sums,
- * spectral_basis_of): rank tables B_r and weights A_kr such that table k's
- * cubics are sum_r A_kr B_r's within SEA_BASIS_TOL of the reflectance. */
 /* Indices whose tables are looked up at once (stack arrays), by
  * sea_emissivity_n and by one recursion of the multiple reflections. */
 enum { SEA_EMIS_BLOCK = 32 };
-enum { SEA_BASIS_CACHE = 8, SEA_BASIS_RANK_MAX = 12, SEA_BASIS_MIN_N = 4 };
-static const double SEA_BASIS_TOL = 1e-9;
+/* The second hits' spectral basis of a block of tables (spectral_basis_of):
+ * rank functions B_r of cos psi and weights A_kr such that reflectance k
+ * is sum_r A_kr B_r(cos psi) within SEA_BASIS_TOL.  The B_r are cubics on
+ * SEA_BASIS_INTERVALS intervals of [0, 1] (a 32nd of the tables'; 16
+ * samples of water over 3-5 and 8-12 um then have bases of rank 5 and 6
+ * within 1.9e-7 and 4.3e-7 of every table, against 1.3e-6 and 1.8e-6 on 32
+ * intervals), one interval's coefficients of every B_r side by side:
+ *     c[(q 4 + i) lanes + r] = coefficient i of B_r on interval q,
+ * lanes = rank rounded up to 4 (zeros beyond), so a node reads one
+ * interval's block (16 KB in all at rank 8, within the first-level cache)
+ * and evaluates every B_r at once. */
+enum { SEA_BASIS_INTERVALS = 64, SEA_BASIS_SHIFT = 5 };
+_Static_assert(SEA_BASIS_INTERVALS << SEA_BASIS_SHIFT == SEA_FRESNEL_INTERVALS,
+               "a basis interval is a whole number of table intervals");
+enum { SEA_BASIS_CACHE = 8, SEA_BASIS_RANK_MAX = 8 };
+static const double SEA_BASIS_TOL = 2e-6;
 typedef struct {
     size_t n;
     double complex N[SEA_EMIS_BLOCK];
-    int rank; /* 0: no basis saves work (rank would be n - 1 or more) */
-    double A[SEA_EMIS_BLOCK][SEA_BASIS_RANK_MAX];
-    fresnel_table *B[SEA_BASIS_RANK_MAX];
+    int rank;  /* 0: none (none within SEA_BASIS_TOL of rank <= SEA_BASIS_RANK_MAX, or
+                * one that would not halve the lookups: basis_build) */
+    int lanes; /* rank rounded up to a multiple of 4 */
+    double err; /* the largest difference from a table, measured */
+    double A[SEA_BASIS_RANK_MAX][SEA_EMIS_BLOCK]; /* A[r][k] */
+    double *c;
 } spectral_basis;
 
 struct sea_optics {
@@ -224,8 +238,7 @@ void sea_optics_free(sea_optics *p)
         free(p->fresnel[i]);
     const size_t nb = atomic_load(&p->n_basis);
     for (size_t i = 0; i < nb; i++) {
-        for (int r = 0; r < p->basis[i]->rank; r++)
-            free(p->basis[i]->B[r]);
+        free(p->basis[i]->c);
         free(p->basis[i]);
     }
     pthread_mutex_destroy(&p->fresnel_lock);
@@ -858,11 +871,9 @@ __attribute__((target("avx2"))) static double flat_sum_avx2(const fresnel_table 
 
 /* flat_sum_avx2 of four tables at once, one table a lane: node q's four
  * coefficient rows, one from each table, transposed, into accumulator
- * q mod 4; each table's sums in flat_sum_avx2's order.  raw (a constant
- * at each call): sum_q w_q B(c_q) instead, unclamped, nodes of weight <= 0
- * left out (the spectral basis's sums). */
-__attribute__((target("avx2"), always_inline)) static inline void
-sum4_avx2(const fresnel_table *const tb[4], const fixed_nodes *nd, double out[4], const int raw)
+ * q mod 4; each table's sums in flat_sum_avx2's order. */
+__attribute__((target("avx2"))) static void flat_sum4_avx2(const fresnel_table *const tb[4],
+                                                           const fixed_nodes *nd, double out[4])
 {
     const int *k = nd->tab_k;
     const double *t = nd->tab_t, *w = nd->w_q;
@@ -873,26 +884,11 @@ sum4_avx2(const fresnel_table *const tb[4], const fixed_nodes *nd, double out[4]
             const int kq = k[q + m];
             const __m256d c0 = _mm256_loadu_pd(tb[0]->a[kq]), c1 = _mm256_loadu_pd(tb[1]->a[kq]);
             const __m256d c2 = _mm256_loadu_pd(tb[2]->a[kq]), c3 = _mm256_loadu_pd(tb[3]->a[kq]);
-            const __m256d tt = _mm256_set1_pd(t[q + m]);
-            const __m256d v = raw ? cubic4(c0, c1, c2, c3, tt)
-                                  : one_minus_cubic4(c0, c1, c2, c3, tt);
-            const double wq = raw && !(w[q + m] > 0.0) ? 0.0 : w[q + m];
-            acc[m] = _mm256_add_pd(acc[m], _mm256_mul_pd(_mm256_set1_pd(wq), v));
+            const __m256d v = one_minus_cubic4(c0, c1, c2, c3, _mm256_set1_pd(t[q + m]));
+            acc[m] = _mm256_add_pd(acc[m], _mm256_mul_pd(_mm256_set1_pd(w[q + m]), v));
         }
     _mm256_storeu_pd(out, _mm256_add_pd(_mm256_add_pd(acc[0], acc[1]),
                                         _mm256_add_pd(acc[2], acc[3])));
-}
-
-__attribute__((target("avx2"))) static void flat_sum4_avx2(const fresnel_table *const tb[4],
-                                                           const fixed_nodes *nd, double out[4])
-{
-    sum4_avx2(tb, nd, out, 0);
-}
-
-__attribute__((target("avx2"))) static void raw_sum4_avx2(const fresnel_table *const tb[4],
-                                                          const fixed_nodes *nd, double out[4])
-{
-    sum4_avx2(tb, nd, out, 1);
 }
 #endif
 
@@ -1232,85 +1228,127 @@ static void emissivity_of_nodes_n(const fixed_nodes *nd, const emis_ctx *ec, siz
  * rule is needed). */
 /* ------------------------------------------------------ spectral basis */
 
-/* The second hits' inner emissivity sums the n Fresnel tables of a block of
+/* The second hits' emissivity sums the n Fresnel tables of a block of
  * spectral samples over the same nodes, n table lookups a node.  A band's
  * tables are nearly linearly dependent (water over 3-5 um: singular values
  * 1, 3.4e-2, 1.9e-3, 5.5e-5, 1.6e-5, 5.1e-7, 3.1e-8, 2.2e-10 of the
  * first), so the singular value decomposition of the matrix of their
- * cubics' coefficients gives rank tables B_r (left singular vectors) and
- * weights A_kr (singular value times right singular vector) with table
- * k's cubics within SEA_BASIS_TOL of sum_r A_kr B_r's everywhere (the
- * residual's coefficients, summed, bound it on every interval), rank the
- * smallest that does.  The sums then take rank lookups a node:
+ * cubics' coefficients gives functions B_r (left singular vectors) and
+ * weights A_kr (singular value times right singular vector); each B_r is
+ * put on the basis's coarser intervals (the cubic through its values at
+ * 0, 1/3, 2/3 and 1 of each), and the rank is the smallest whose sum_r
+ * A_kr B_r is within SEA_BASIS_TOL of every table at 4 points of each of
+ * the table's intervals (the reflectance is smooth in cos psi: an index
+ * near 1, whose reflectance jumps at grazing, has no table).  The sums
+ * then take one lookup of the basis a node instead of n of the tables:
  *     sum_q w_q (1 - rho_k) = W - sum_r A_kr sum_q w_q B_r,
- * W = sum_q w_q, unclamped (the tables' own sums clamp rho to [0, 1],
- * which changes nothing above SEA_BASIS_TOL on water).  No basis when the
- * rank would save less than one lookup in four. */
+ * W = sum_q w_q, unclamped (the tables clamp rho to [0, 1]). */
+static double basis_cubic(const double *c, int lanes, int r, int q, double t)
+{
+    const double *a = &c[(size_t)q * 4 * (size_t)lanes + (size_t)r];
+    return a[0] + t * (a[(size_t)lanes] + t * (a[2 * (size_t)lanes] + t * a[3 * (size_t)lanes]));
+}
+
+/* The basis's interval of cos psi c (clamped to [0, 1]) and the offset in
+ * it, as fresnel_pos. */
+static inline double basis_pos(double c, int *q)
+{
+    const int M = SEA_BASIS_INTERVALS;
+    const double u = (c < 0.0 ? 0.0 : c > 1.0 ? 1.0 : c) * M;
+    int i = (int)u;
+    i = i > M - 1 ? M - 1 : i;
+    *q = i;
+    return u - i;
+}
+
 static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
 {
-    enum { M = SEA_FRESNEL_INTERVALS, C = 4 * SEA_FRESNEL_INTERVALS };
+    enum { M = SEA_FRESNEL_INTERVALS, C = 4 * SEA_FRESNEL_INTERVALS, MB = SEA_BASIS_INTERVALS };
+    enum { RATIO = 1 << SEA_BASIS_SHIFT };
+    const int max_rank = (int)n < SEA_BASIS_RANK_MAX ? (int)n : SEA_BASIS_RANK_MAX;
+    const int max_lanes = (max_rank + 3) & ~3;
     spectral_basis *b = calloc(1, sizeof *b);
     gsl_matrix *X = gsl_matrix_alloc(C, n);
     gsl_matrix *V = gsl_matrix_alloc(n, n);
     gsl_vector *S = gsl_vector_alloc(n), *work = gsl_vector_alloc(n);
-    /* each table's residual after the first R terms, R = 0, 1, ... */
-    double *res = malloc(n * C * sizeof *res);
-    int ok = b != NULL && X != NULL && V != NULL && S != NULL && work != NULL && res != NULL;
+    double *c = calloc((size_t)MB * 4 * (size_t)max_lanes, sizeof *c);
+    int ok = b != NULL && X != NULL && V != NULL && S != NULL && work != NULL && c != NULL;
     if (ok) {
         b->n = n;
         for (size_t k = 0; k < n; k++) {
             b->N[k] = ec[k].N;
             for (int q = 0; q < M; q++)
-                for (int c = 0; c < 4; c++) {
-                    gsl_matrix_set(X, 4 * (size_t)q + (size_t)c, k, ec[k].table->a[q][c]);
-                    res[k * C + 4 * (size_t)q + (size_t)c] = ec[k].table->a[q][c];
-                }
+                for (int i = 0; i < 4; i++)
+                    gsl_matrix_set(X, 4 * (size_t)q + (size_t)i, k, ec[k].table->a[q][i]);
         }
         ok = gsl_linalg_SV_decomp(X, V, S, work) == GSL_SUCCESS;
     }
-    int rank = 0;
-    const int max_rank = (int)(3 * n / 4) < SEA_BASIS_RANK_MAX ? (int)(3 * n / 4)
-                                                               : SEA_BASIS_RANK_MAX;
-    for (int R = 1; ok && R <= max_rank && rank == 0; R++) {
-        const double sr = gsl_vector_get(S, (size_t)R - 1);
-        double worst = 0.0;
-        for (size_t k = 0; k < n; k++) {
-            const double a = sr * gsl_matrix_get(V, k, (size_t)R - 1);
-            double *e = &res[k * C];
-            for (size_t i = 0; i < C; i++)
-                e[i] -= a * gsl_matrix_get(X, i, (size_t)R - 1);
-            for (int q = 0; q < M; q++)
-                worst = fmax(worst, fabs(e[4 * q]) + fabs(e[4 * q + 1]) + fabs(e[4 * q + 2]) +
-                                        fabs(e[4 * q + 3]));
+    for (int r = 0; ok && r < max_rank; r++) {
+        /* B_r on the coarse intervals: the cubic through its values at
+         * t = 0, 1/3, 2/3, 1 of each */
+        for (int Q = 0; Q < MB; Q++) {
+            double y[4];
+            for (int m = 0; m < 4; m++) {
+                const double u = (Q + m / 3.0) * RATIO;
+                const int q = u >= M ? M - 1 : (int)u;
+                const double t = u - q;
+                double v = 0.0;
+                for (int i = 3; i >= 0; i--)
+                    v = gsl_matrix_get(X, 4 * (size_t)q + (size_t)i, (size_t)r) + t * v;
+                y[m] = v;
+            }
+            double *a = &c[(size_t)Q * 4 * (size_t)max_lanes + (size_t)r];
+            a[0] = y[0];
+            a[(size_t)max_lanes] = 0.5 * (-11.0 * y[0] + 18.0 * y[1] - 9.0 * y[2] + 2.0 * y[3]);
+            a[2 * (size_t)max_lanes] = 4.5 * (2.0 * y[0] - 5.0 * y[1] + 4.0 * y[2] - y[3]);
+            a[3 * (size_t)max_lanes] = 4.5 * (-y[0] + 3.0 * y[1] - 3.0 * y[2] + y[3]);
         }
-        if (worst <= SEA_BASIS_TOL)
-            rank = R;
-    }
-    for (int r = 0; ok && r < rank; r++) {
-        if ((b->B[r] = malloc(sizeof *b->B[r])) == NULL) {
-            ok = 0;
-            break;
-        }
-        b->B[r]->N = 0.0;
-        b->B[r]->usable = 1;
-        for (int q = 0; q < M; q++)
-            for (int c = 0; c < 4; c++)
-                b->B[r]->a[q][c] = gsl_matrix_get(X, 4 * (size_t)q + (size_t)c, (size_t)r);
         for (size_t k = 0; k < n; k++)
-            b->A[k][r] = gsl_vector_get(S, (size_t)r) * gsl_matrix_get(V, k, (size_t)r);
+            b->A[r][k] = gsl_vector_get(S, (size_t)r) * gsl_matrix_get(V, k, (size_t)r);
     }
-    if (b != NULL)
-        b->rank = ok ? rank : 0;
-    if (b != NULL && !ok)
-        for (int r = 0; r < SEA_BASIS_RANK_MAX; r++) {
-            free(b->B[r]);
-            b->B[r] = NULL;
-        }
+    /* the smallest rank within the tolerance, at 4 points of every table
+     * interval */
+    int rank = 0;
+    double err = 0.0;
+    for (int R = 1; ok && R <= max_rank && rank == 0; R++) {
+        double worst = 0.0;
+        for (size_t k = 0; k < n; k++)
+            for (int q = 0; q < M; q++)
+                for (int m = 0; m < 4; m++) {
+                    const double t = 0.25 * m, u = (q + t) / RATIO;
+                    const int Q = (int)u < MB ? (int)u : MB - 1;
+                    const double *a = ec[k].table->a[q];
+                    double v = a[0] + t * (a[1] + t * (a[2] + t * a[3]));
+                    for (int r = 0; r < R; r++)
+                        v -= b->A[r][k] * basis_cubic(c, max_lanes, r, Q, u - Q);
+                    worst = fmax(worst, fabs(v));
+                }
+        if (worst <= SEA_BASIS_TOL)
+            rank = R, err = worst;
+    }
+    /* a node reads lanes / 4 vectors instead of n / 4 tables: no basis
+     * unless that halves them */
+    if (2 * ((rank + 3) & ~3) > (int)n)
+        rank = 0;
+    if (b != NULL && ok && rank > 0) {
+        /* the blocks at the rank's own width */
+        b->rank = rank;
+        b->lanes = (rank + 3) & ~3;
+        b->err = err;
+        b->c = malloc((size_t)MB * 4 * (size_t)b->lanes * sizeof *b->c);
+        if (b->c == NULL)
+            b->rank = 0;
+        else
+            for (size_t e = 0; e < (size_t)MB * 4; e++)
+                for (int r = 0; r < b->lanes; r++)
+                    b->c[e * (size_t)b->lanes + (size_t)r] =
+                        r < rank ? c[e * (size_t)max_lanes + (size_t)r] : 0.0;
+    }
     gsl_matrix_free(X);
     gsl_matrix_free(V);
     gsl_vector_free(S);
     gsl_vector_free(work);
-    free(res);
+    free(c);
     return b;
 }
 
@@ -1334,7 +1372,7 @@ static const spectral_basis *find_basis(const sea_optics *p, const emis_ctx *ec,
 static const spectral_basis *spectral_basis_of(const sea_optics *pc, const emis_ctx *ec, size_t n)
 {
     sea_optics *p = (sea_optics *)pc;
-    if (!p->use_basis || n < SEA_BASIS_MIN_N || n > SEA_EMIS_BLOCK)
+    if (!p->use_basis || n < 1 || n > SEA_EMIS_BLOCK)
         return NULL;
     for (size_t k = 0; k < n; k++)
         if (ec[k].table == NULL)
@@ -1371,47 +1409,98 @@ int sea_optics_spectral_rank(const sea_optics *p, const double complex *N, size_
 }
 
 
+#ifdef SEA_OPTICS_AVX2
+/* basis_sums with four B_r a vector: one node's interval block is lanes / 4
+ * vectors of each coefficient. */
+__attribute__((target("avx2"))) static void basis_sums_avx2(const fixed_nodes *nd,
+                                                            const spectral_basis *b, double *G)
+{
+    const size_t L = (size_t)b->lanes;
+    const __m256d zero = _mm256_setzero_pd();
+    __m256d acc[SEA_BASIS_RANK_MAX / 4] = { zero, zero };
+    for (int q = 0; q < nd->n_q; q++) {
+        const double w = nd->w_q[q];
+        if (!(w > 0.0))
+            continue;
+        int Q;
+        const __m256d tt = _mm256_set1_pd(basis_pos(nd->cos_psi[q], &Q));
+        const __m256d ww = _mm256_set1_pd(w);
+        const double *a = &b->c[(size_t)Q * 4 * L];
+        for (size_t v = 0; v < L; v += 4) {
+            __m256d y = _mm256_loadu_pd(a + 3 * L + v);
+            y = _mm256_add_pd(_mm256_loadu_pd(a + 2 * L + v), _mm256_mul_pd(tt, y));
+            y = _mm256_add_pd(_mm256_loadu_pd(a + L + v), _mm256_mul_pd(tt, y));
+            y = _mm256_add_pd(_mm256_loadu_pd(a + v), _mm256_mul_pd(tt, y));
+            acc[v / 4] = _mm256_add_pd(acc[v / 4], _mm256_mul_pd(ww, y));
+        }
+    }
+    for (size_t v = 0; v < L; v += 4)
+        _mm256_storeu_pd(G + v, acc[v / 4]);
+}
+#endif
+
+/* G_r = sum_q w_q B_r(cos psi_q) over the nodes of positive weight, r <
+ * lanes (the general nodes: not zero, not plain, n_j > 1). */
+static void basis_sums(const fixed_nodes *nd, const spectral_basis *b, double *G)
+{
+#ifdef SEA_OPTICS_AVX2
+    if (nd->avx2) {
+        basis_sums_avx2(nd, b, G);
+        return;
+    }
+#endif
+    for (int r = 0; r < b->lanes; r++)
+        G[r] = 0.0;
+    for (int q = 0; q < nd->n_q; q++) {
+        const double w = nd->w_q[q];
+        if (!(w > 0.0))
+            continue;
+        int Q;
+        const double t = basis_pos(nd->cos_psi[q], &Q);
+        for (int r = 0; r < b->rank; r++)
+            G[r] += w * basis_cubic(b->c, b->lanes, r, Q, t);
+    }
+}
+
 /* emissivity_of_nodes_n through the basis b of the block (the general
- * nodes: not zero, not plain, n_j > 1, table positions set). */
+ * nodes: not zero, not plain, n_j > 1). */
 static void emissivity_of_nodes_basis(const fixed_nodes *nd, const spectral_basis *b,
                                       double *out)
 {
-    double den = 0.0, W = 0.0, G[SEA_BASIS_RANK_MAX] = { 0.0 };
+    double den = 0.0, W = 0.0, G[SEA_BASIS_RANK_MAX];
     for (int i = 0; i < nd->n_i; i++)
         if (nd->w_i[i] > 0.0)
             den += nd->w_i[i];
     for (int q = 0; q < nd->n_q; q++)
         if (nd->w_q[q] > 0.0)
             W += nd->w_q[q];
-#ifdef SEA_OPTICS_AVX2
-    if (nd->avx2) {
-        /* four tables a pass, the last pass's spare lanes on its last table */
-        for (int r = 0; r < b->rank; r += 4) {
-            const fresnel_table *tb[4];
-            double g4[4];
-            for (int m = 0; m < 4; m++)
-                tb[m] = b->B[r + m < b->rank ? r + m : b->rank - 1];
-            raw_sum4_avx2(tb, nd, g4);
-            for (int m = 0; m < 4 && r + m < b->rank; m++)
-                G[r + m] = g4[m];
-        }
-    } else
-#endif
-    {
-        for (int r = 0; r < b->rank; r++) {
-            double g = 0.0;
-            for (int q = 0; q < nd->n_q; q++)
-                if (nd->w_q[q] > 0.0)
-                    g += nd->w_q[q] * cubic_at(b->B[r], nd->tab_k[q], nd->tab_t[q]);
-            G[r] = g;
-        }
-    }
-    for (size_t k = 0; k < b->n; k++) {
-        double sum = W;
-        for (int r = 0; r < b->rank; r++)
-            sum -= b->A[k][r] * G[r];
-        out[k] = den > 0.0 ? sum / den : 0.0;
-    }
+    basis_sums(nd, b, G);
+    const size_t n = b->n;
+    for (size_t k = 0; k < n; k++)
+        out[k] = W;
+    for (int r = 0; r < b->rank; r++)
+        for (size_t k = 0; k < n; k++)
+            out[k] -= b->A[r][k] * G[r];
+    const double inv = den > 0.0 ? 1.0 / den : 0.0;
+    for (size_t k = 0; k < n; k++)
+        out[k] *= inv;
+}
+
+/* The reflectance of every index of the block at cos psi c through its
+ * basis (unclamped). */
+static void basis_rho(const spectral_basis *b, double c, double *rho)
+{
+    int Q;
+    const double t = basis_pos(c, &Q);
+    double B[SEA_BASIS_RANK_MAX];
+    for (int r = 0; r < b->rank; r++)
+        B[r] = basis_cubic(b->c, b->lanes, r, Q, t);
+    const size_t n = b->n;
+    for (size_t k = 0; k < n; k++)
+        rho[k] = 0.0;
+    for (int r = 0; r < b->rank; r++)
+        for (size_t k = 0; k < n; k++)
+            rho[k] += b->A[r][k] * B[r];
 }
 
 static fixed_rule fixed_rule_of(const view_frame *f, sea_emis_method method,
@@ -1784,6 +1873,22 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
                           const sea_sky *sky, size_t k0, const spectral_basis *sb, double *out,
                           double *kout);
 
+/* The reflectance of the block's indices at cos psi c: through the basis
+ * sb where there is one (the second hits), else each index's table (the
+ * formula where exact), as rho_at. */
+static void rho_of_block(const emis_ctx *ec, size_t n, const spectral_basis *sb, int exact,
+                         double c, double *rho)
+{
+    if (sb != NULL) {
+        basis_rho(sb, c, rho);
+        return;
+    }
+    int tk;
+    const double tt = fresnel_pos(c, &tk);
+    for (size_t k = 0; k < n; k++)
+        rho[k] = rho_at(&ec[k], exact, tk, tt, c);
+}
+
 /* What the mirror rays that meet the sea again add (R >= 2), per index k:
  *     T_k = E_w[rho_k P E_(R-1),k(-r)],
  *     D_k = E_w[rho_k P (K_(R-1),k(-r) - L_sky,k(r))]   (sky not NULL),
@@ -1891,13 +1996,12 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                 if (!emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, sb, eB,
                                     sky != NULL ? kB : NULL))
                     continue;
-                int tk;
-                const double tt = fresnel_pos(cpsi, &tk);
+                double rho[SEA_MULTI_BLOCK];
+                rho_of_block(ec, n, sb, f->delta, cpsi, rho);
                 for (size_t k = 0; k < n; k++) {
-                    const double rho = rho_at(&ec[k], f->delta, tk, tt, cpsi);
-                    num[k] += w * rho * P * eB[k];
+                    num[k] += w * rho[k] * P * eB[k];
                     if (sky != NULL)
-                        knum[k] += w * rho * P * (kB[k] - sea_sky_radiance(sky, k0 + k, g[2]));
+                        knum[k] += w * rho[k] * P * (kB[k] - sea_sky_radiance(sky, k0 + k, g[2]));
                 }
             }
         }
@@ -1972,13 +2076,11 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
                                                     f.s_Y_given_X * p->gh_x[SEA_TRI(a.n_gh - 1) + j];
                 double g[3];
                 mirror_of_node(&f, gX, gY, cpsi, g);
-                int tk;
-                const double tpos = fresnel_pos(cpsi, &tk);
-                for (size_t k = 0; k < n; k++) {
-                    const double rho = rho_at(&ec[k], nd.plain, tk, tpos, cpsi);
-                    knum[k] += (nd.plain ? 1.0 : wi) * nd.w_j[j] * rho *
+                double rho[SEA_MULTI_BLOCK];
+                rho_of_block(ec, n, first ? NULL : sb, nd.plain, cpsi, rho);
+                for (size_t k = 0; k < n; k++)
+                    knum[k] += (nd.plain ? 1.0 : wi) * nd.w_j[j] * rho[k] *
                                sea_sky_radiance(sky, k0 + k, g[2]);
-                }
             }
             den += nd.plain ? 1.0 : wi;
         }
