@@ -1770,15 +1770,21 @@ static const double SEA_MULTI_P_NEGLIGIBLE = 1e-9;
  * each, 1e-8 over the largest rule. */
 static const double SEA_MULTI_SHARE_NEGLIGIBLE = 1e-11;
 /* The second hits' split rule (second_hit): a piece of the window takes
- * this times n_gl nodes times its share of the window, at least MIN.
- * Against the same rule at orders 128 x 16 (itself within 8.3e-6 of
- * 64 x 12), 16 samples over 3-5 um, 3-15 m/s, 60-88 deg, three azimuths:
- * within 3.3e-5 without a mean slope and 1.3e-4 with (0.1, -0.05) (0.75
- * instead of 0.5: 1.4e-5, at 1.3 times the cost of mast.ini at R = 2).
- * Without the nodes crowded toward the root on a rising piece
- * (second_hit) the mean slope left E_2 1.3e-3 off; the unsplit rule was
- * 1.7e-3 off without a mean slope. */
+ * SPLIT_SCALE times n_gl nodes times its share of the window, at least
+ * SPLIT_MIN, and across the slope (Gauss-Hermite in gamma_Y given gamma_X)
+ * CROSS_SCALE times n_gh nodes, at least CROSS_MIN.  Against the same rule
+ * at orders 128 x 16 (itself within 8.3e-6 of 64 x 12), 16 samples over
+ * 3-5 um, 3-15 m/s, 60-88 deg, three azimuths, half the Cox-Munk slope
+ * variances (a 1 m facet's sub-facets) and all of them (low resolution):
+ * within 7.3e-5 without a mean slope and 1.31e-4 with (0.1, -0.05).
+ * All n_gh across: 3.3e-5 and 1.28e-4, at twice the cost (an emissivity
+ * at 80 deg, 10 m/s: 13 us instead of 7).  0.75 n_gl along: 1.4e-5 with
+ * the mean slope, at 1.3 times the cost of mast.ini at R = 2.  Without the
+ * nodes crowded toward the root on a rising piece (second_hit) the mean
+ * slope left E_2 1.3e-3 off; the unsplit rule was 1.7e-3 off without a
+ * mean slope. */
 static const double SEA_MULTI_SPLIT_SCALE = 0.5, SEA_MULTI_SPLIT_MIN = 3.0;
+static const double SEA_MULTI_CROSS_SCALE = 0.5, SEA_MULTI_CROSS_MIN = 2.0;
 
 /* The frame's direction (x, y, z) (x along the view's azimuth, y across;
  * any length) in the sea's axes, normalised, g[0..2]. */
@@ -1919,9 +1925,13 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
 {
     for (size_t k = 0; k < n; k++)
         T[k] = D[k] = 0.0;
-    const int nj = a.n_gh > 0 ? a.n_gh : 1;
-    const double *xj = a.n_gh > 0 ? &p->gh_x[SEA_TRI(a.n_gh - 1)] : NULL;
-    const double *wj = a.n_gh > 0 ? &p->gh_w[SEA_TRI(a.n_gh - 1)] : NULL;
+    /* the cross-slope nodes: half rule a's, at least SEA_MULTI_CROSS_MIN */
+    const int n_gh = a.n_gh > 0 ? (int)fmin(a.n_gh, fmax(SEA_MULTI_CROSS_MIN,
+                                                          ceil(SEA_MULTI_CROSS_SCALE * a.n_gh)))
+                                : 0;
+    const int nj = n_gh > 0 ? n_gh : 1;
+    const double *xj = n_gh > 0 ? &p->gh_x[SEA_TRI(n_gh - 1)] : NULL;
+    const double *wj = n_gh > 0 ? &p->gh_w[SEA_TRI(n_gh - 1)] : NULL;
     double t_lo = 0.0, t_hi = 0.0;
     if (!f->delta)
         view_window(f, a.t_cut, &t_lo, &t_hi);
@@ -1930,8 +1940,8 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
         const double x_j = xj != NULL ? xj[j] : 0.0;
         /* gamma_X = aX + bX t, gamma_Y = aY + bY t (Eq 12: gamma_Y = m_Y) */
         const double aX = f->m_X, bX = f->delta ? 0.0 : f->s_X;
-        const double aY = a.n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
-        const double bY = a.n_gh == 0 || f->delta ? 0.0 : f->b_YX;
+        const double aY = n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
+        const double bY = n_gh == 0 || f->delta ? 0.0 : f->b_YX;
         /* the pieces of the window between the roots of r_z = 0:
          * c (1 + gX^2 + gY^2) - 2 (c - gX s) = 0 */
         double cut[5];

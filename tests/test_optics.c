@@ -763,7 +763,7 @@ static void test_spectral_basis(void)
  * azimuth between, without and with the mean slope (0.1, -0.05).  The
  * reference is converged: orders 64 x 12 are within 2e-5 of it (8.3e-6
  * measured).  Tolerance 2e-4: the largest difference measured over a finer
- * grid is 1.3e-4 (3.3e-5 without the mean slope); the rule before the
+ * grid is 1.31e-4 (7.3e-5 without the mean slope); the rule before the
  * nodes crowded toward the mirror ray's horizon was 1.3e-3 off, and this
  * test fails on it. */
 static void test_second_hit_convergence(void)
