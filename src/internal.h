@@ -43,9 +43,10 @@ SEA_INTERNAL int sea_optics_set_simd(struct sea_optics *p, int on);
 SEA_INTERNAL void sea_optics_set_spectral_basis(struct sea_optics *p, int on);
 /* The rank of the spectral basis of the block N[0..n) (built if need be), 0
  * when it has none (an index without a table, none within its tolerance,
- * or one that would not halve the lookups). */
+ * or one that would not halve the lookups); *err (err not NULL): its
+ * largest difference from a table's reflectance, measured (NAN: none). */
 SEA_INTERNAL int sea_optics_spectral_rank(const struct sea_optics *p, const double complex *N,
-                                          size_t n);
+                                          size_t n, double *err);
 
 /* gridtable.c: the interval [x[i], x[i + 1]] of an increasing x (n >= 2)
  * that holds at, x[i] < at <= x[i + 1] inside, i clamped to [0, n - 2]

@@ -1396,7 +1396,7 @@ static const spectral_basis *spectral_basis_of(const sea_optics *pc, const emis_
     return found != NULL && found->rank > 0 ? found : NULL;
 }
 
-int sea_optics_spectral_rank(const sea_optics *p, const double complex *N, size_t n)
+int sea_optics_spectral_rank(const sea_optics *p, const double complex *N, size_t n, double *err)
 {
     emis_ctx ec[SEA_EMIS_BLOCK];
     size_t slot = 0;
@@ -1405,6 +1405,8 @@ int sea_optics_spectral_rank(const sea_optics *p, const double complex *N, size_
     for (size_t k = 0; k < n; k++)
         ec[k] = (emis_ctx){ N[k], fresnel_of(p, N[k], &slot) };
     const spectral_basis *b = spectral_basis_of(p, ec, n);
+    if (err != NULL)
+        *err = b != NULL ? b->err : NAN;
     return b != NULL ? b->rank : 0;
 }
 
