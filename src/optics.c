@@ -2097,8 +2097,10 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
     }
     fixed_nodes nd;
     nodes_fixed(p, &f, a, &nd);
-    /* the facets met again: through the spectral basis when there is one */
-    if (!first && sb != NULL && !nd.zero && !nd.plain && nd.n_j > 1)
+    /* through the spectral basis when there is one, but for the paper's
+     * single reflection (R = 1 sums each table, to the bit) */
+    const spectral_basis *b1 = !first || R >= 2 ? sb : NULL;
+    if (b1 != NULL && !nd.zero && !nd.plain && nd.n_j > 1)
         emissivity_of_nodes_basis(&nd, sb, out);
     else
         emissivity_of_nodes_n(&nd, ec, n, out);
@@ -2130,7 +2132,7 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
                 double g[3];
                 mirror_of_node(&f, gX, gY, cpsi, g);
                 double rho[SEA_MULTI_BLOCK];
-                rho_of_block(ec, n, first ? NULL : sb, nd.plain, cpsi, rho);
+                rho_of_block(ec, n, b1, nd.plain, cpsi, rho);
                 for (size_t k = 0; k < n; k++)
                     knum[k] += (nd.plain ? 1.0 : wi) * nd.w_j[j] * rho[k] *
                                sea_sky_radiance(sky, k0 + k, g[2]);

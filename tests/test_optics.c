@@ -699,11 +699,12 @@ static void test_emissivity_simd(void)
  * have a basis of a few functions (5 measured), 8-12 um too (a basis is
  * used where it halves the lookups: none for 3 samples).
  * The basis is within SEA_BASIS_TOL = 2e-6 of every reflectance, which
- * enters each hit twice (the reflectance toward the facet met again and
- * that facet's emissivity, each multiplied by at most 1), so E_2 is within
- * 2 tol = 4e-6 of the sums table by table and E_3 within 3 tol = 6e-6
- * (under 1 % of that measured), with the AVX2 loops and without, over random stats and
- * views (grazing ones, where the second hits matter, half the time). */
+ * enters E_1 once and each further hit twice (the reflectance toward the
+ * facet met again and that facet's emissivity, each multiplied by at most
+ * 1), so E_2 is within 3 tol = 6e-6 of the sums table by table and E_3
+ * within 5 tol = 1e-5 (5 % of that measured), with the AVX2 loops
+ * and without, over random stats and views (grazing ones, where the
+ * second hits matter, half the time). */
 static void test_spectral_basis(void)
 {
     sea_optics *q = NULL;
@@ -747,7 +748,7 @@ static void test_spectral_basis(void)
                                                    on ? with : without, &err) == SEA_OK);
         }
         for (int i = 0; i < 16; i++) {
-            worst = fmax(worst, fabs(with[i] - without[i]) / (R == 3 ? 3.0 : 2.0));
+            worst = fmax(worst, fabs(with[i] - without[i]) / (R == 3 ? 5.0 : 3.0));
             spread = fmax(spread, fabs(without[i] - without[0]));
         }
     }
