@@ -421,10 +421,10 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
  * below the horizon when the ray rises (seabake-model(7), MULTIPLE
  * REFLECTIONS).  The sky then sees 1 - out[i].  The facets the sensor sees
  * take the nodes reflections = 1 takes (method or rule; the auto rule for
- * SEA_EMIS_FULL), the facets met again the auto rule with halved orders
- * (by their projected area alone, whatever the shadowing); the second hits
- * a rule split where the mirror ray is horizontal (P's kink), within
- * 8.7e-6 of its converged value; a mirror ray escapes where P < 1e-9 or
+ * SEA_EMIS_FULL), the facets met again the auto rule at 0.35 of its
+ * orders (by their projected area alone, whatever the shadowing); the
+ * second hits a rule split where the mirror ray is horizontal (P's kink),
+ * within 1.3e-4 of its converged value; a mirror ray escapes where P < 1e-9 or
  * its node's share times P < 1e-11 (out[i] moves by less than 1e-8; the
  * closure stays exact).
  * Same errors as sea_emissivity_n, and SEA_ERR_DOMAIN for reflections out

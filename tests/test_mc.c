@@ -332,8 +332,9 @@ static void test_table(void)
     /* Multiple reflections against the ray-traced truth with every hit
      * (eps): 3-15 m/s, 4 and 10 um, both azimuths.  Measured (2026-11-26,
      * the second hits by their split rule, nodes crowded toward the mirror
-     * ray's horizon, half the cross-slope nodes) for reflections = 2:
-     * 0.55e-3 up to 75 deg, 1.82e-3 at 80, 4.66e-3 at 85;
+     * ray's horizon, half the cross-slope nodes, the facets met at 0.35 of
+     * the orders) for reflections = 2: 0.56e-3 up to 75 deg, 1.83e-3 at
+     * 80, 4.66e-3 at 85;
      * the paper's single reflection: 33e-3, 35e-3, 32e-3.  Bounds: the
      * measured worst plus 0.5e-3, the oracle's own bias (a finer mesh moves
      * eps by up to 0.41e-3 at 85 deg, 4 standard errors of the table are
@@ -360,8 +361,8 @@ static void test_table(void)
     CU_ASSERT(single[1][2] <= 1.6e-3);
     CU_ASSERT(single[0][2] > 0.01); /* what it corrects */
     /* reflections = 2 with it, the program's most accurate: measured
-     * (2026-11-26, as above) 0.93e-3 to 75 deg,
-     * 1.87e-3 at 80, 2.52e-3 at 85, above the truth from 75 deg (the facets
+     * (2026-11-26, as above) 0.92e-3 to 75 deg,
+     * 1.86e-3 at 80, 2.52e-3 at 85, above the truth from 75 deg (the facets
      * met emit too much: seabake-model(7), MULTIPLE REFLECTIONS).  Bounds:
      * measured plus 0.5e-3 up to 80 deg, and at 85 the issue's 3e-3. */
     MEASURED("correlated shadowing, reflections 2: worst |model - eps| %.2e (60-75 deg), "
@@ -622,7 +623,7 @@ static void test_two_scale_limits(void)
 /* Multiple reflections: reflections = 1 is the paper's emissivity to the
  * bit; a flat sea's mirror ray never meets the sea again (Lambda = 0), so
  * every R gives 1 - rho(theta) exactly; E_1 <= E_2 <= E_3 (a hit again only
- * adds emission: the same halved rule serves the facets met again at R = 2
+ * adds emission: the same rule serves the facets met again at R = 2
  * and 3, so the inequality holds to rounding, 1e-15: where no mirror ray
  * may meet the sea, E_2 is E_1 summed in another order); and the extra emission is
  * at most the energy the single-scattering balance (Eq 21) loses, the

@@ -131,7 +131,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     else
         fprintf(stderr,
                 "%s: reflections: %d (a facet's mirror ray may meet the sea again; the auto "
-                "rule at every hit, its orders halved after the first; seabake-model(7) gives "
+                "rule at every hit, at 0.35 of its orders after the first; seabake-model(7) gives "
                 "the accuracy and the cost)\n",
                 what, sc->reflections);
     if (sc->shadowing == SEA_SHADOW_CORRELATED)
