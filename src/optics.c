@@ -1916,7 +1916,8 @@ static void rho_of_block(const emis_ctx *ec, size_t n, const spectral_basis *sb,
  * quadratic in t: gamma_X and gamma_Y are linear in it), each piece taking
  * SEA_MULTI_SPLIT_SCALE n_gl nodes times its share of the window (at least
  * SEA_MULTI_SPLIT_MIN).  On a piece where the ray rises P climbs to 1 at
- * the root, over a short stretch of t when the mean slope faces the ray,
+ * the root, over a short stretch of t when the mean surface falls away
+ * along the ray (Lambda of a ray just above the horizon is then small),
  * so there the nodes crowd toward the root (t = root -+ L u^2, Gauss-
  * Legendre in u; a piece between two roots is halved first).  Each
  * cross-slope node's average is normalised by its own weights (the same
@@ -2008,9 +2009,10 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                                                     ceil(SEA_MULTI_SPLIT_SCALE * a.n_gl * (tb - ta) /
                                                          (t_hi - t_lo))));
             /* Where the ray rises P climbs to 1 at the root, steeply when
-             * the mean slope faces the ray (0.06 to 1 over 0.12 of t at
-             * 85 deg, 3 m/s, mean slope 0.1), so the nodes crowd toward the
-             * root: t = root -+ (tb - ta) u^2, u in [0, 1]. */
+             * the mean surface falls away along the ray (0.06 to 1 over
+             * 0.12 of t at 85 deg, 3 m/s, mean slope (0.1, -0.05)), so the
+             * nodes crowd toward the root: t = root -+ (tb - ta) u^2, u in
+             * [0, 1]. */
             int toward = 0; /* +1: the root is tb, -1: ta */
             if (!f->delta && (qa * mid + qb) * mid + qc < 0.0 && root[piece] != root[piece + 1])
                 toward = root[piece + 1] ? 1 : -1;
