@@ -1414,16 +1414,18 @@ int sea_optics_spectral_rank(const sea_optics *p, const double complex *N, size_
 #ifdef SEA_OPTICS_AVX2
 /* basis_sums with four B_r a vector: one node's interval block is lanes / 4
  * vectors of each coefficient. */
-__attribute__((target("avx2"))) static void basis_sums_avx2(const fixed_nodes *nd,
-                                                            const spectral_basis *b, double *G)
+__attribute__((target("avx2"))) static double basis_sums_avx2(const fixed_nodes *nd,
+                                                              const spectral_basis *b, double *G)
 {
     const size_t L = (size_t)b->lanes;
     const __m256d zero = _mm256_setzero_pd();
     __m256d acc[SEA_BASIS_RANK_MAX / 4] = { zero, zero };
+    double W = 0.0;
     for (int q = 0; q < nd->n_q; q++) {
         const double w = nd->w_q[q];
         if (!(w > 0.0))
             continue;
+        W += w;
         int Q;
         const __m256d tt = _mm256_set1_pd(basis_pos(nd->cos_psi[q], &Q));
         const __m256d ww = _mm256_set1_pd(w);
@@ -1438,65 +1440,83 @@ __attribute__((target("avx2"))) static void basis_sums_avx2(const fixed_nodes *n
     }
     for (size_t v = 0; v < L; v += 4)
         _mm256_storeu_pd(G + v, acc[v / 4]);
+    return W;
 }
 #endif
 
 /* G_r = sum_q w_q B_r(cos psi_q) over the nodes of positive weight, r <
- * lanes (the general nodes: not zero, not plain, n_j > 1). */
-static void basis_sums(const fixed_nodes *nd, const spectral_basis *b, double *G)
+ * lanes (the general nodes: not zero, not plain, n_j > 1); returns W =
+ * sum_q w_q over them. */
+static double basis_sums(const fixed_nodes *nd, const spectral_basis *b, double *G)
 {
 #ifdef SEA_OPTICS_AVX2
-    if (nd->avx2) {
-        basis_sums_avx2(nd, b, G);
-        return;
-    }
+    if (nd->avx2)
+        return basis_sums_avx2(nd, b, G);
 #endif
+    double W = 0.0;
     for (int r = 0; r < b->lanes; r++)
         G[r] = 0.0;
     for (int q = 0; q < nd->n_q; q++) {
         const double w = nd->w_q[q];
         if (!(w > 0.0))
             continue;
+        W += w;
         int Q;
         const double t = basis_pos(nd->cos_psi[q], &Q);
         for (int r = 0; r < b->rank; r++)
             G[r] += w * basis_cubic(b->c, b->lanes, r, Q, t);
     }
+    return W;
 }
 
 /* emissivity_of_nodes_n through the basis b of the block (the general
  * nodes: not zero, not plain, n_j > 1). */
-static void emissivity_of_nodes_basis(const fixed_nodes *nd, const spectral_basis *b,
-                                      double *out)
+/* The emissivity of every index of the block over the general nodes nd,
+ * through the basis b, as e0 - sum_r A_rk g_r: e0 = W / den and g_r =
+ * G_r / den (0 where den is not positive), W the sum of the nodes' weights,
+ * G_r basis_sums', den the sum of the outer weights. */
+static void basis_emissivity(const fixed_nodes *nd, const spectral_basis *b, double *e0,
+                             double *g)
 {
-    double den = 0.0, W = 0.0, G[SEA_BASIS_RANK_MAX];
+    double den = 0.0;
     for (int i = 0; i < nd->n_i; i++)
         if (nd->w_i[i] > 0.0)
             den += nd->w_i[i];
-    for (int q = 0; q < nd->n_q; q++)
-        if (nd->w_q[q] > 0.0)
-            W += nd->w_q[q];
-    basis_sums(nd, b, G);
+    const double W = basis_sums(nd, b, g);
+    const double inv = den > 0.0 ? 1.0 / den : 0.0;
+    *e0 = W * inv;
+    for (int r = 0; r < b->rank; r++)
+        g[r] *= inv;
+}
+
+static void emissivity_of_nodes_basis(const fixed_nodes *nd, const spectral_basis *b,
+                                      double *out)
+{
+    double e0, g[SEA_BASIS_RANK_MAX];
+    basis_emissivity(nd, b, &e0, g);
     const size_t n = b->n;
     for (size_t k = 0; k < n; k++)
-        out[k] = W;
+        out[k] = e0;
     for (int r = 0; r < b->rank; r++)
         for (size_t k = 0; k < n; k++)
-            out[k] -= b->A[r][k] * G[r];
-    const double inv = den > 0.0 ? 1.0 / den : 0.0;
-    for (size_t k = 0; k < n; k++)
-        out[k] *= inv;
+            out[k] -= b->A[r][k] * g[r];
+}
+
+/* The basis functions at cos psi c, B[0..rank). */
+static void basis_at(const spectral_basis *b, double c, double *B)
+{
+    int Q;
+    const double t = basis_pos(c, &Q);
+    for (int r = 0; r < b->rank; r++)
+        B[r] = basis_cubic(b->c, b->lanes, r, Q, t);
 }
 
 /* The reflectance of every index of the block at cos psi c through its
  * basis (unclamped). */
 static void basis_rho(const spectral_basis *b, double c, double *rho)
 {
-    int Q;
-    const double t = basis_pos(c, &Q);
     double B[SEA_BASIS_RANK_MAX];
-    for (int r = 0; r < b->rank; r++)
-        B[r] = basis_cubic(b->c, b->lanes, r, Q, t);
+    basis_at(b, c, B);
     const size_t n = b->n;
     for (size_t k = 0; k < n; k++)
         rho[k] = 0.0;
@@ -1904,6 +1924,38 @@ static void rho_of_block(const emis_ctx *ec, size_t n, const spectral_basis *sb,
         rho[k] = rho_at(&ec[k], exact, tk, tt, c);
 }
 
+/* The rule of the facets met again, seen from f: the auto rule at
+ * SEA_MULTI_INNER_SCALE of its orders. */
+static fixed_rule met_rule(const view_frame *f)
+{
+    const sea_emis_rule h = auto_rule(f);
+    return (fixed_rule){ (int)fmax(SEA_MULTI_INNER_GL_MIN, ceil(h.n_gl * SEA_MULTI_INNER_SCALE)),
+                         (int)fmax(SEA_MULTI_INNER_GH_MIN, ceil(h.n_gh * SEA_MULTI_INNER_SCALE)),
+                         SEA_RULE_T_CUT };
+}
+
+/* The facets met by the mirror ray g with one hit left and no sky model
+ * (what emis_multi_rec gives at R = 1, sky NULL), through the basis b: their
+ * emissivity toward -g is e0 - sum_r A_rk g_r for index k (basis_emissivity).
+ * Returns 1; 0 when no facet is turned toward the ray (it escapes); -1
+ * where the nodes are not the basis's (no spread, or one cross-slope node:
+ * emis_multi_rec sums the tables). */
+static int met_basis(const sea_optics *p, const sea_slope_stats *st, const double g[3],
+                     const spectral_basis *b, double *e0, double *gr)
+{
+    const double o[3] = { -g[0], -g[1], -g[2] };
+    view_frame fo;
+    view_frame_of_vec(p, st, o, &fo);
+    fixed_nodes nd;
+    nodes_fixed(p, &fo, met_rule(&fo), &nd);
+    if (nd.zero)
+        return 0;
+    if (nd.plain || nd.n_j <= 1)
+        return -1;
+    basis_emissivity(&nd, b, e0, gr);
+    return 1;
+}
+
 /* What the mirror rays that meet the sea again add (R >= 2), per index k:
  *     T_k = E_w[rho_k P E_(R-1),k(-r)],
  *     D_k = E_w[rho_k P (K_(R-1),k(-r) - L_sky,k(r))]   (sky not NULL),
@@ -1931,6 +1983,9 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
 {
     for (size_t k = 0; k < n; k++)
         T[k] = D[k] = 0.0;
+    /* one hit left and no sky model: the facets met's emissivity through
+     * the basis, summed over the indices once (met_basis) */
+    const int factored = sb != NULL && sky == NULL && R == 2;
     /* the cross-slope nodes: half rule a's, at least SEA_MULTI_CROSS_MIN */
     const int n_gh = a.n_gh > 0 ? (int)fmin(a.n_gh, fmax(SEA_MULTI_CROSS_MIN,
                                                           ceil(SEA_MULTI_CROSS_SCALE * a.n_gh)))
@@ -1999,6 +2054,10 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
             }
         }
         double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+        /* factored: sum rho_k P E_1,k through the basis, rho_k = sum_r A_rk
+         * B_r and E_1,k = e0 - sum_q A_qk g_q, as X_r = sum w P B_r e0 and
+         * Y_rq = sum w P B_r g_q, the indices only at the end */
+        double X[SEA_BASIS_RANK_MAX] = { 0.0 }, Y[SEA_BASIS_RANK_MAX][SEA_BASIS_RANK_MAX] = { { 0.0 } };
         for (int piece = 0; piece + 1 < nc; piece++) {
             const double ta = cut[piece], tb = cut[piece + 1];
             const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
@@ -2044,6 +2103,23 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                 const double P = hit_chance(st, g, L_in, w_j * w / w_tot);
                 if (P == 0.0)
                     continue;
+                if (factored) {
+                    double e0, gr[SEA_BASIS_RANK_MAX];
+                    const int got = met_basis(p, st, g, sb, &e0, gr);
+                    if (got == 0)
+                        continue;
+                    if (got > 0) {
+                        double bA[SEA_BASIS_RANK_MAX];
+                        basis_at(sb, cpsi, bA);
+                        for (int r = 0; r < sb->rank; r++) {
+                            const double c = w * P * bA[r];
+                            X[r] += c * e0;
+                            for (int q = 0; q < sb->rank; q++)
+                                Y[r][q] += c * gr[q];
+                        }
+                        continue;
+                    }
+                }
                 double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK];
                 const double o[3] = { -g[0], -g[1], -g[2] };
                 view_frame fo;
@@ -2063,6 +2139,17 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                 }
             }
         }
+        if (factored)
+            for (size_t k = 0; k < n; k++) {
+                double v = 0.0;
+                for (int r = 0; r < sb->rank; r++) {
+                    double y = X[r];
+                    for (int q = 0; q < sb->rank; q++)
+                        y -= sb->A[q][k] * Y[r][q];
+                    v += sb->A[r][k] * y;
+                }
+                num[k] += v;
+            }
         if (den > 0.0)
             for (size_t k = 0; k < n; k++) {
                 T[k] += w_j * num[k] / den;
@@ -2091,15 +2178,7 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
 {
     const int first = r0 != NULL;
     const view_frame f = *fd;
-    fixed_rule a;
-    if (first) {
-        a = *r0;
-    } else {
-        const sea_emis_rule h = auto_rule(&f);
-        a = (fixed_rule){ (int)fmax(SEA_MULTI_INNER_GL_MIN, ceil(h.n_gl * SEA_MULTI_INNER_SCALE)),
-                          (int)fmax(SEA_MULTI_INNER_GH_MIN, ceil(h.n_gh * SEA_MULTI_INNER_SCALE)),
-                          SEA_RULE_T_CUT };
-    }
+    const fixed_rule a = first ? *r0 : met_rule(&f);
     fixed_nodes nd;
     nodes_fixed(p, &f, a, &nd);
     /* through the spectral basis when there is one, but for the paper's
