@@ -46,6 +46,18 @@
 #include "seabake.h"
 #include "internal.h"
 
+/* fmax and fmin inline (the library's are calls, on the emissivity's
+ * every node): the same values, a NaN argument losing to a number. */
+static inline double sea_fmax(double a, double b)
+{
+    return a > b || __builtin_isnan(b) ? a : b;
+}
+
+static inline double sea_fmin(double a, double b)
+{
+    return a < b || __builtin_isnan(b) ? a : b;
+}
+
 /* Gauss-Legendre nodes of the reflectance's inner (gamma_Y) integral: a
  * smooth integrand over the exact mirror-up window, vanishing linearly at
  * its ends, for which 128 nodes reach round-off. */
@@ -315,9 +327,9 @@ typedef struct {
  * the edge: with t = z - u, log decay |z| u + u^2/2 = t_cut^2/2. */
 static void view_window(const view_frame *f, double t_cut, double *t_lo, double *t_hi)
 {
-    *t_hi = fmin(f->z, t_cut);
+    *t_hi = sea_fmin(f->z, t_cut);
     const double az = fabs(f->z);
-    *t_lo = isinf(f->z) ? -t_cut : fmin(-t_cut, f->z - (sqrt(az * az + t_cut * t_cut) - az));
+    *t_lo = isinf(f->z) ? -t_cut : sea_fmin(-t_cut, f->z - (sqrt(az * az + t_cut * t_cut) - az));
 }
 
 /* The frame from the view's cosines (cos_th, sin_th >= 0; azimuth phi of
@@ -334,8 +346,8 @@ static void view_frame_init_cs(const sea_optics *p, const sea_slope_stats *st, d
     f->sin_phi = s;
     f->m_X = st->mean.x * c + st->mean.y * s;
     f->m_Y = -st->mean.x * s + st->mean.y * c;
-    f->c_XX = fmax(C->xx * c * c + 2.0 * C->xy * s * c + C->yy * s * s, 0.0);
-    f->c_YY = fmax(C->xx * s * s - 2.0 * C->xy * s * c + C->yy * c * c, 0.0);
+    f->c_XX = sea_fmax(C->xx * c * c + 2.0 * C->xy * s * c + C->yy * s * s, 0.0);
+    f->c_YY = sea_fmax(C->xx * s * s - 2.0 * C->xy * s * c + C->yy * c * c, 0.0);
     f->c_XY = (C->yy - C->xx) * s * c + C->xy * (c * c - s * s);
     f->s_X = sqrt(f->c_XX);
     f->delta = f->s_X < SEA_S_DELTA;
@@ -344,7 +356,7 @@ static void view_frame_init_cs(const sea_optics *p, const sea_slope_stats *st, d
         f->s_Y_given_X = sqrt(f->c_YY);
     } else {
         f->b_YX = f->c_XY / f->s_X;
-        f->s_Y_given_X = sqrt(fmax(f->c_YY - f->b_YX * f->b_YX, 0.0));
+        f->s_Y_given_X = sqrt(sea_fmax(f->c_YY - f->b_YX * f->b_YX, 0.0));
     }
     if (nadir || f->delta) {
         f->z = INFINITY;
@@ -352,7 +364,7 @@ static void view_frame_init_cs(const sea_optics *p, const sea_slope_stats *st, d
         f->z = (f->cos_th / f->sin_th - f->m_X) / f->s_X;
     }
     view_window(f, SEA_T_CUT, &f->t_lo, &f->t_hi);
-    f->t_ref = fmin(f->z, 0.0);
+    f->t_ref = sea_fmin(f->z, 0.0);
     /* the correlated function is a visibility from above the surface: a
      * view from below (a facet met again, MULTIPLE REFLECTIONS) counts by
      * its projected area alone */
@@ -499,8 +511,8 @@ static double ref_inner_mean(ref_args *a, double t)
         if (!(R > 0.0))
             return 0.0;
         const double mY = a->f->m_Y + a->f->b_YX * t, sY = a->f->s_Y_given_X;
-        u_lo = fmax(u_lo, (-sqrt(R) - mY) / sY);
-        u_hi = fmin(u_hi, (sqrt(R) - mY) / sY);
+        u_lo = sea_fmax(u_lo, (-sqrt(R) - mY) / sY);
+        u_hi = sea_fmin(u_hi, (sqrt(R) - mY) / sY);
         if (!(u_lo < u_hi))
             return 0.0;
     }
@@ -557,8 +569,8 @@ static sea_status expect_reference(const sea_optics *p, const view_frame *f, fac
         double t_lo = f->t_lo, t_hi = f->t_hi;
         if (mirror_up) { /* gX within -tan th -+ sec th */
             const double tn = f->sin_th / f->cos_th, sc = 1.0 / f->cos_th;
-            t_lo = fmax(t_lo, (-tn - sc - f->m_X) / f->s_X);
-            t_hi = fmin(t_hi, (sc - tn - f->m_X) / f->s_X);
+            t_lo = sea_fmax(t_lo, (-tn - sc - f->m_X) / f->s_X);
+            t_hi = sea_fmin(t_hi, (sc - tn - f->m_X) / f->s_X);
         }
         /* The weight integral first: it sets the scale of what an error in
          * the numerator means for the average. */
@@ -589,7 +601,7 @@ static sea_emis_rule auto_rule(const view_frame *f)
     const double n_gl = ceil(SEA_EMIS_AUTO_GL_A + SEA_EMIS_AUTO_GL_B * f->s_X);
     const double n_gh =
         ceil(SEA_EMIS_AUTO_GH_C + SEA_EMIS_AUTO_GH_D * s + SEA_EMIS_AUTO_GH_E * s * s);
-    return (sea_emis_rule){ (int)fmin(n_gl, SEA_EMIS_GL_MAX), (int)fmin(n_gh, SEA_EMIS_GH_MAX) };
+    return (sea_emis_rule){ (int)sea_fmin(n_gl, SEA_EMIS_GL_MAX), (int)sea_fmin(n_gh, SEA_EMIS_GH_MAX) };
 }
 
 /* ------------------------------------------------------------ emissivity */
@@ -659,11 +671,11 @@ static void fresnel_build(fresnel_table *tb, double complex N)
     double worst = 0.0;
     for (int k = 0; k < M; k++) {
         const double c = (k + 0.5) / M;
-        worst = fmax(worst, fabs(fresnel_interp(tb, c) - sea_fresnel_unpolarized(c, N)));
+        worst = sea_fmax(worst, fabs(fresnel_interp(tb, c) - sea_fresnel_unpolarized(c, N)));
     }
     static const double near_grazing[] = { 1e-9, 1e-6, 1e-4, 1e-3 };
     for (size_t k = 0; k < sizeof near_grazing / sizeof near_grazing[0]; k++)
-        worst = fmax(worst, fabs(fresnel_interp(tb, near_grazing[k]) -
+        worst = sea_fmax(worst, fabs(fresnel_interp(tb, near_grazing[k]) -
                                  sea_fresnel_unpolarized(near_grazing[k], N)));
     tb->usable = worst <= SEA_FRESNEL_TABLE_TOL;
 }
@@ -1321,7 +1333,7 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
                     double v = a[0] + t * (a[1] + t * (a[2] + t * a[3]));
                     for (int r = 0; r < R; r++)
                         v -= b->A[r][k] * basis_cubic(c, max_lanes, r, Q, u - Q);
-                    worst = fmax(worst, fabs(v));
+                    worst = sea_fmax(worst, fabs(v));
                 }
         if (worst <= SEA_BASIS_TOL)
             rank = R, err = worst;
@@ -1600,7 +1612,7 @@ static double slope_pdf(const sea_slope_stats *st, double gx, double gy)
 {
     const double xx = st->cov.xx + SEA_COV_REG, yy = st->cov.yy + SEA_COV_REG;
     const double xy = st->cov.xy;
-    const double det = fmax(xx * yy - xy * xy, SEA_COV_REG * SEA_COV_REG);
+    const double det = sea_fmax(xx * yy - xy * xy, SEA_COV_REG * SEA_COV_REG);
     const double dx = gx - st->mean.x, dy = gy - st->mean.y;
     const double q = (yy * dx * dx - 2.0 * xy * dx * dy + xx * dy * dy) / det;
     return exp(-0.5 * q) / (2.0 * M_PI * sqrt(det));
@@ -1929,8 +1941,8 @@ static void rho_of_block(const emis_ctx *ec, size_t n, const spectral_basis *sb,
 static fixed_rule met_rule(const view_frame *f)
 {
     const sea_emis_rule h = auto_rule(f);
-    return (fixed_rule){ (int)fmax(SEA_MULTI_INNER_GL_MIN, ceil(h.n_gl * SEA_MULTI_INNER_SCALE)),
-                         (int)fmax(SEA_MULTI_INNER_GH_MIN, ceil(h.n_gh * SEA_MULTI_INNER_SCALE)),
+    return (fixed_rule){ (int)sea_fmax(SEA_MULTI_INNER_GL_MIN, ceil(h.n_gl * SEA_MULTI_INNER_SCALE)),
+                         (int)sea_fmax(SEA_MULTI_INNER_GH_MIN, ceil(h.n_gh * SEA_MULTI_INNER_SCALE)),
                          SEA_RULE_T_CUT };
 }
 
@@ -1987,7 +1999,7 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
      * the basis, summed over the indices once (met_basis) */
     const int factored = sb != NULL && sky == NULL && R == 2;
     /* the cross-slope nodes: half rule a's, at least SEA_MULTI_CROSS_MIN */
-    const int n_gh = a.n_gh > 0 ? (int)fmin(a.n_gh, fmax(SEA_MULTI_CROSS_MIN,
+    const int n_gh = a.n_gh > 0 ? (int)sea_fmin(a.n_gh, sea_fmax(SEA_MULTI_CROSS_MIN,
                                                           ceil(SEA_MULTI_CROSS_SCALE * a.n_gh)))
                                 : 0;
     const int nj = n_gh > 0 ? n_gh : 1;
@@ -2063,8 +2075,8 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
             const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
             /* the delta case: one node, weight 1 */
             const int m = f->delta ? 1
-                                   : (int)fmin(SEA_EMIS_GL_MAX,
-                                               fmax(SEA_MULTI_SPLIT_MIN,
+                                   : (int)sea_fmin(SEA_EMIS_GL_MAX,
+                                               sea_fmax(SEA_MULTI_SPLIT_MIN,
                                                     ceil(SEA_MULTI_SPLIT_SCALE * a.n_gl * (tb - ta) /
                                                          (t_hi - t_lo))));
             /* Where the ray rises P climbs to 1 at the root, steeply when
@@ -2350,8 +2362,8 @@ double sea_disc_mass(const sea_optics *p, const double Cu[2][2], const double mu
 {
     const double s1 = sqrt(Cu[0][0]);
     const double beta = Cu[0][1] / Cu[0][0];
-    const double sc = sqrt(fmax(Cu[1][1] - beta * Cu[0][1], 1e-300));
-    const double lo = fmax(-radius, mu[0] - 8.0 * s1), hi = fmin(radius, mu[0] + 8.0 * s1);
+    const double sc = sqrt(sea_fmax(Cu[1][1] - beta * Cu[0][1], 1e-300));
+    const double lo = sea_fmax(-radius, mu[0] - 8.0 * s1), hi = sea_fmin(radius, mu[0] + 8.0 * s1);
     double mass = 0.0;
     if (lo < hi) {
         const double t_lo = asin(lo / radius), t_hi = asin(hi / radius);
@@ -2362,7 +2374,7 @@ double sea_disc_mass(const sea_optics *p, const double Cu[2][2], const double mu
             const double t = mid + half * x[i];
             const double u1 = radius * sin(t), du = radius * cos(t);
             const double z1 = (u1 - mu[0]) / s1;
-            const double hh = sqrt(fmax(radius * radius - u1 * u1, 0.0));
+            const double hh = sqrt(sea_fmax(radius * radius - u1 * u1, 0.0));
             /* P(|X| < hh), X ~ N(mc, sc): the same for -mc, and with the
              * mean on the negative side both erfc are of positive
              * arguments (two values near 2 would cancel in the tail) */
@@ -2470,7 +2482,7 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
     if (!(fabs(det) > 0.0))
         return;
     const double xx = st->cov.xx + SEA_COV_REG, yy = st->cov.yy + SEA_COV_REG, xy = st->cov.xy;
-    const double cdet = fmax(xx * yy - xy * xy, SEA_COV_REG * SEA_COV_REG);
+    const double cdet = sea_fmax(xx * yy - xy * xy, SEA_COV_REG * SEA_COV_REG);
     /* C^-1 */
     const double ixx = yy / cdet, iyy = xx / cdet, ixy = -xy / cdet;
     /* Q = M^T C^-1 M, its largest eigenvalue */
@@ -2480,7 +2492,7 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
             Q[a][b] = M[0][a] * (ixx * M[0][b] + ixy * M[1][b]) +
                       M[1][a] * (ixy * M[0][b] + iyy * M[1][b]);
     const double tr = Q[0][0] + Q[1][1], dq = Q[0][0] * Q[1][1] - Q[0][1] * Q[1][0];
-    const double lmax = 0.5 * tr + sqrt(fmax(0.25 * tr * tr - dq, 0.0));
+    const double lmax = 0.5 * tr + sqrt(sea_fmax(0.25 * tr * tr - dq, 0.0));
     const double dx = g0[0] - st->mean.x, dy = g0[1] - st->mean.y;
     const double d2 = ixx * dx * dx + 2.0 * ixy * dx * dy + iyy * dy * dy;
     if (radius * radius / 8.0 * lmax * (1.0 + d2) < skip_rel)
@@ -2491,7 +2503,7 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
         double big = 0.0;
         int zero = 0;
         for (size_t i = 0; i < n; i++) {
-            big = fmax(big, out[i]);
+            big = sea_fmax(big, out[i]);
             zero |= !(out[i] > 0.0);
         }
         if (!zero && big * exp(radius * sqrt(lmax * d2)) < negligible)
