@@ -601,7 +601,8 @@ static sea_emis_rule auto_rule(const view_frame *f)
     const double n_gl = ceil(SEA_EMIS_AUTO_GL_A + SEA_EMIS_AUTO_GL_B * f->s_X);
     const double n_gh =
         ceil(SEA_EMIS_AUTO_GH_C + SEA_EMIS_AUTO_GH_D * s + SEA_EMIS_AUTO_GH_E * s * s);
-    return (sea_emis_rule){ (int)sea_fmin(n_gl, SEA_EMIS_GL_MAX), (int)sea_fmin(n_gh, SEA_EMIS_GH_MAX) };
+    return (sea_emis_rule){ (int)sea_fmin(n_gl, SEA_EMIS_GL_MAX),
+                            (int)sea_fmin(n_gh, SEA_EMIS_GH_MAX) };
 }
 
 /* ------------------------------------------------------------ emissivity */
@@ -1941,9 +1942,10 @@ static void rho_of_block(const emis_ctx *ec, size_t n, const spectral_basis *sb,
 static fixed_rule met_rule(const view_frame *f)
 {
     const sea_emis_rule h = auto_rule(f);
-    return (fixed_rule){ (int)sea_fmax(SEA_MULTI_INNER_GL_MIN, ceil(h.n_gl * SEA_MULTI_INNER_SCALE)),
-                         (int)sea_fmax(SEA_MULTI_INNER_GH_MIN, ceil(h.n_gh * SEA_MULTI_INNER_SCALE)),
-                         SEA_RULE_T_CUT };
+    const double n_gl = ceil(h.n_gl * SEA_MULTI_INNER_SCALE);
+    const double n_gh = ceil(h.n_gh * SEA_MULTI_INNER_SCALE);
+    return (fixed_rule){ (int)sea_fmax(SEA_MULTI_INNER_GL_MIN, n_gl),
+                         (int)sea_fmax(SEA_MULTI_INNER_GH_MIN, n_gh), SEA_RULE_T_CUT };
 }
 
 /* The facets met by the mirror ray g with one hit left and no sky model
@@ -1999,7 +2001,8 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
      * the basis, summed over the indices once (met_basis) */
     const int factored = sb != NULL && sky == NULL && R == 2;
     /* the cross-slope nodes: half rule a's, at least SEA_MULTI_CROSS_MIN */
-    const int n_gh = a.n_gh > 0 ? (int)sea_fmin(a.n_gh, sea_fmax(SEA_MULTI_CROSS_MIN,
+    const int n_gh = a.n_gh > 0 ? (int)sea_fmin(a.n_gh,
+                                                 sea_fmax(SEA_MULTI_CROSS_MIN,
                                                           ceil(SEA_MULTI_CROSS_SCALE * a.n_gh)))
                                 : 0;
     const int nj = n_gh > 0 ? n_gh : 1;
@@ -2069,16 +2072,17 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
         /* factored: sum rho_k P E_1,k through the basis, rho_k = sum_r A_rk
          * B_r and E_1,k = e0 - sum_q A_qk g_q, as X_r = sum w P B_r e0 and
          * Y_rq = sum w P B_r g_q, the indices only at the end */
-        double X[SEA_BASIS_RANK_MAX] = { 0.0 }, Y[SEA_BASIS_RANK_MAX][SEA_BASIS_RANK_MAX] = { { 0.0 } };
+        double X[SEA_BASIS_RANK_MAX] = { 0.0 };
+        double Y[SEA_BASIS_RANK_MAX][SEA_BASIS_RANK_MAX] = { { 0.0 } };
         for (int piece = 0; piece + 1 < nc; piece++) {
             const double ta = cut[piece], tb = cut[piece + 1];
             const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
             /* the delta case: one node, weight 1 */
             const int m = f->delta ? 1
                                    : (int)sea_fmin(SEA_EMIS_GL_MAX,
-                                               sea_fmax(SEA_MULTI_SPLIT_MIN,
-                                                    ceil(SEA_MULTI_SPLIT_SCALE * a.n_gl * (tb - ta) /
-                                                         (t_hi - t_lo))));
+                                                   sea_fmax(SEA_MULTI_SPLIT_MIN,
+                                                            ceil(SEA_MULTI_SPLIT_SCALE * a.n_gl *
+                                                                 (tb - ta) / (t_hi - t_lo))));
             /* Where the ray rises P climbs to 1 at the root, steeply when
              * the mean surface falls away along the ray (0.06 to 1 over
              * 0.12 of t at 85 deg, 3 m/s, mean slope (0.1, -0.05)), so the
