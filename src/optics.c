@@ -607,16 +607,22 @@ static sea_emis_rule auto_rule(const view_frame *f)
 
 /* ------------------------------------------------------------ emissivity */
 
-/* Where the table is read for c in [0, 1]: interval *k and offset t in
- * [0, 1] (c = 1 is the end of the last interval). */
-static inline double fresnel_pos(double c, int *k)
+/* Where a piecewise cubic on M equal intervals of [0, 1] is read for c
+ * (clamped to [0, 1]): interval *k and offset t in [0, 1] (c = 1 is the end
+ * of the last interval). */
+static inline double interval_pos(double c, int M, int *k)
 {
-    const int M = SEA_FRESNEL_INTERVALS;
     const double u = (c < 0.0 ? 0.0 : c > 1.0 ? 1.0 : c) * M;
     int i = (int)u;
     i = i > M - 1 ? M - 1 : i;
     *k = i;
     return u - i;
+}
+
+/* Where the Fresnel table is read for c. */
+static inline double fresnel_pos(double c, int *k)
+{
+    return interval_pos(c, SEA_FRESNEL_INTERVALS, k);
 }
 
 /* The table's cubic of interval k at offset t, clamped to [0, 1] (a
@@ -1262,16 +1268,10 @@ static double basis_cubic(const double *c, int lanes, int r, int q, double t)
     return a[0] + t * (a[(size_t)lanes] + t * (a[2 * (size_t)lanes] + t * a[3 * (size_t)lanes]));
 }
 
-/* The basis's interval of cos psi c (clamped to [0, 1]) and the offset in
- * it, as fresnel_pos. */
+/* Where the basis is read for cos psi c. */
 static inline double basis_pos(double c, int *q)
 {
-    const int M = SEA_BASIS_INTERVALS;
-    const double u = (c < 0.0 ? 0.0 : c > 1.0 ? 1.0 : c) * M;
-    int i = (int)u;
-    i = i > M - 1 ? M - 1 : i;
-    *q = i;
-    return u - i;
+    return interval_pos(c, SEA_BASIS_INTERVALS, q);
 }
 
 static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
@@ -1330,8 +1330,7 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
                 for (int m = 0; m < 4; m++) {
                     const double t = 0.25 * m, u = (q + t) / RATIO;
                     const int Q = (int)u < MB ? (int)u : MB - 1;
-                    const double *a = ec[k].table->a[q];
-                    double v = a[0] + t * (a[1] + t * (a[2] + t * a[3]));
+                    double v = cubic_at(ec[k].table, q, t);
                     for (int r = 0; r < R; r++)
                         v -= b->A[r][k] * basis_cubic(c, max_lanes, r, Q, u - Q);
                     worst = sea_fmax(worst, fabs(v));

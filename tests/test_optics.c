@@ -694,6 +694,14 @@ static void test_emissivity_simd(void)
     sea_optics_free(q);
 }
 
+/* Water's index at the midpoints of 16 equal parts of the band from lo,
+ * width wide (m). */
+static void band_indices(const sea_water *w, double lo, double width, double complex N[16])
+{
+    for (int i = 0; i < 16; i++)
+        CU_ASSERT_FATAL(sea_water_index(w, lo + width * (i + 0.5) / 16, &N[i], NULL) == SEA_OK);
+}
+
 /* The second hits' sums through the spectral basis of a band's Fresnel
  * tables (sea_optics_set_spectral_basis): 16 samples of water over 3-5 um
  * have a basis of a few functions (5 measured), 8-12 um too (a basis is
@@ -713,16 +721,14 @@ static void test_spectral_basis(void)
     CU_ASSERT_FATAL(sea_optics_alloc(&q, NULL) == SEA_OK);
     CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, &err) == SEA_OK);
     double complex N[16];
-    for (int i = 0; i < 16; i++)
-        CU_ASSERT_FATAL(sea_water_index(w, 3e-6 + 2e-6 * (i + 0.5) / 16, &N[i], &err) == SEA_OK);
+    band_indices(w, 3e-6, 2e-6, N);
     double berr = NAN, berr_lw = NAN;
     const int rank = sea_optics_spectral_rank(q, N, 16, &berr);
     printf("\n    spectral basis of 16 samples over 3-5 um: rank %d within %.2g", rank, berr);
     CU_ASSERT(rank >= 2 && rank <= 8);
     CU_ASSERT(berr <= 2e-6);
     double complex NL[16]; /* and 8-12 um */
-    for (int i = 0; i < 16; i++)
-        CU_ASSERT_FATAL(sea_water_index(w, 8e-6 + 4e-6 * (i + 0.5) / 16, &NL[i], &err) == SEA_OK);
+    band_indices(w, 8e-6, 4e-6, NL);
     const int rank_lw = sea_optics_spectral_rank(q, NL, 16, &berr_lw);
     printf(", over 8-12 um: rank %d within %.2g", rank_lw, berr_lw);
     CU_ASSERT(rank_lw >= 2 && rank_lw <= 8);
@@ -780,8 +786,7 @@ static void test_second_hit_convergence(void)
     CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, &err) == SEA_OK);
     sea_optics_set_shadowing(q, SEA_SHADOW_CORRELATED);
     double complex N[16];
-    for (int i = 0; i < 16; i++)
-        CU_ASSERT_FATAL(sea_water_index(w, 3e-6 + 2e-6 * (i + 0.5) / 16, &N[i], &err) == SEA_OK);
+    band_indices(w, 3e-6, 2e-6, N);
     const sea_emis_rule big = { 128, 16 }, mid = { 64, 12 };
     const double U[] = { 3, 10, 15 }, TH[] = { 70, 80, 85, 88 }, PH[] = { 0, 45 };
     double worst = 0.0, worst_ref = 0.0, gain = 0.0;
