@@ -275,10 +275,10 @@ static sea_moments hf_point(const sea_heightfield *hf, double x, double y)
 #undef CXX
 #undef CYY
 #undef CXY
-    cxx = fmax(cxx, 0.0);
-    cyy = fmax(cyy, 0.0);
+    cxx = max2(cxx, 0.0);
+    cyy = max2(cyy, 0.0);
     const double lim = sqrt(cxx * cyy);
-    cxy = fmin(fmax(cxy, -lim), lim);
+    cxy = min2(max2(cxy, -lim), lim);
     sea_moments o = { sx, sy, sx * sx + cxx, sx * sy + cxy, sy * sy + cyy, z };
     return o;
 }
@@ -295,10 +295,10 @@ static void cell_bounds(const sea_heightfield *hf, size_t i, size_t j, double *l
     double a = INFINITY, b = -INFINITY, gx = 0.0, gy = 0.0;
     for (int k = 0; k < 4; k++) {
         const double dx = sx[k] * L3 * q[k]->mx, dy = sy[k] * L3 * q[k]->my;
-        a = fmin(a, q[k]->h + fmin(dx, 0.0) + fmin(dy, 0.0));
-        b = fmax(b, q[k]->h + fmax(dx, 0.0) + fmax(dy, 0.0));
-        gx = fmax(gx, fabs(q[k]->mx));
-        gy = fmax(gy, fabs(q[k]->my));
+        a = min2(a, q[k]->h + min2(dx, 0.0) + min2(dy, 0.0));
+        b = max2(b, q[k]->h + max2(dx, 0.0) + max2(dy, 0.0));
+        gx = max2(gx, fabs(q[k]->mx));
+        gy = max2(gy, fabs(q[k]->my));
     }
     double ext = 0.0;
     if (i == 0 || i + 2 == hf->nx)
@@ -335,14 +335,16 @@ static sea_status hf_build(sea_heightfield *hf, sea_error *err)
      * y, and sqrt(2) times that for the gradient (the linear continuation
      * beyond the outer centres has a border point's gradient). */
     double D = 0.0, M = 0.0;
+    /* (rows on every thread: a maximum is the same in any order) */
+#pragma omp parallel for schedule(static) reduction(max : D, M)
     for (size_t j = 0; j < hf->ny; j++)
         for (size_t i = 0; i < hf->nx; i++) {
             const sea_moments *q = hf->m + j * hf->nx + i;
-            M = fmax(M, fmax(fabs(q->mx), fabs(q->my)));
+            M = max2(M, max2(fabs(q->mx), fabs(q->my)));
             if (i + 1 < hf->nx)
-                D = fmax(D, fabs(q[1].h - q->h));
+                D = max2(D, fabs(q[1].h - q->h));
             if (j + 1 < hf->ny)
-                D = fmax(D, fabs(q[hf->nx].h - q->h));
+                D = max2(D, fabs(q[hf->nx].h - q->h));
         }
     hf->gmax = M_SQRT2 * (1.5 * D * hf->inv_L + 2.9 * M);
     sea_status st = sea_check_size(total, 2 * sizeof(float), "heightfield bounds", err);
@@ -353,6 +355,7 @@ static sea_status hf_build(sea_heightfield *hf, sea_error *err)
     if (hf->lo == NULL || hf->hi == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the bounds of %zu x %zu facets",
                         hf->nx, hf->ny);
+#pragma omp parallel for schedule(static)
     for (size_t j = 0; j < hf->h[0]; j++)
         for (size_t i = 0; i < hf->w[0]; i++) {
             double a, b;
@@ -369,13 +372,15 @@ static sea_status hf_build(sea_heightfield *hf, sea_error *err)
         const float *plo = hf->lo + hf->off[m - 1], *phi = hf->hi + hf->off[m - 1];
         float *clo = hf->lo + hf->off[m], *chi = hf->hi + hf->off[m];
         const size_t pw = hf->w[m - 1], ph = hf->h[m - 1];
+#pragma omp parallel for schedule(static) if (hf->w[m] * hf->h[m] > 4096)
         for (size_t j = 0; j < hf->h[m]; j++)
             for (size_t i = 0; i < hf->w[m]; i++) {
                 float a = INFINITY, b = -INFINITY;
                 for (size_t jj = 2 * j; jj < 2 * j + 2 && jj < ph; jj++)
                     for (size_t ii = 2 * i; ii < 2 * i + 2 && ii < pw; ii++) {
-                        a = fminf(a, plo[jj * pw + ii]);
-                        b = fmaxf(b, phi[jj * pw + ii]);
+                        const float lo = plo[jj * pw + ii], hi = phi[jj * pw + ii];
+                        a = lo < a ? lo : a;
+                        b = hi > b ? hi : b;
                     }
                 clo[j * hf->w[m] + i] = a;
                 chi[j * hf->w[m] + i] = b;
