@@ -326,11 +326,19 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
         kp[a] = j < 0 ? -j : j > TAB_NP - 1 ? 2 * (TAB_NP - 1) - j : j;
     }
     sea_catmull_rom(xp - i0, wp);
+    /* along the sub-facet share, then the azimuth, then the angle: 16
+     * short sums side by side instead of one chain of 64 additions */
     double s = 0.0;
-    for (int p = 0; p < 4; p++)
-        for (int i = 0; i < 4; i++)
-            for (int j = 0; j < 4; j++)
-                s += wp[p] * wt[i] * wf[j] * t->delta[(kt[i] * TAB_NP + kp[p]) * TAB_NF + kf[j]];
+    for (int i = 0; i < 4; i++) {
+        const double *row = &t->delta[kt[i] * TAB_NP * TAB_NF];
+        double si = 0.0;
+        for (int p = 0; p < 4; p++) {
+            const double *dp = row + kp[p] * TAB_NF;
+            si += wp[p] * ((wf[0] * dp[kf[0]] + wf[1] * dp[kf[1]]) +
+                           (wf[2] * dp[kf[2]] + wf[3] * dp[kf[3]]));
+        }
+        s += wt[i] * si;
+    }
     *out = s;
     return SEA_OK;
 }
