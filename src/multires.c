@@ -1459,14 +1459,18 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         sea_clip_level *lv = &mr->lev[l];
         const uint32_t bit = (uint32_t)1 << l;
         double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
-        for (size_t q = 0; q < mr->npix && (needed & bit); q++) {
-            const mr_pixel *p = &mr->px[q];
-            if (!(p->need & bit))
-                continue;
-            xmin = fmin(xmin, p->x);
-            xmax = fmax(xmax, p->x);
-            ymin = fmin(ymin, p->y);
-            ymax = fmax(ymax, p->y);
+        if (needed & bit) {
+            /* (on every thread: extremes are the same in any order) */
+#pragma omp parallel for schedule(static) reduction(min : xmin, ymin) reduction(max : xmax, ymax)
+            for (size_t q = 0; q < mr->npix; q++) {
+                const mr_pixel *p = &mr->px[q];
+                if (!(p->need & bit))
+                    continue;
+                xmin = min2(xmin, p->x);
+                xmax = max2(xmax, p->x);
+                ymin = min2(ymin, p->y);
+                ymax = max2(ymax, p->y);
+            }
         }
         const int clipmap = sc->windows == SEA_WINDOWS_CLIPMAP && l < mr->first_lr;
         if (!(xmin <= xmax) && !clipmap)
@@ -1541,13 +1545,16 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         while (fft_cells < ext)
             fft_cells *= 2;
         if (l < LEVEL_MAX && (needed & bit)) {
+            uint32_t more = 0;
+#pragma omp parallel for schedule(static) reduction(| : more)
             for (size_t q = 0; q < mr->npix; q++) {
                 mr_pixel *p = &mr->px[q];
                 if ((p->need & bit) && edge_weight(lv, p->x, p->y) < 1.0) {
                     p->need |= bit << 1;
-                    needed |= bit << 1;
+                    more |= bit << 1;
                 }
             }
+            needed |= more;
         }
     }
     /* Every pixel falls back to a coarser level when outside its window:
