@@ -962,15 +962,23 @@ static double refine(const surface *s, const ray *r, double a, double fa, double
     return b;
 }
 
-/* The ray's height above the surface at t, and its rate of change. */
-static double above(const surface *s, const ray *r, double t, double *rate)
+/* The ray's height above the surface at t, its point there (x, y, z) as
+ * ray_point gives it, and its rate of change. */
+static double above_at(const surface *s, const ray *r, double t, double x, double y, double z,
+                       double *rate)
 {
-    double x, y, z, dz, dx, dy, gx, gy;
-    ray_point(r, t, &x, &y, &z);
+    double dz, dx, dy, gx, gy;
     ray_rate(r, t, &dz, &dx, &dy);
     const double h = surf_height_grad(s, x, y, &gx, &gy);
     *rate = dz - gx * dx - gy * dy;
     return z - h;
+}
+
+static double above(const surface *s, const ray *r, double t, double *rate)
+{
+    double x, y, z;
+    ray_point(r, t, &x, &y, &z);
+    return above_at(s, r, t, x, y, z, rate);
 }
 
 /* A step [a, b] at the finest scale over which the ray stays above the
@@ -1078,7 +1086,7 @@ static int march(const surface *s, const ray *r, double t_a, double t_b, double 
             continue;
         }
         if (!have_f) {
-            f = above(s, r, t, &df);
+            f = above_at(s, r, t, x, y, z, &df);
             have_f = 1;
             if (f <= 0.0) {
                 *t_hit = t;
@@ -1086,7 +1094,7 @@ static int march(const surface *s, const ray *r, double t_a, double t_b, double 
             }
         }
         double df1;
-        const double f1 = above(s, r, t1, &df1);
+        const double f1 = above_at(s, r, t1, x1, y1, z1, &df1);
         if (f1 <= 0.0) {
             *t_hit = refine(s, r, t, f, t1, f1, df, df1);
             return 1;
