@@ -87,6 +87,7 @@ static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl,
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for level %d (%zu x %zu texels)",
                         lv->level, nx, ny);
     const sea_moments *south = sea_heightfield_moments(sea_multires_frame_level(f, lv->level));
+#pragma omp parallel for schedule(static)
     for (size_t row = 0; row < ny; row++)
         memcpy(bl->moments + row * nx, south + (ny - 1 - row) * nx, nx * sizeof *south);
     return SEA_OK;
