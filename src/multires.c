@@ -1172,6 +1172,12 @@ int sea_heightfield_trace(const sea_heightfield *hf, const double o[3], const do
 
 /* ------------------------------------------------------------- the plan */
 
+void sea_multires_drop_pixels(sea_multires *mr)
+{
+    free(mr->px);
+    mr->px = NULL;
+}
+
 void sea_multires_free(sea_multires *mr)
 {
     if (mr == NULL)
@@ -1893,6 +1899,14 @@ void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, int j,
                                sea_multires_sample *out)
 {
     const sea_multires *mr = f->mr;
+    if (mr->px == NULL) { /* dropped (sea_multires_drop_pixels): the same plan, now */
+        sea_pixel_geom g;
+        sea_camera_pixel(&mr->cam, (double)i + 0.5, (double)j + 0.5, &g);
+        mr_pixel p;
+        pixel_choice(mr, &g, &p);
+        look(f, (double)i + 0.5, (double)j + 0.5, &p, below, top, out);
+        return;
+    }
     const mr_pixel *p = &mr->px[(size_t)j * (size_t)mr->cam.width + (size_t)i];
     look(f, (double)i + 0.5, (double)j + 0.5, p, below, top, out);
 }

@@ -459,6 +459,11 @@ const sea_multires *sea_render_multires(const sea_render *r)
     return r->mr;
 }
 
+void sea_render_drop_pixels(sea_render *r)
+{
+    sea_multires_drop_pixels(r->mr);
+}
+
 /* ------------------------------------------------------------- prepare */
 
 sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err)

@@ -1038,6 +1038,10 @@ typedef struct {
 sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
                              sea_error *err);
 void sea_multires_free(sea_multires *mr);
+/* Frees the per-pixel plans (the footprint, levels and rays of every
+ * pixel, 80 bytes a pixel), which only save sea_multires_pixel the work:
+ * it then plans each pixel as it goes, the same plan bit for bit. */
+void sea_multires_drop_pixels(sea_multires *mr);
 /* The levels used, finest first, then the low-resolution one. */
 size_t sea_multires_levels(const sea_multires *mr, const sea_clip_level **levels);
 /* The wave plan (NULL when every level is low-resolution). */
@@ -1105,6 +1109,10 @@ typedef struct sea_render sea_render;
  * freed with sea_render_free(); every other call only reads it: prepare
  * once, render frames from many threads. */
 sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err);
+/* Frees r's per-pixel plans (sea_multires_drop_pixels: 80 bytes a pixel)
+ * for a caller that renders no image, or few: renders stay the same pixels,
+ * each pixel planned as it is rendered.  Not while another thread uses r. */
+void sea_render_drop_pixels(sea_render *r);
 void sea_render_free(sea_render *r);
 /* The clipmap levels used, finest first, n of them.  Reads r; the array is
  * owned by r. */

@@ -553,6 +553,38 @@ static void test_glint_position(void)
 /* Same scene and seed, same image, bit for bit; the loop period brings the
  * sea back (1e-4 relative: float radiance of a sea whose phases return to
  * 1e-12); another time, another sea. */
+/* A render whose per-pixel plans were dropped (sea_render_drop_pixels:
+ * each pixel planned as it is rendered) gives the same image, bit for bit:
+ * a nadir view and a grazing one (rays of several levels, several rays a
+ * pixel near the horizon). */
+static void test_dropped_pixel_plans(void)
+{
+    for (int c = 0; c < 2; c++) {
+        sea_scene sc = base_scene(UNIT_QUICK ? 16 : 48);
+        if (c == 1) {
+            sc.altitude = 20.0;
+            sc.look_zenith = 86.0 * DEG;
+            sc.hfov = 20.0 * DEG;
+            sc.earth = SEA_EARTH_SPHERICAL;
+        }
+        sea_image a, b;
+        render(&sc, 0.5, &a);
+        sea_render *r = NULL;
+        sea_error err;
+        CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
+        sea_render_drop_pixels(r);
+        sea_render_drop_pixels(r); /* twice: nothing left to free */
+        CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&b, sc.width, sc.height, &err), SEA_OK);
+        CU_ASSERT_EQUAL(sea_render_frame(r, 0.5, &b, NULL, NULL, &err), SEA_OK);
+        const size_t n = (size_t)sc.width * (size_t)sc.height;
+        CU_ASSERT(memcmp(a.radiance, b.radiance, n * sizeof(float)) == 0);
+        CU_ASSERT(memcmp(a.level, b.level, n * sizeof(float)) == 0);
+        sea_render_free(r);
+        sea_image_free(&a);
+        sea_image_free(&b);
+    }
+}
+
 static void test_determinism_and_time(void)
 {
     sea_scene sc = base_scene(UNIT_QUICK ? 20 : 40);
@@ -971,6 +1003,7 @@ int test_render_register(void)
            !CU_add_test(s, "Eq 23 from its terms", test_eq23_terms) ||
            !CU_add_test(s, "glint position", test_glint_position) ||
            !CU_add_test(s, "determinism and time", test_determinism_and_time) ||
+           !CU_add_test(s, "pixel plans dropped: the same image", test_dropped_pixel_plans) ||
            !CU_add_test(s, "levels and seams", test_levels_and_seams) ||
            !CU_add_test(s, "low-resolution levels", test_low_resolution_levels) ||
            !CU_add_test(s, "clipmap windows", test_clipmap_windows) ||

@@ -2205,6 +2205,10 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
         const double t0 = sea_cli_seconds();
         st = sea_render_prepare(&s.sc, &r, err);
         prepare = sea_cli_seconds() - t0;
+        /* no sensor's image to render: the pixels' plans are not needed
+         * (the maps' view texels plan theirs as they go) */
+        if (st == SEA_OK && !s.sensor)
+            sea_render_drop_pixels(r);
     }
     st = sea_cli_mpi_agree(st, 0, NULL, err);
     if (st == SEA_OK && s.explain && rank == 0)
