@@ -54,14 +54,17 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
     *sun = sea_camera_local_dir(&g, sun_vec);
 }
 
-/* The facet moments of one high-resolution level, north first, from the
- * frame's (rows south first).  The arrays are spare's, the level before's
- * once handed to the caller (sea_bake_frame_each), when they have room (its
- * level's facets, view_k alike): the clipmap's levels have one size, and
- * fresh arrays would be faulted in page by page again (at 2048^2 facets and
- * K = 3, 640 MB a level). */
-static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl,
-                                sea_bake_level *spare, sea_error *err)
+/* The arrays of one high-resolution level: its optics and view texels,
+ * and (copy) its facet moments, north first, from the frame's (rows south
+ * first).  The arrays are spare's, the level before's once handed to the
+ * caller (sea_bake_frame_each), when they have room (its level's facets,
+ * view_k alike): the clipmap's levels have one size, and fresh arrays
+ * would be faulted in page by page again (at 2048^2 facets and K = 3, 440
+ * MB a level).  Without copy the level's moments are the frame's own,
+ * turned north first in place while the caller reads them (bake_frame):
+ * 48 bytes a facet less held (200 MB a level at 2048^2 facets). */
+static sea_status level_arrays(const sea_multires_frame *f, sea_bake_level *bl,
+                               sea_bake_level *spare, int copy, sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, n = nx * ny, k2 = bl->view_k * bl->view_k;
@@ -70,26 +73,33 @@ static sea_status level_moments(const sea_multires_frame *f, sea_bake_level *bl,
                                    "bake level", err);
     if (st != SEA_OK)
         return st;
-    if (spare->moments != NULL && spare->level.nx * spare->level.ny >= n) {
-        bl->moments = spare->moments;
+    if (spare->optics != NULL && spare->level.nx * spare->level.ny >= n &&
+        (spare->moments != NULL || !copy)) {
         bl->optics = spare->optics;
         bl->view = spare->view;
-        spare->moments = NULL;
+        bl->moments = copy ? spare->moments : NULL;
         spare->optics = NULL;
         spare->view = NULL;
+        if (copy)
+            spare->moments = NULL;
+        level_free(spare);
     } else {
         level_free(spare);
-        bl->moments = malloc(n * sizeof *bl->moments);
         bl->optics = malloc(n * sizeof *bl->optics);
         bl->view = malloc(n * k2 * sizeof *bl->view);
+        if (copy)
+            bl->moments = malloc(n * sizeof *bl->moments);
     }
-    if (bl->moments == NULL || bl->optics == NULL || bl->view == NULL)
+    if (bl->optics == NULL || bl->view == NULL || (copy && bl->moments == NULL))
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for level %d (%zu x %zu texels)",
                         lv->level, nx, ny);
-    const sea_moments *south = sea_heightfield_moments(sea_multires_frame_level(f, lv->level));
+    if (copy) {
+        const sea_moments *south =
+            sea_heightfield_moments(sea_multires_frame_level(f, lv->level));
 #pragma omp parallel for schedule(static)
-    for (size_t row = 0; row < ny; row++)
-        memcpy(bl->moments + row * nx, south + (ny - 1 - row) * nx, nx * sizeof *south);
+        for (size_t row = 0; row < ny; row++)
+            memcpy(bl->moments + row * nx, south + (ny - 1 - row) * nx, nx * sizeof *south);
+    }
     return SEA_OK;
 }
 
@@ -206,6 +216,8 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, k = view ? bl->view_k : 1;
+    /* the facets' moments: the frame's, rows south first */
+    const sea_moments *south = sea_heightfield_moments(sea_multires_frame_level(f, lv->level));
     const size_t cols = k * nx, rows = k * ny;
     const double cell = lv->facet / (double)k;
     const sea_scene *sc = sea_render_scene(r);
@@ -253,7 +265,8 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
             if (!view)
                 texel_dirs(cam, sun_vec, x, y, &obs, &sun);
             if (!view) {
-                s1 = texel_optics(r, &bl->moments[q], obs, sun, &bl->optics[q], bl, i, R, &e1);
+                s1 = texel_optics(r, &south[(ny - 1 - R) * nx + i], obs, sun, &bl->optics[q], bl,
+                                  i, R, &e1);
             } else {
                 sea_multires_sample vs;
                 double u, v;
@@ -381,7 +394,7 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     } while (0)
     synth_progress sp = { &bp, synth };
     sea_multires_frame *f = NULL;
-    sea_bake_level spare; /* (level_moments) */
+    sea_bake_level spare; /* (level_arrays) */
     memset(&spare, 0, sizeof spare);
     st = sea_multires_frame_alloc(sea_render_multires(r), t, progress != NULL ? synth_report : NULL,
                                   &sp, &f, err);
@@ -404,7 +417,7 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
         sea_bake_level *bl = &out->levels[l];
         if (lv[l].low_res)
             continue;
-        if ((st = level_moments(f, bl, &spare, err)) != SEA_OK)
+        if ((st = level_arrays(f, bl, &spare, each == NULL, err)) != SEA_OK)
             break;
         double hole[4];
         const int has_hole = l > 0 && !lv[l - 1].low_res;
@@ -429,10 +442,14 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
         PROGRESS(texels * (double)(bl->view_k * bl->view_k));
         free(mask);
         if (st == SEA_OK && each != NULL) {
+            /* the frame's moments of the level, north first while each
+             * reads them (no look at the surfaces meanwhile) */
+            bl->moments = sea_multires_frame_flip_rows(f, lv[l].level);
             st = each(each_ctx, out, l, err);
+            sea_multires_frame_flip_rows(f, lv[l].level);
+            bl->moments = NULL;
             level_free(&spare);
             spare = *bl;
-            bl->moments = NULL;
             bl->optics = NULL;
             bl->view = NULL;
         }

@@ -1675,6 +1675,22 @@ sea_status sea_multires_frame_alloc(const sea_multires *mr, double t, sea_progre
     return SEA_OK;
 }
 
+sea_moments *sea_multires_frame_flip_rows(sea_multires_frame *f, int level)
+{
+    sea_heightfield *hf = f->hf[level];
+    const size_t nx = hf->nx, ny = hf->ny;
+#pragma omp parallel for schedule(static)
+    for (size_t j = 0; j < ny / 2; j++) {
+        sea_moments *a = hf->m + j * nx, *b = hf->m + (ny - 1 - j) * nx;
+        for (size_t i = 0; i < nx; i++) {
+            const sea_moments t = a[i];
+            a[i] = b[i];
+            b[i] = t;
+        }
+    }
+    return hf->m;
+}
+
 const sea_heightfield *sea_multires_frame_level(const sea_multires_frame *f, int level)
 {
     if (level < 0 || level >= SEA_CLIP_MAX_LEVELS)
