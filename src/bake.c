@@ -69,7 +69,7 @@ static sea_status level_arrays(const sea_multires_frame *f, sea_bake_level *bl,
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, n = nx * ny, k2 = bl->view_k * bl->view_k;
     sea_status st = sea_check_size(n, sizeof(sea_moments) + sizeof(sea_facet_optics) +
-                                          k2 * (sizeof(double) + 2),
+                                          k2 * (sizeof(float) + 2),
                                    "bake level", err);
     if (st != SEA_OK)
         return st;
@@ -257,7 +257,7 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
             sea_error e1;
             sea_status s1 = SEA_OK;
             if (view && !mask[q]) {
-                bl->view[q] = bl->optics[(R / k) * nx + i / k].radiance;
+                bl->view[q] = (float)bl->optics[(R / k) * nx + i / k].radiance;
                 continue;
             }
             const double x = (double)lv->i0 * lv->facet + ((double)i + 0.5) * cell;
@@ -271,7 +271,7 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
                 sea_multires_sample vs;
                 double u, v;
                 if (!sea_multires_look_at(f, x, y, &vs, &u, &v)) {
-                    bl->view[q] = bl->optics[(R / k) * nx + i / k].radiance;
+                    bl->view[q] = (float)bl->optics[(R / k) * nx + i / k].radiance;
                     continue;
                 }
                 sea_pixel_geom g;
@@ -279,7 +279,7 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
                 sea_facet_optics o;
                 s1 = texel_optics(r, &vs.moments, vs.obs, sea_camera_local_dir(&g, sun_vec), &o,
                                   bl, i, R, &e1);
-                bl->view[q] = o.radiance;
+                bl->view[q] = (float)o.radiance;
             }
             if (s1 != SEA_OK) {
 #pragma omp critical(sea_bake_error)

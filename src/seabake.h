@@ -1234,8 +1234,9 @@ typedef struct {
     sea_moments *moments;     /* nx ny, from sea_waves_facets with level.sub_n */
     sea_facet_optics *optics; /* nx ny, toward the sensor from each texel centre */
     size_t view_k;            /* view texels per facet side */
-    double *view;             /* (k nx) x (k ny), rows north first: the radiance the
-                                 sensor sees at the centre of view texel (I, R), i.e.
+    float *view;              /* (k nx) x (k ny), rows north first: the radiance the
+                                 sensor sees at the centre of view texel (I, R), as
+                                 float (the maps are float or half), i.e.
                                  of sea_render_view_moments at map point
                                  ((i0 + (I + 1/2)/k) L, (j0 + ny - (R + 1/2)/k) L) */
     sea_moments lr_moments;

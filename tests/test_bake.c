@@ -361,7 +361,7 @@ static void test_view_matches_render(void)
             for (size_t i = 0; i < nx; i++) {
                 const double v = bl->view[(3 * row + 1) * 3 * nx + 3 * i + 1];
                 CU_ASSERT(isfinite(v) && v > 0.0);
-                same += v == bl->optics[row * nx + i].radiance;
+                same += v == (float)bl->optics[row * nx + i].radiance;
                 total++;
             }
     }

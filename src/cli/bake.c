@@ -1239,8 +1239,9 @@ static int bake_progress_compute(void *ctx, double fraction)
  * emission scale (from its largest radiance) and the tone curves of the
  * grey previews (from its texels of every level, bake_previews), so its
  * emission maps and those previews wait for the whole frame: their data
- * (the emission texels' radiance as double, the previewed channel of
- * moments, moments2 and optics as the float they are written as) go to a
+ * (the emission texels' radiance as the level holds it, the previewed
+ * channel of moments, moments2 and optics as the float they are written
+ * as; floats all) go to a
  * spill file of the level in the temporary directory, read back and
  * removed at the end of the frame.  The files are those of holding every
  * level, byte for byte. */
@@ -1254,7 +1255,7 @@ static bool toned_group(size_t g)
 
 /* Spill file of a level: the previewed channel of each toned group but
  * emission (n floats each, in group order), then the n K^2 view radiances
- * (doubles). */
+ * (floats, as the level holds them). */
 enum { SPILL_CHANNELS = 3 };
 static const size_t SPILL_GROUP[SPILL_CHANNELS] = {0, 1, 2};
 
@@ -1410,7 +1411,7 @@ static sea_status level_ready(void *ctx, const sea_bake *b, size_t l, sea_error 
             st = sea_fail(err, SEA_ERR_IO, "cannot create '%s': %s", path, strerror(errno));
         free(path);
         if (st == SEA_OK)
-            st = spill_io(c.spill, true, bl->view, nv * sizeof(double),
+            st = spill_io(c.spill, true, bl->view, nv * sizeof(float),
                           SPILL_CHANNELS * n * sizeof(float), err);
     } else {
         const double scale = w->scale;
@@ -1443,7 +1444,7 @@ static sea_status previews_setup(const sea_bake *b, const char *tmp, double scal
 {
     enum { CHUNK = 1 << 16 };
     float *v = malloc(BAKE_PREVIEW_SAMPLES * sizeof *v);
-    double *chunk = malloc(CHUNK * sizeof *chunk);
+    float *chunk = malloc(CHUNK * sizeof *chunk);
     sea_status st = SEA_OK;
     if (v == NULL || chunk == NULL)
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the preview ranges");
@@ -1481,18 +1482,15 @@ static sea_status previews_setup(const sea_bake *b, const char *tmp, double scal
                 if (q >= c1) {
                     c0 = q;
                     c1 = q + CHUNK < n ? q + CHUNK : n;
-                    if (k == Q_EMISSION)
-                        st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(double),
-                                      SPILL_CHANNELS * nf * sizeof(float) + c0 * sizeof(double),
-                                      err);
-                    else
-                        st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(float),
-                                      (spilled * nf + c0) * sizeof(float), err);
+                    /* (the view radiances after the other channels) */
+                    const size_t from = k == Q_EMISSION ? SPILL_CHANNELS * nf : spilled * nf;
+                    st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(float),
+                                  (from + c0) * sizeof(float), err);
                 }
                 if (k == Q_EMISSION)
-                    v[m++] = (float)(chunk[q - c0] * scale);
+                    v[m++] = (float)((double)chunk[q - c0] * scale);
                 else
-                    v[m++] = ((const float *)chunk)[q - c0];
+                    v[m++] = chunk[q - c0];
             }
             if (fd >= 0)
                 close(fd);
@@ -1554,7 +1552,7 @@ static sea_status spill_job(bake_writer *w, const void *ctx, size_t g,
 static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *err)
 {
     enum { CHUNK = 1 << 16 };
-    double *chunk = malloc(CHUNK * sizeof *chunk);
+    float *chunk = malloc(CHUNK * sizeof *chunk);
     sea_status st = chunk ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     for (size_t l = 0; l < b->n_levels && st == SEA_OK; l++) {
         const sea_bake_level *bl = &b->levels[l];
@@ -1579,10 +1577,10 @@ static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *er
         }
         for (size_t c0 = 0; c0 < nv && st == SEA_OK; c0 += CHUNK) {
             const size_t c1 = c0 + CHUNK < nv ? c0 + CHUNK : nv;
-            st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(double),
-                          SPILL_CHANNELS * n * sizeof(float) + c0 * sizeof(double), err);
+            st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(float),
+                          (SPILL_CHANNELS * n + c0) * sizeof(float), err);
             for (size_t q = c0; q < c1 && st == SEA_OK; q++)
-                w->emission[q] = (float)(chunk[q - c0] * w->scale);
+                w->emission[q] = (float)((double)chunk[q - c0] * w->scale);
         }
         if (fd >= 0)
             close(fd);
@@ -1728,7 +1726,7 @@ static sea_status bake_send_frames(const bake_setup *s, const sea_render *r, sea
 typedef struct {
     sea_moments *moments;
     sea_facet_optics *optics;
-    double *view;
+    float *view;
 } bake_inbox;
 
 /* Rank 0: frame f of rank k, each level written as it arrives (when st is
@@ -1789,7 +1787,7 @@ typedef struct {
 static size_t row_bytes(const sea_bake_level *bl)
 {
     return bl->level.nx *
-           (sizeof(sea_facet_optics) + bl->view_k * bl->view_k * sizeof(double));
+           (sizeof(sea_facet_optics) + bl->view_k * bl->view_k * sizeof(float));
 }
 
 /* Rank k's rows of level bl into (pack) or out of (unpack) buf. */
@@ -1798,7 +1796,7 @@ static void rows_pack(sea_bake_level *bl, int k, int size, unsigned char *buf, b
     const size_t nx = bl->level.nx, nv = bl->view_k * bl->view_k * nx;
     for (size_t row = (size_t)k; row < bl->level.ny; row += (size_t)size) {
         sea_facet_optics *o = bl->optics + row * nx;
-        double *v = bl->view + row * nv;
+        float *v = bl->view + row * nv;
         if (pack) {
             memcpy(buf, o, nx * sizeof *o);
             memcpy(buf + nx * sizeof *o, v, nv * sizeof *v);
