@@ -1451,11 +1451,15 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
      * too, so that level's window covers them. */
     /* (and the levels some pixel reads: a level none reads is not scanned) */
     uint32_t needed = 0;
+    size_t count[LEVEL_MAX + 1] = { 0 };
+#pragma omp parallel for schedule(static) reduction(| : needed) reduction(+ : count[:LEVEL_MAX + 1])
     for (size_t q = 0; q < mr->npix; q++) {
         needed |= mr->px[q].need;
         if (mr->px[q].hit)
-            mr->lev[mr->px[q].level].pixels++;
+            count[mr->px[q].level]++;
     }
+    for (int l = 0; l <= LEVEL_MAX; l++)
+        mr->lev[l].pixels += count[l];
     size_t fft_cells = 2;
     int any_hr = 0;
     /* The centre of clipmap windows: where the optical axis meets the sea,
@@ -1469,15 +1473,26 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
             look_y = g.y;
         }
     }
+    /* the level before's pixels in its window's fading edge (or outside
+     * it), which read this level too: found in this level's pass */
+    const sea_clip_level *edge_lv = NULL;
+    uint32_t edge_bit = 0;
     for (int l = 0; l <= LEVEL_MAX; l++) {
         sea_clip_level *lv = &mr->lev[l];
         const uint32_t bit = (uint32_t)1 << l;
         double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
-        if (needed & bit) {
+        if ((needed & bit) || edge_lv != NULL) {
             /* (on every thread: extremes are the same in any order) */
-#pragma omp parallel for schedule(static) reduction(min : xmin, ymin) reduction(max : xmax, ymax)
+            uint32_t more = 0;
+#pragma omp parallel for schedule(static) reduction(min : xmin, ymin) reduction(max : xmax, ymax) \
+    reduction(| : more)
             for (size_t q = 0; q < mr->npix; q++) {
-                const mr_pixel *p = &mr->px[q];
+                mr_pixel *p = &mr->px[q];
+                if (edge_lv != NULL && (p->need & edge_bit) &&
+                    edge_weight(edge_lv, p->x, p->y) < 1.0) {
+                    p->need |= bit;
+                    more |= bit;
+                }
                 if (!(p->need & bit))
                     continue;
                 xmin = min2(xmin, p->x);
@@ -1485,7 +1500,9 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
                 ymin = min2(ymin, p->y);
                 ymax = max2(ymax, p->y);
             }
+            needed |= more;
         }
+        edge_lv = NULL;
         const int clipmap = sc->windows == SEA_WINDOWS_CLIPMAP && l < mr->first_lr;
         if (!(xmin <= xmax) && !clipmap)
             continue;
@@ -1559,16 +1576,8 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         while (fft_cells < ext)
             fft_cells *= 2;
         if (l < LEVEL_MAX && (needed & bit)) {
-            uint32_t more = 0;
-#pragma omp parallel for schedule(static) reduction(| : more)
-            for (size_t q = 0; q < mr->npix; q++) {
-                mr_pixel *p = &mr->px[q];
-                if ((p->need & bit) && edge_weight(lv, p->x, p->y) < 1.0) {
-                    p->need |= bit << 1;
-                    more |= bit << 1;
-                }
-            }
-            needed |= more;
+            edge_lv = lv; /* (the next level's pass) */
+            edge_bit = bit;
         }
     }
     /* Every pixel falls back to a coarser level when outside its window:
