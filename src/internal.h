@@ -111,9 +111,6 @@ static inline void sea_catmull_rom(double f, double w[4])
  * once, from one G (identical values). */
 SEA_INTERNAL void sea_shadow_split(double mu, double m, double s, double *visible,
                                    double *hidden);
-/* shadow.c: sea_shadow_G(t) for t >= 0 given e = exp(-t^2 / 2) (the same
- * operations, so the same bits), for a caller that has e already. */
-SEA_INTERNAL double sea_shadow_G_exp(double t, double e);
 /* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
  * the same values (to rounding: the interpolation's rows in z are combined
  * once), in AVX2 when avx2 is non-zero and the CPU has it (the same bits

@@ -1865,13 +1865,9 @@ static double lambda_toward(const sea_slope_stats *st, const double g[3])
     const double m = st->mean.x * c + st->mean.y * s, sd = sqrt(var > 0.0 ? var : 0.0);
     if (sd > 0.0) {
         const double t = (mu - m) / sd;
-        if (t > 0.0) {
-            const double e = exp(-0.5 * t * t);
-            if (sd * 0.39894228040143267794 * e / ((1.0 + t * t) * mu) < SEA_MULTI_P_NEGLIGIBLE)
-                return 0.0;
-            /* sea_shadow_hidden's s G(t), with this exp */
-            return sd * sea_shadow_G_exp(t, e) / mu;
-        }
+        if (t > 0.0 && sd * 0.39894228040143267794 * exp(-0.5 * t * t) / ((1.0 + t * t) * mu) <
+                           SEA_MULTI_P_NEGLIGIBLE)
+            return 0.0;
     }
     return sea_shadow_hidden(mu, m, sd) / mu;
 }

@@ -91,11 +91,13 @@ static void g_table_build(void)
  * nothing representable to Lambda or D. */
 static const double SEA_NADIR_THETA = 1e-12;
 
-/* G's polynomial p(x), x = 1 / (1 + |t|) into *xo, |t| < 40: G = phi p x^2. */
-static double g_poly(double at, double *xo)
+double sea_shadow_G(double t)
 {
+    pthread_once(&sea_g_once, g_table_build);
+    const double at = fabs(t);
+    if (!(at < 40.0)) /* phi underflows: G(t) = max(-t, 0) (NaN stays NaN) */
+        return t > 0.0 ? 0.0 : t < 0.0 ? -t : t;
     const double x = 1.0 / (1.0 + at);
-    *xo = x;
     const double s = x * SEA_G_PIECES;
     int i = (int)s;
     if (i > SEA_G_PIECES - 1)
@@ -105,29 +107,8 @@ static double g_poly(double at, double *xo)
     double p = c[SEA_G_DEGREE];
     for (int k = SEA_G_DEGREE - 1; k >= 0; k--)
         p = p * u + c[k];
-    return p;
-}
-
-double sea_shadow_G(double t)
-{
-    pthread_once(&sea_g_once, g_table_build);
-    const double at = fabs(t);
-    if (!(at < 40.0)) /* phi underflows: G(t) = max(-t, 0) (NaN stays NaN) */
-        return t > 0.0 ? 0.0 : t < 0.0 ? -t : t;
-    double x;
-    const double p = g_poly(at, &x);
     const double g = 0.39894228040143267794 * exp(-0.5 * at * at) * p * x * x;
     return t < 0.0 ? g + at : g;
-}
-
-double sea_shadow_G_exp(double t, double e)
-{
-    pthread_once(&sea_g_once, g_table_build);
-    if (!(t < 40.0))
-        return 0.0;
-    double x;
-    const double p = g_poly(t, &x);
-    return 0.39894228040143267794 * e * p * x * x;
 }
 
 /* E[(gamma - mu)+]; s = 0 is the limit max(m - mu, 0). */
