@@ -1459,7 +1459,7 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
             count[mr->px[q].level]++;
     }
     for (int l = 0; l <= LEVEL_MAX; l++)
-        mr->lev[l].pixels += count[l];
+        mr->lev[l].pixels = count[l];
     size_t fft_cells = 2;
     int any_hr = 0;
     /* The centre of clipmap windows: where the optical axis meets the sea,
@@ -1475,8 +1475,7 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
     }
     /* the level before's pixels in its window's fading edge (or outside
      * it), which read this level too: found in this level's pass */
-    const sea_clip_level *edge_lv = NULL;
-    uint32_t edge_bit = 0;
+    const sea_clip_level *edge_lv = NULL; /* (level l - 1) */
     for (int l = 0; l <= LEVEL_MAX; l++) {
         sea_clip_level *lv = &mr->lev[l];
         const uint32_t bit = (uint32_t)1 << l;
@@ -1488,7 +1487,7 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
     reduction(| : more)
             for (size_t q = 0; q < mr->npix; q++) {
                 mr_pixel *p = &mr->px[q];
-                if (edge_lv != NULL && (p->need & edge_bit) &&
+                if (edge_lv != NULL && (p->need & (bit >> 1)) &&
                     edge_weight(edge_lv, p->x, p->y) < 1.0) {
                     p->need |= bit;
                     more |= bit;
@@ -1575,10 +1574,8 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         const size_t ext = (lv->nx > lv->ny ? lv->nx : lv->ny) << l;
         while (fft_cells < ext)
             fft_cells *= 2;
-        if (l < LEVEL_MAX && (needed & bit)) {
+        if (l < LEVEL_MAX && (needed & bit))
             edge_lv = lv; /* (the next level's pass) */
-            edge_bit = bit;
-        }
     }
     /* Every pixel falls back to a coarser level when outside its window:
      * the low-resolution level closes the chain. */
@@ -1919,17 +1916,26 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
     }
 }
 
+/* look() at image point (u, v) with its pixel's plan made now (as
+ * sea_multires_plan makes it at pixel centres, bit for bit). */
+static void look_planned(const sea_multires_frame *f, double u, double v,
+                         const sea_multires_hint *below, sea_multires_hint *top,
+                         sea_multires_sample *out)
+{
+    sea_pixel_geom g;
+    sea_camera_pixel(&f->mr->cam, u, v, &g);
+    mr_pixel p;
+    pixel_choice(f->mr, &g, &p);
+    look(f, u, v, &p, below, top, out);
+}
+
 void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, int j,
                                const sea_multires_hint *below, sea_multires_hint *top,
                                sea_multires_sample *out)
 {
     const sea_multires *mr = f->mr;
     if (mr->px == NULL) { /* dropped (sea_multires_drop_pixels): the same plan, now */
-        sea_pixel_geom g;
-        sea_camera_pixel(&mr->cam, (double)i + 0.5, (double)j + 0.5, &g);
-        mr_pixel p;
-        pixel_choice(mr, &g, &p);
-        look(f, (double)i + 0.5, (double)j + 0.5, &p, below, top, out);
+        look_planned(f, (double)i + 0.5, (double)j + 0.5, below, top, out);
         return;
     }
     const mr_pixel *p = &mr->px[(size_t)j * (size_t)mr->cam.width + (size_t)i];
@@ -1943,11 +1949,7 @@ void sea_multires_pixel(const sea_multires_frame *f, int i, int j, sea_multires_
 
 void sea_multires_look(const sea_multires_frame *f, double u, double v, sea_multires_sample *out)
 {
-    sea_pixel_geom g;
-    sea_camera_pixel(&f->mr->cam, u, v, &g);
-    mr_pixel p;
-    pixel_choice(f->mr, &g, &p);
-    look(f, u, v, &p, NULL, NULL, out);
+    look_planned(f, u, v, NULL, NULL, out);
 }
 
 int sea_multires_look_at(const sea_multires_frame *f, double x, double y, sea_multires_sample *out,

@@ -1488,7 +1488,7 @@ static sea_status previews_setup(const sea_bake *b, const char *tmp, double scal
                                   (from + c0) * sizeof(float), err);
                 }
                 if (k == Q_EMISSION)
-                    v[m++] = (float)((double)chunk[q - c0] * scale);
+                    v[m++] = (float)(chunk[q - c0] * scale);
                 else
                     v[m++] = chunk[q - c0];
             }
@@ -1580,7 +1580,7 @@ static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *er
             st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(float),
                           (SPILL_CHANNELS * n + c0) * sizeof(float), err);
             for (size_t q = c0; q < c1 && st == SEA_OK; q++)
-                w->emission[q] = (float)((double)chunk[q - c0] * w->scale);
+                w->emission[q] = (float)(chunk[q - c0] * w->scale);
         }
         if (fd >= 0)
             close(fd);
