@@ -62,13 +62,13 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
  * would be faulted in page by page again (at 2048^2 facets and K = 3, 440
  * MB a level).  Without copy the level's moments are the frame's own,
  * turned north first in place while the caller reads them (bake_frame):
- * 48 bytes a facet less held (200 MB a level at 2048^2 facets). */
+ * 24 bytes a facet less held (100 MB a level at 2048^2 facets). */
 static sea_status level_arrays(const sea_multires_frame *f, sea_bake_level *bl,
                                sea_bake_level *spare, int copy, sea_error *err)
 {
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, n = nx * ny, k2 = bl->view_k * bl->view_k;
-    sea_status st = sea_check_size(n, sizeof(sea_moments) + sizeof(sea_facet_optics) +
+    sea_status st = sea_check_size(n, sizeof(sea_facet) + sizeof(sea_facet_optics) +
                                           k2 * (sizeof(float) + 2),
                                    "bake level", err);
     if (st != SEA_OK)
@@ -94,8 +94,7 @@ static sea_status level_arrays(const sea_multires_frame *f, sea_bake_level *bl,
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for level %d (%zu x %zu texels)",
                         lv->level, nx, ny);
     if (copy) {
-        const sea_moments *south =
-            sea_heightfield_moments(sea_multires_frame_level(f, lv->level));
+        const sea_facet *south = sea_heightfield_facets(sea_multires_frame_level(f, lv->level));
 #pragma omp parallel for schedule(static)
         for (size_t row = 0; row < ny; row++)
             memcpy(bl->moments + row * nx, south + (ny - 1 - row) * nx, nx * sizeof *south);
@@ -103,11 +102,10 @@ static sea_status level_arrays(const sea_multires_frame *f, sea_bake_level *bl,
     return SEA_OK;
 }
 
-static sea_status texel_optics(const sea_render *r, const sea_moments *m, sea_dir obs, sea_dir sun,
+static sea_status texel_optics(const sea_render *r, sea_slope_stats s, sea_dir obs, sea_dir sun,
                                sea_facet_optics *o, const sea_bake_level *bl, size_t i,
                                size_t row, sea_error *err)
 {
-    const sea_slope_stats s = sea_moments_stats(m);
     sea_status st = sea_render_facet_optics(r, &s, obs, sun, o, err);
     if (st == SEA_OK && !(isfinite(o->radiance) && isfinite(o->reflectivity)))
         st = sea_fail(err, SEA_ERR_NUMERIC, "radiance %g at texel (%zu, %zu) of level %d",
@@ -217,7 +215,7 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
     const sea_clip_level *lv = &bl->level;
     const size_t nx = lv->nx, ny = lv->ny, k = view ? bl->view_k : 1;
     /* the facets' moments: the frame's, rows south first */
-    const sea_moments *south = sea_heightfield_moments(sea_multires_frame_level(f, lv->level));
+    const sea_facet *south = sea_heightfield_facets(sea_multires_frame_level(f, lv->level));
     const size_t cols = k * nx, rows = k * ny;
     const double cell = lv->facet / (double)k;
     const sea_scene *sc = sea_render_scene(r);
@@ -265,8 +263,8 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
             if (!view)
                 texel_dirs(cam, sun_vec, x, y, &obs, &sun);
             if (!view) {
-                s1 = texel_optics(r, &south[(ny - 1 - R) * nx + i], obs, sun, &bl->optics[q], bl,
-                                  i, R, &e1);
+                s1 = texel_optics(r, sea_facet_stats(&south[(ny - 1 - R) * nx + i]), obs, sun,
+                                  &bl->optics[q], bl, i, R, &e1);
             } else {
                 sea_multires_sample vs;
                 double u, v;
@@ -277,8 +275,8 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
                 sea_pixel_geom g;
                 memcpy(g.normal, vs.normal, sizeof g.normal);
                 sea_facet_optics o;
-                s1 = texel_optics(r, &vs.moments, vs.obs, sea_camera_local_dir(&g, sun_vec), &o,
-                                  bl, i, R, &e1);
+                s1 = texel_optics(r, sea_moments_stats(&vs.moments), vs.obs,
+                                  sea_camera_local_dir(&g, sun_vec), &o, bl, i, R, &e1);
                 bl->view[q] = (float)o.radiance;
             }
             if (s1 != SEA_OK) {

@@ -141,12 +141,12 @@ typedef struct {
     sea_level_blend blend;
     double k[8], ux[8], uy[8], s[8];
 } sea_multires_hint;
-/* multires.c: turns the rows of level `level`'s facet moments (a
+/* multires.c: turns the rows of level `level`'s facets (a
  * high-resolution level of f) upside down in place and returns them: north
  * first after one call, south first again after the next.  While they are
  * north first nothing may read f's surfaces (the bake hands them to its
  * caller so). */
-SEA_INTERNAL sea_moments *sea_multires_frame_flip_rows(sea_multires_frame *f, int level);
+SEA_INTERNAL sea_facet *sea_multires_frame_flip_rows(sea_multires_frame *f, int level);
 SEA_INTERNAL void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, int j,
                                             const sea_multires_hint *below,
                                             sea_multires_hint *top, sea_multires_sample *out);

@@ -597,6 +597,29 @@ typedef struct {
  * round-off (diagonal >= 0, |xy| <= sqrt(xx yy)).  Pure. */
 sea_slope_stats sea_moments_stats(const sea_moments *mo);
 
+/* A facet's moments as heightfields, frames and bakes keep them, in 32
+ * bytes instead of sea_moments' 48: the mean height h (m) in double, and
+ * the mean slope (mx, my) and the covariance C = M - m m^T as
+ * sea_moments_stats makes it (cxx, cxy, cyy), each the float nearest its
+ * double.  Keeping C rather than M keeps C's relative precision (6e-8)
+ * however large the mean slope is against the spread; the height stays
+ * double because the surface's crests decide which facet a grazing ray
+ * meets (a float height moved 0.02 % of the pixels of a mast view at
+ * 1920 x 1080 by more than 1e-6, up to 2.5e-5; in double none). */
+typedef struct {
+    double h;
+    float mx, my, cxx, cxy, cyy;
+    float zero; /* 0: the struct's 32 bytes all defined (files, MPI and memcmp see them) */
+} sea_facet;
+
+/* The facet of moments mo (the slopes rounded to float).  Pure. */
+sea_facet sea_facet_of(const sea_moments *mo);
+/* Its raw moments in double: mxx = mx^2 + C_xx, mxy = mx my + C_xy, ...  Pure. */
+sea_moments sea_facet_moments(const sea_facet *f);
+/* Its statistics, C made positive semi-definite again against the
+ * rounding (diagonal >= 0, |xy| <= sqrt(xx yy)).  Pure. */
+sea_slope_stats sea_facet_stats(const sea_facet *f);
+
 /* The two generators of one seeded realisation of the waves above a facet. */
 typedef enum {
     SEA_WAVES_SINUSOIDS = 0, /* sum of sinusoids, any facet size and place */
@@ -951,12 +974,17 @@ void sea_response_free(sea_response *r);
  * creation: any number of threads may query it. */
 typedef struct sea_heightfield sea_heightfield;
 
-/* nx, ny >= 2; m: nx ny finite moments, row j (south first) then x, copied. */
+/* nx, ny >= 2; m: nx ny finite moments, row j (south first) then x, kept
+ * as sea_facet (float). */
 sea_status sea_heightfield_alloc(const sea_rect *r, const sea_moments *m, sea_heightfield **out,
                                  sea_error *err);
+/* The same from facets (sea_facet), copied as they are. */
+sea_status sea_heightfield_alloc_facets(const sea_rect *r, const sea_facet *f,
+                                        sea_heightfield **out, sea_error *err);
 void sea_heightfield_free(sea_heightfield *hf);
-/* Its facets' moments, as given (rows south first). */
-const sea_moments *sea_heightfield_moments(const sea_heightfield *hf);
+/* Its facets (rows south first): the moments given, as sea_facet_of
+ * rounds them.  The surface passes through these. */
+const sea_facet *sea_heightfield_facets(const sea_heightfield *hf);
 /* The moments of the surface point above map point (x, y); h is its height. */
 sea_moments sea_heightfield_at(const sea_heightfield *hf, double x, double y);
 /* Bounds of its height (from the convex hulls of the patches' Bezier
@@ -1060,7 +1088,7 @@ sea_status sea_multires_frame_alloc(const sea_multires *mr, double t, sea_progre
                                     void *ctx, sea_multires_frame **out, sea_error *err);
 void sea_multires_frame_free(sea_multires_frame *f);
 /* Level `level`'s surface (by exponent, as sea_clip_level.level; its
- * facets' moments through sea_heightfield_moments), NULL for levels that
+ * facets through sea_heightfield_facets), NULL for levels that
  * are low-resolution or not used. */
 const sea_heightfield *sea_multires_frame_level(const sea_multires_frame *f, int level);
 
@@ -1231,7 +1259,8 @@ enum { SEA_BAKE_VIEW_K_MAX = 7 };
  * `lr_optics` holds its optics toward the image centre. */
 typedef struct {
     sea_clip_level level;
-    sea_moments *moments;     /* nx ny, from sea_waves_facets with level.sub_n */
+    sea_facet *moments;       /* nx ny, from sea_waves_facets with level.sub_n (the
+                                 frame's surfaces' facets, sea_facet_of) */
     sea_facet_optics *optics; /* nx ny, toward the sensor from each texel centre */
     size_t view_k;            /* view texels per facet side */
     float *view;              /* (k nx) x (k ny), rows north first: the radiance the

@@ -135,6 +135,35 @@ sea_slope_stats sea_moments_stats(const sea_moments *mo)
     return st;
 }
 
+_Static_assert(sizeof(sea_facet) == 32, "sea_facet: 32 bytes, none of them padding");
+
+sea_facet sea_facet_of(const sea_moments *mo)
+{
+    const sea_slope_stats st = sea_moments_stats(mo);
+    const sea_facet f = { mo->h,          (float)mo->mx,    (float)mo->my,
+                          (float)st.cov.xx, (float)st.cov.xy, (float)st.cov.yy, 0.0f };
+    return f;
+}
+
+sea_moments sea_facet_moments(const sea_facet *f)
+{
+    const double mx = f->mx, my = f->my;
+    const sea_moments mo = { mx, my, mx * mx + f->cxx, mx * my + f->cxy, my * my + f->cyy, f->h };
+    return mo;
+}
+
+sea_slope_stats sea_facet_stats(const sea_facet *f)
+{
+    sea_slope_stats st;
+    st.mean.x = f->mx;
+    st.mean.y = f->my;
+    st.cov.xx = fmax(f->cxx, 0.0);
+    st.cov.yy = fmax(f->cyy, 0.0);
+    const double lim = sqrt(st.cov.xx * st.cov.yy);
+    st.cov.xy = fmin(fmax(f->cxy, -lim), lim);
+    return st;
+}
+
 /* splitmix64: decorrelates (seed, stream) into a generator seed. */
 static uint64_t mix64(uint64_t z)
 {

@@ -58,7 +58,7 @@ static size_t count_hr(const sea_bake *b)
 }
 
 /* Texel (i, row) is facet (i0 + i, j0 + ny - 1 - row) of the very same
- * sea_waves_facets call: equal bit for bit.  Low-resolution levels have no
+ * sea_waves_facets call, as sea_facet_of keeps it: equal bit for bit.  Low-resolution levels have no
  * texels and carry m = 0, C = C_LR. */
 static void test_moments_exact(void)
 {
@@ -92,8 +92,10 @@ static void test_moments_exact(void)
                               SEA_OK);
         size_t diff = 0;
         for (size_t row = 0; row < lv->ny; row++)
-            diff += memcmp(bl->moments + row * lv->nx, ref + (lv->ny - 1 - row) * lv->nx,
-                           lv->nx * sizeof *ref) != 0;
+            for (size_t i = 0; i < lv->nx; i++) {
+                const sea_facet want = sea_facet_of(&ref[(lv->ny - 1 - row) * lv->nx + i]);
+                diff += memcmp(&bl->moments[row * lv->nx + i], &want, sizeof want) != 0;
+            }
         CU_ASSERT_EQUAL(diff, 0);
         free(ref);
     }
@@ -104,8 +106,10 @@ static void test_moments_exact(void)
 
 /* LEAN across levels.  With sub-facets of the finest size at every level
  * (variable-step-2n, n >= every level: sub_n = l), the texel of level l+1
- * is the mean of the 2 x 2 level-l texels it covers, to round-off (1e-12
- * of the second moments).  With Variable Step this cannot hold: the coarse
+ * is the mean of the 2 x 2 level-l texels it covers, to the float each
+ * texel is kept in (sea_facet: 2^-24 relative a value, of the fine ones
+ * and of the coarse one; the tolerance is 4 such roundings of their sizes,
+ * |mx my| + |C_xy| <= sqrt(mxx myy) for mxy).  With Variable Step this cannot hold: the coarse
  * level's slope is taken from waves |k| <= pi/2L only and its C covers the
  * waves between pi/2L and pi/L that the fine level resolves; what holds
  * there is that both levels use the same realisation: the 2 x 2 mean of the
@@ -134,26 +138,35 @@ static void test_lean_across_levels(void)
                 const long fi = 2 * ci - lf->i0, fj = 2 * cj - lf->j0;
                 if (fi < 0 || fj < 0 || fi + 1 >= (long)lf->nx || fj + 1 >= (long)lf->ny)
                     continue;
-                sea_moments avg = { 0 };
+                sea_moments avg = { 0 }, mag = { 0 };
                 for (int dj = 0; dj < 2; dj++)
                     for (int di = 0; di < 2; di++) {
                         const size_t row = lf->ny - 1 - (size_t)(fj + dj);
-                        const sea_moments *m = &f->moments[row * lf->nx + (size_t)(fi + di)];
-                        avg.mx += 0.25 * m->mx;
-                        avg.my += 0.25 * m->my;
-                        avg.mxx += 0.25 * m->mxx;
-                        avg.myy += 0.25 * m->myy;
-                        avg.mxy += 0.25 * m->mxy;
-                        avg.h += 0.25 * m->h;
+                        const sea_moments m =
+                            sea_facet_moments(&f->moments[row * lf->nx + (size_t)(fi + di)]);
+                        avg.mx += 0.25 * m.mx;
+                        avg.my += 0.25 * m.my;
+                        avg.mxx += 0.25 * m.mxx;
+                        avg.myy += 0.25 * m.myy;
+                        avg.mxy += 0.25 * m.mxy;
+                        avg.h += 0.25 * m.h;
+                        mag.mx += 0.25 * fabs(m.mx);
+                        mag.my += 0.25 * fabs(m.my);
+                        mag.mxx += 0.25 * m.mxx;
+                        mag.myy += 0.25 * m.myy;
+                        mag.mxy += 0.25 * sqrt(m.mxx * m.myy);
+                        mag.h += 0.25 * fabs(m.h);
                     }
-                const sea_moments *m = &c->moments[(lc->ny - 1 - jc) * lc->nx + ic];
-                const double s = m->mxx + m->myy;
-                ASSERT_ABS(avg.mx, m->mx, 1e-12 * s + 1e-15);
-                ASSERT_ABS(avg.my, m->my, 1e-12 * s + 1e-15);
-                ASSERT_ABS(avg.mxx, m->mxx, 1e-12 * s);
-                ASSERT_ABS(avg.myy, m->myy, 1e-12 * s);
-                ASSERT_ABS(avg.mxy, m->mxy, 1e-12 * s);
-                ASSERT_ABS(avg.h, m->h, 1e-9);
+                const sea_moments cm =
+                    sea_facet_moments(&c->moments[(lc->ny - 1 - jc) * lc->nx + ic]);
+                const sea_moments *m = &cm;
+                const double u = 4.0 * 0x1p-24;
+                ASSERT_ABS(avg.mx, m->mx, u * (mag.mx + fabs(m->mx)) + 1e-15);
+                ASSERT_ABS(avg.my, m->my, u * (mag.my + fabs(m->my)) + 1e-15);
+                ASSERT_ABS(avg.mxx, m->mxx, u * (mag.mxx + m->mxx));
+                ASSERT_ABS(avg.myy, m->myy, u * (mag.myy + m->myy));
+                ASSERT_ABS(avg.mxy, m->mxy, u * (mag.mxy + sqrt(m->mxx * m->myy)));
+                ASSERT_ABS(avg.h, m->h, u * (mag.h + fabs(m->h)) + 1e-9);
                 checked++;
             }
     }
@@ -185,7 +198,7 @@ static void test_derived_maps(void)
         if (bl->level.low_res)
             continue;
         for (size_t q = 0; q < bl->level.nx * bl->level.ny; q++, total++) {
-            const sea_moments *m = &bl->moments[q];
+            const sea_moments mo = sea_facet_moments(&bl->moments[q]), *m = &mo;
             double n[3];
             sea_bake_normal(m, n);
             if (fabs(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0) > 1e-14 || !(n[2] > 0.0) ||

@@ -583,6 +583,46 @@ static void test_moments_stats(void)
     ASSERT_REL(st.cov.yy, 1e-6, 1e-9, 0.0);
 }
 
+/* Facets (sea_facet) keep the height exactly and the slopes' mean and
+ * covariance to a float each: a covariance of 1e-6 under a mean slope of
+ * 0.3 (raw second moment 0.09, where a float of M would leave C to 1e-2)
+ * comes back within 2^-24 relative (6e-8); statistics come back positive
+ * semi-definite even where the rounding pushes |C_xy| past sqrt(C_xx C_yy);
+ * every byte is defined (the padding field is 0). */
+static void test_facets(void)
+{
+    const double cxx = 1e-6, cyy = 3e-6, cxy = -1.7e-6, mx = 0.3, my = -0.25, h = 1.234567890123;
+    const sea_moments m = { mx, my, mx * mx + cxx, mx * my + cxy, my * my + cyy, h };
+    const sea_facet f = sea_facet_of(&m);
+    CU_ASSERT_EQUAL(sizeof f, 32u);
+    CU_ASSERT(f.h == h);
+    CU_ASSERT(f.zero == 0.0f);
+    const sea_slope_stats st = sea_facet_stats(&f);
+    /* the double subtraction M - m m^T itself loses 0.09 x 2^-53 / 1e-6 =
+     * 1e-11 relative; the float 6e-8 */
+    ASSERT_REL(st.mean.x, mx, 6e-8, 0.0);
+    ASSERT_REL(st.mean.y, my, 6e-8, 0.0);
+    ASSERT_REL(st.cov.xx, cxx, 6e-8, 0.0);
+    ASSERT_REL(st.cov.yy, cyy, 6e-8, 0.0);
+    ASSERT_REL(st.cov.xy, cxy, 6e-8, 0.0);
+    const sea_moments back = sea_facet_moments(&f);
+    const sea_slope_stats st2 = sea_moments_stats(&back);
+    ASSERT_REL(st2.cov.xx, cxx, 1e-7, 0.0);
+    CU_ASSERT(back.h == h);
+    /* |C_xy| = sqrt(C_xx C_yy) in double, past it in float */
+    const double exx = 3.0 / 7.0, eyy = 1.1;
+    const sea_moments edge = { 0.0, 0.0, exx, sqrt(exx * eyy), eyy, 0.0 };
+    const sea_facet fe = sea_facet_of(&edge);
+    CU_ASSERT((double)fe.cxy * fe.cxy > (double)fe.cxx * fe.cyy);
+    const sea_slope_stats se = sea_facet_stats(&fe);
+    sea_error err;
+    CU_ASSERT_EQUAL(sea_slope_stats_check(&se, &err), SEA_OK);
+    CU_ASSERT(se.cov.xy * se.cov.xy <= se.cov.xx * se.cov.yy);
+    unsigned char bytes[sizeof fe];
+    memcpy(bytes, &fe, sizeof fe);
+    CU_ASSERT(bytes[28] == 0 && bytes[29] == 0 && bytes[30] == 0 && bytes[31] == 0);
+}
+
 int test_waves_register(void)
 {
     CU_pSuite s = CU_add_suite("waves", NULL, NULL);
@@ -600,5 +640,6 @@ int test_waves_register(void)
            !CU_add_test(s, "loop period", test_loop_period) ||
            !CU_add_test(s, "HR converges to LR (Fig. 5-6)", test_convergence_to_low_resolution) ||
            !CU_add_test(s, "bad input", test_bad_input) ||
-           !CU_add_test(s, "moments to stats", test_moments_stats);
+           !CU_add_test(s, "moments to stats", test_moments_stats) ||
+           !CU_add_test(s, "facets: float slopes, double height", test_facets);
 }

@@ -317,7 +317,7 @@ static void hsv_rgb(double h, double sat, double v, float rgb[3])
 
 static double texel_value(const sea_bake_level *bl, size_t q, bake_quantity k, double scale)
 {
-    const sea_moments *m = &bl->moments[q];
+    const sea_moments mo = sea_facet_moments(&bl->moments[q]), *m = &mo;
     const sea_facet_optics *o = &bl->optics[q];
     double n[3], r[3];
     switch (k) {
@@ -422,14 +422,16 @@ static void fill_group(const sea_bake_level *bl, size_t g, double scale,
     } else if (q0 == Q_NX) {
         for (size_t q = 0; q < n; q++) {
             double nn[3];
-            sea_bake_normal(&bl->moments[q], nn);
+            const sea_moments m = sea_facet_moments(&bl->moments[q]);
+            sea_bake_normal(&m, nn);
             for (int c = 0; c < 3; c++)
                 out[c][q] = (float)(0.5 * (nn[c] + 1.0));
         }
     } else if (q0 == Q_ROUGHNESS) {
         for (size_t q = 0; q < n; q++) {
             double r[3];
-            sea_bake_roughness(&bl->moments[q], &r[0], &r[1], &r[2]);
+            const sea_moments m = sea_facet_moments(&bl->moments[q]);
+            sea_bake_roughness(&m, &r[0], &r[1], &r[2]);
             for (int c = 0; c < 3; c++)
                 out[c][q] = (float)r[c];
         }
@@ -892,7 +894,7 @@ static sea_status level_heights(const sea_camera *cam, const sea_bake_level *bl,
      * (beyond the outer rows the surface continues from the outer cell), so
      * the whole level's surface is never held twice */
     const size_t strip = ny - 1 < BAKE_HEIGHT_STRIP ? ny - 1 : BAKE_HEIGHT_STRIP;
-    sea_moments *south = malloc((strip + 1) * nx * sizeof *south);
+    sea_facet *south = malloc((strip + 1) * nx * sizeof *south);
     float *z = malloc(W * H * sizeof *z);
     if (south == NULL || z == NULL)
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the heights of level %d", lv->level);
@@ -902,7 +904,7 @@ static sea_status level_heights(const sea_camera *cam, const sea_bake_level *bl,
             memcpy(south + (j - j0) * nx, bl->moments + (ny - 1 - j) * nx, nx * sizeof *south);
         const sea_rect rect = {lv->facet, lv->i0, lv->j0 + (long)j0, nx, j1 - j0 + 1};
         sea_heightfield *hf = NULL;
-        if ((st = sea_heightfield_alloc(&rect, south, &hf, err)) != SEA_OK)
+        if ((st = sea_heightfield_alloc_facets(&rect, south, &hf, err)) != SEA_OK)
             break;
         const double step = lv->facet / (double)S;
 #pragma omp parallel for schedule(static)
@@ -1724,7 +1726,7 @@ static sea_status bake_send_frames(const bake_setup *s, const sea_render *r, sea
 
 /* Rank 0's buffers for the levels of the others' frames: the largest level. */
 typedef struct {
-    sea_moments *moments;
+    sea_facet *moments;
     sea_facet_optics *optics;
     float *view;
 } bake_inbox;
