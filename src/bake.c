@@ -394,8 +394,8 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     sea_multires_frame *f = NULL;
     sea_bake_level spare; /* (level_arrays) */
     memset(&spare, 0, sizeof spare);
-    st = sea_multires_frame_alloc(sea_render_multires(r), t, progress != NULL ? synth_report : NULL,
-                                  &sp, &f, err);
+    st = sea_multires_frame_alloc_lean(sea_render_multires(r), t,
+                                       progress != NULL ? synth_report : NULL, &sp, &f, err);
     if (st == SEA_OK)
         PROGRESS(synth);
     /* the sensor's image from the same surfaces, before the levels' maps

@@ -141,6 +141,13 @@ typedef struct {
     sea_level_blend blend;
     double k[8], ux[8], uy[8], s[8];
 } sea_multires_hint;
+/* multires.c: sea_multires_frame_alloc, but the frame's surfaces keep no
+ * bounds of their finest cells (8 bytes a facet, 200 MB at six levels of
+ * 2048^2) and compute them from the facets as the march asks, bit for bit
+ * the same: the same answers, a few % slower (the bake's frames). */
+SEA_INTERNAL sea_status sea_multires_frame_alloc_lean(const sea_multires *mr, double t,
+                                                      sea_progress_fn progress, void *ctx,
+                                                      sea_multires_frame **out, sea_error *err);
 /* multires.c: turns the rows of level `level`'s facets (a
  * high-resolution level of f) upside down in place and returns them: north
  * first after one call, south first again after the next.  While they are

@@ -509,7 +509,9 @@ static void test_each_level(void)
 }
 
 /* sea_bake_frame_image: the sensor's image is sea_render_frame's bit for
- * bit (every channel; rendered from the bake's own surfaces), and the
+ * bit (every channel; rendered from the bake's own surfaces, which keep no
+ * bounds of their finest cells and compute them as the march asks, where
+ * the render's frame stores them: the same bounds to the bit), and the
  * levels are sea_bake_frame_each's (each_level compares them with a whole
  * bake's); an image of the wrong size is refused with nothing to free. */
 static void test_frame_image(void)
