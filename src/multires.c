@@ -331,13 +331,10 @@ static inline float float_above(float f)
     return f;
 }
 
-/* cell_bounds rounded outward to float: what the pyramid's finest level
- * would hold. */
-static inline void cell_bounds_f(const sea_heightfield *hf, size_t i, size_t j, float *lo,
-                                 float *hi)
+/* [a, b] rounded outward to float: the largest float <= a, the smallest
+ * >= b. */
+static inline void round_out(double a, double b, float *lo, float *hi)
 {
-    double a, b;
-    cell_bounds(hf, i, j, &a, &b);
     float fa = (float)a, fb = (float)b;
     if ((double)fa > a)
         fa = float_below(fa);
@@ -345,6 +342,16 @@ static inline void cell_bounds_f(const sea_heightfield *hf, size_t i, size_t j, 
         fb = float_above(fb);
     *lo = fa;
     *hi = fb;
+}
+
+/* cell_bounds rounded outward to float: what the pyramid's finest level
+ * holds. */
+static inline void cell_bounds_f(const sea_heightfield *hf, size_t i, size_t j, float *lo,
+                                 float *hi)
+{
+    double a, b;
+    cell_bounds(hf, i, j, &a, &b);
+    round_out(a, b, lo, hi);
 }
 
 /* Bounds of cell (i, j) of pyramid level k. */
@@ -570,7 +577,7 @@ static inline size_t cell_index(double f, size_t ncell)
  * the one sign where on one (the same doubles cell_bounds adds: +-L3 mx is
  * exact either way).  Rounding down to float is monotone, so the least of
  * the cells' rounded bounds is the rounded least: these are hf_bound's
- * values bit for bit, from at most 3 x 3 nodes instead of 4 x 4 reads. */
+ * values bit for bit, from at most 3 x 3 nodes instead of 4 cells' 16. */
 static void finest_bound(const sea_heightfield *hf, size_t ca, size_t cb, size_t ra, size_t rb,
                          double *lo, double *hi)
 {
@@ -591,11 +598,8 @@ static void finest_bound(const sea_heightfield *hf, size_t ca, size_t cb, size_t
             b = max2(b, q[i].h + xmax + ymax);
         }
     }
-    float fa = (float)a, fb = (float)b;
-    if ((double)fa > a)
-        fa = float_below(fa);
-    if ((double)fb < b)
-        fb = float_above(fb);
+    float fa, fb;
+    round_out(a, b, &fa, &fb);
     *lo = fa;
     *hi = fb;
 }

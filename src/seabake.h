@@ -975,7 +975,8 @@ void sea_response_free(sea_response *r);
 typedef struct sea_heightfield sea_heightfield;
 
 /* nx, ny >= 2; m: nx ny finite moments, row j (south first) then x, kept
- * as sea_facet (float). */
+ * as sea_facet_of makes them (a slope beyond float's range is
+ * SEA_ERR_DOMAIN). */
 sea_status sea_heightfield_alloc(const sea_rect *r, const sea_moments *m, sea_heightfield **out,
                                  sea_error *err);
 /* The same from facets (sea_facet), copied as they are. */
