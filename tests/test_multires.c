@@ -516,23 +516,34 @@ static void test_hinted_rows(void)
  * heights stand along the local vertical of the sphere, so the point met,
  * at `range` along the pixel's ray from the sensor, stands above its map
  * point by the surface's height there, measured from the sphere's centre
- * (to 1e-6 m). */
+ * (to 1e-6 m).  A bake's lean frame (sea_multires_frame_alloc_lean: no
+ * stored bounds of the finest cells, computed as the march asks) answers
+ * every query bit for bit as the render's frame does, at pixel centres and
+ * between them. */
 static void test_query(void)
 {
     for (int earth = 0; earth < 2; earth++) {
         sea_scene sc = grazing_scene(earth, 84.0);
         sea_render *r;
-        sea_multires_frame *f;
+        sea_multires_frame *f, *lean = NULL;
         prepare_frame(&sc, &r, &f);
+        sea_error err;
+        CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc_lean(sea_render_multires(r), sc.time, NULL,
+                                                            NULL, &lean, &err),
+                              SEA_OK);
         const sea_camera *cam = sea_render_camera(r);
-        size_t sea = 0, same = 0, one = 0, sky = 0;
+        size_t sea = 0, same = 0, one = 0, sky = 0, lean_same = 0;
         double worst = 0.0;
         for (int j = 0; j < sc.height; j++)
             for (int i = 0; i < sc.width; i++) {
-                sea_multires_sample a, b;
+                sea_multires_sample a, b, c, e;
                 sea_multires_pixel(f, i, j, &a);
                 sea_multires_look(f, i + 0.5, j + 0.5, &b);
                 same += memcmp(&a, &b, sizeof a) == 0;
+                sea_multires_look(lean, i + 0.5, j + 0.5, &c);
+                sea_multires_look(f, i + 0.25, j + 0.75, &b);
+                sea_multires_look(lean, i + 0.25, j + 0.75, &e);
+                lean_same += memcmp(&a, &c, sizeof a) == 0 && memcmp(&b, &e, sizeof b) == 0;
                 if (!a.hit) {
                     sky++;
                     continue;
@@ -561,9 +572,12 @@ static void test_query(void)
                 one++;
             }
         MEASURED("query (%s earth): %zu sea pixels, %zu sky, look = pixel for %zu of %d; %zu "
-                 "one-ray pixels on the surface to %.1e m\n",
-                 earth ? "spherical" : "flat", sea, sky, same, sc.width * sc.height, one, worst);
+                 "one-ray pixels on the surface to %.1e m; lean frame = frame for %zu\n",
+                 earth ? "spherical" : "flat", sea, sky, same, sc.width * sc.height, one, worst,
+                 lean_same);
         CU_ASSERT_EQUAL(same, (size_t)(sc.width * sc.height));
+        CU_ASSERT_EQUAL(lean_same, (size_t)(sc.width * sc.height));
+        sea_multires_frame_free(lean);
         CU_ASSERT(sea > 0 && sky > 0);
         CU_ASSERT(one > 10);
         CU_ASSERT(worst < 1e-6);
