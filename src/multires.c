@@ -467,6 +467,19 @@ static sea_status hf_adopt(const sea_rect *r, sea_facet *m, int lazy, sea_height
     return SEA_OK;
 }
 
+/* n facets of the moments m (sea_facet_of), malloc'd; NULL when out of
+ * memory. */
+static sea_facet *facets_of(const sea_moments *m, size_t n)
+{
+    sea_facet *facets = malloc(n * sizeof *facets);
+    if (facets != NULL) {
+#pragma omp parallel for schedule(static)
+        for (size_t q = 0; q < n; q++)
+            facets[q] = sea_facet_of(&m[q]);
+    }
+    return facets;
+}
+
 static sea_status hf_check_rect(const sea_rect *r, sea_error *err)
 {
     if (!(r->step > 0.0) || !isfinite(r->step))
@@ -503,11 +516,9 @@ sea_status sea_heightfield_alloc(const sea_rect *r, const sea_moments *m, sea_he
         if (!isfinite(m[q].h) || !isfinite(m[q].mx) || !isfinite(m[q].my) ||
             !isfinite(m[q].mxx) || !isfinite(m[q].mxy) || !isfinite(m[q].myy))
             return sea_fail(err, SEA_ERR_DOMAIN, "moments of facet %zu are not finite", q);
-    sea_facet *facets = malloc(r->nx * r->ny * sizeof *facets);
+    sea_facet *facets = facets_of(m, r->nx * r->ny);
     if (facets == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu x %zu facets", r->nx, r->ny);
-    for (size_t q = 0; q < r->nx * r->ny; q++)
-        facets[q] = sea_facet_of(&m[q]);
     return hf_adopt_checked(r, facets, out, err);
 }
 
@@ -567,6 +578,24 @@ static inline size_t cell_index(double f, size_t ncell)
     return (size_t)f;
 }
 
+/* A node's slope term d = L3 m along one axis, at the corners it has in
+ * the cells queried (low: on a cell's low side, sign +; high: on a cell's
+ * high side, sign -): the least and the greatest of min(+-d, 0) and
+ * max(+-d, 0) over them. */
+static inline void side_terms(double d, int low, int high, double *lo, double *hi)
+{
+    if (low && high) {
+        *lo = -fabs(d);
+        *hi = fabs(d);
+    } else if (low) {
+        *lo = min2(d, 0.0);
+        *hi = max2(d, 0.0);
+    } else {
+        *lo = min2(-d, 0.0);
+        *hi = max2(-d, 0.0);
+    }
+}
+
 /* The finest level's bounds over cells ca..cb x ra..rb (at most 2 x 2),
  * none of them on the border (no linear continuation): the smallest and
  * largest of cell_bounds_f over them, without computing each cell.  A
@@ -587,13 +616,9 @@ static void finest_bound(const sea_heightfield *hf, size_t ca, size_t cb, size_t
         const int ylow = j <= rb, yhigh = j > ra; /* corner on a cell's low / high side */
         const sea_facet *q = hf->m + j * hf->nx;
         for (size_t i = ca; i <= cb + 1; i++) {
-            const int xlow = i <= cb, xhigh = i > ca;
-            const double dx = L3 * q[i].mx, dy = L3 * q[i].my;
-            /* low side: +d, high side: -d */
-            const double xmin = xlow && xhigh ? -fabs(dx) : xlow ? min2(dx, 0.0) : min2(-dx, 0.0);
-            const double xmax = xlow && xhigh ? fabs(dx) : xlow ? max2(dx, 0.0) : max2(-dx, 0.0);
-            const double ymin = ylow && yhigh ? -fabs(dy) : ylow ? min2(dy, 0.0) : min2(-dy, 0.0);
-            const double ymax = ylow && yhigh ? fabs(dy) : ylow ? max2(dy, 0.0) : max2(-dy, 0.0);
+            double xmin, xmax, ymin, ymax;
+            side_terms(L3 * q[i].mx, i <= cb, i > ca, &xmin, &xmax);
+            side_terms(L3 * q[i].my, ylow, yhigh, &ymin, &ymax);
             a = min2(a, q[i].h + xmin + ymin);
             b = max2(b, q[i].h + xmax + ymax);
         }
@@ -1784,17 +1809,13 @@ static sea_status frame_alloc(const sea_multires *mr, double t, sea_progress_fn 
         st = sea_waves_facets(mr->waves, &rect, lv->sub_n, t, m, err);
         /* kept as facets (sea_facet: the slopes in float), 16 bytes a
          * node less (400 MB at six levels of 2048^2) */
-        sea_facet *facets = st == SEA_OK ? malloc(lv->nx * lv->ny * sizeof *facets) : NULL;
+        sea_facet *facets = st == SEA_OK ? facets_of(m, lv->nx * lv->ny) : NULL;
+        free(m);
         if (facets == NULL) {
-            free(m);
             if (st == SEA_OK)
                 st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for level %d", l);
             break;
         }
-#pragma omp parallel for schedule(static)
-        for (size_t q = 0; q < lv->nx * lv->ny; q++)
-            facets[q] = sea_facet_of(&m[q]);
-        free(m);
         st = hf_adopt(&rect, facets, lazy, &f->hf[l], err);
         const double L = lv->facet, band = edge_band(lv) * L;
         mr_window *w = &f->win[l];

@@ -123,16 +123,24 @@ sea_status sea_check_size(size_t count, size_t size, const char *what, sea_error
     return SEA_OK;
 }
 
-sea_slope_stats sea_moments_stats(const sea_moments *mo)
+/* Statistics of mean (mx, my) and covariance (xx, xy, yy) made positive
+ * semi-definite against round-off: diagonal >= 0, |xy| <= sqrt(xx yy). */
+static sea_slope_stats stats_psd(double mx, double my, double xx, double xy, double yy)
 {
     sea_slope_stats st;
-    st.mean.x = mo->mx;
-    st.mean.y = mo->my;
-    st.cov.xx = fmax(mo->mxx - mo->mx * mo->mx, 0.0);
-    st.cov.yy = fmax(mo->myy - mo->my * mo->my, 0.0);
-    const double xy = mo->mxy - mo->mx * mo->my, lim = sqrt(st.cov.xx * st.cov.yy);
+    st.mean.x = mx;
+    st.mean.y = my;
+    st.cov.xx = fmax(xx, 0.0);
+    st.cov.yy = fmax(yy, 0.0);
+    const double lim = sqrt(st.cov.xx * st.cov.yy);
     st.cov.xy = fmin(fmax(xy, -lim), lim);
     return st;
+}
+
+sea_slope_stats sea_moments_stats(const sea_moments *mo)
+{
+    return stats_psd(mo->mx, mo->my, mo->mxx - mo->mx * mo->mx, mo->mxy - mo->mx * mo->my,
+                     mo->myy - mo->my * mo->my);
 }
 
 _Static_assert(sizeof(sea_facet) == 32, "sea_facet: 32 bytes, none of them padding");
@@ -154,14 +162,7 @@ sea_moments sea_facet_moments(const sea_facet *f)
 
 sea_slope_stats sea_facet_stats(const sea_facet *f)
 {
-    sea_slope_stats st;
-    st.mean.x = f->mx;
-    st.mean.y = f->my;
-    st.cov.xx = fmax(f->cxx, 0.0);
-    st.cov.yy = fmax(f->cyy, 0.0);
-    const double lim = sqrt(st.cov.xx * st.cov.yy);
-    st.cov.xy = fmin(fmax(f->cxy, -lim), lim);
-    return st;
+    return stats_psd(f->mx, f->my, f->cxx, f->cxy, f->cyy);
 }
 
 /* splitmix64: decorrelates (seed, stream) into a generator seed. */

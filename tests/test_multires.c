@@ -385,7 +385,7 @@ static void prepare_frame(const sea_scene *sc, sea_render **r, sea_multires_fram
  * block of level l is the moments of the level l + 1 facet they tile
  * (one-meter: both are box averages of the same 1 m sub-facets, and the
  * sub-facet covariance C_<1m is the same), to the float the frame keeps
- * each value in (sea_facet: 2^-24 = 6e-8 relative; the average of four
+ * each slope value in (sea_facet: 2^-24 = 6e-8 relative; the average of four
  * and the coarse facet each round once, so 1e-6 of the values' size is 16
  * of those roundings), and at a facet centre exactly in double arithmetic
  * (1e-12). */
