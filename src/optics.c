@@ -1252,9 +1252,12 @@ static void emissivity_of_nodes_n(const fixed_nodes *nd, const emis_ctx *ec, siz
  * tables are nearly linearly dependent (water over 3-5 um: singular values
  * 1, 3.4e-2, 1.9e-3, 5.5e-5, 1.6e-5, 5.1e-7, 3.1e-8, 2.2e-10 of the
  * first), so the singular value decomposition of the matrix of their
- * cubics' coefficients gives functions B_r (left singular vectors) and
- * weights A_kr (singular value times right singular vector); each B_r is
- * put on the basis's coarser intervals (the cubic through its values at
+ * cubics' coefficients gives functions B_r = sum_k A_kr rho_k (the
+ * singular value times the left singular vector) and weights A_kr (the
+ * right singular vectors, from the n x n triangle of the matrix's QR
+ * factorisation: a third of the instructions of decomposing the 8192 x n
+ * matrix itself, and no left vector formed); each B_r is put on the basis's
+ * coarser intervals (the cubic through its values at
  * 0, 1/3, 2/3 and 1 of each), and the rank is the smallest whose sum_r
  * A_kr B_r is within SEA_BASIS_TOL of every table at 4 points of each of
  * the table's intervals (the reflectance is smooth in cos psi: an index
@@ -1281,11 +1284,22 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
     const int max_rank = (int)n < SEA_BASIS_RANK_MAX ? (int)n : SEA_BASIS_RANK_MAX;
     const int max_lanes = (max_rank + 3) & ~3;
     spectral_basis *b = calloc(1, sizeof *b);
+    /* a basis of 4 lanes at least halves the lookups of 8 indices or more
+     * only: below, none (no decomposition to make) */
+    if (n < 8) {
+        if (b != NULL) {
+            b->n = n;
+            for (size_t k = 0; k < n; k++)
+                b->N[k] = ec[k].N;
+        }
+        return b;
+    }
     gsl_matrix *X = gsl_matrix_alloc(C, n);
-    gsl_matrix *V = gsl_matrix_alloc(n, n);
-    gsl_vector *S = gsl_vector_alloc(n), *work = gsl_vector_alloc(n);
+    gsl_matrix *T = gsl_matrix_calloc(n, n), *V = gsl_matrix_alloc(n, n);
+    gsl_vector *S = gsl_vector_alloc(n), *tau = gsl_vector_alloc(n);
     double *c = calloc((size_t)MB * 4 * (size_t)max_lanes, sizeof *c);
-    int ok = b != NULL && X != NULL && V != NULL && S != NULL && work != NULL && c != NULL;
+    int ok = b != NULL && X != NULL && T != NULL && V != NULL && S != NULL && tau != NULL &&
+             c != NULL;
     if (ok) {
         b->n = n;
         for (size_t k = 0; k < n; k++) {
@@ -1294,11 +1308,21 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
                 for (int i = 0; i < 4; i++)
                     gsl_matrix_set(X, 4 * (size_t)q + (size_t)i, k, ec[k].table->a[q][i]);
         }
-        ok = gsl_linalg_SV_decomp(X, V, S, work) == GSL_SUCCESS;
+        /* X = Q T: T has X's right singular vectors and singular values
+         * (an n x n decomposition instead of C x n) */
+        ok = gsl_linalg_QR_decomp(X, tau) == GSL_SUCCESS;
+        for (size_t i = 0; ok && i < n; i++)
+            for (size_t j = i; j < n; j++)
+                gsl_matrix_set(T, i, j, gsl_matrix_get(X, i, j));
+        ok = ok && gsl_linalg_SV_decomp_jacobi(T, V, S) == GSL_SUCCESS;
+        /* largest first (the rank's terms are the leading ones) */
+        for (size_t i = 0; ok && i + 1 < n; i++)
+            ok = gsl_vector_get(S, i) >= gsl_vector_get(S, i + 1);
     }
     for (int r = 0; ok && r < max_rank; r++) {
-        /* B_r on the coarse intervals: the cubic through its values at
-         * t = 0, 1/3, 2/3, 1 of each */
+        /* B_r = sum_k V_kr rho_k (sigma_r times the left singular vector)
+         * on the coarse intervals: the cubic through its values at t = 0,
+         * 1/3, 2/3, 1 of each */
         for (int Q = 0; Q < MB; Q++) {
             double y[4];
             for (int m = 0; m < 4; m++) {
@@ -1306,8 +1330,8 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
                 const int q = u >= M ? M - 1 : (int)u;
                 const double t = u - q;
                 double v = 0.0;
-                for (int i = 3; i >= 0; i--)
-                    v = gsl_matrix_get(X, 4 * (size_t)q + (size_t)i, (size_t)r) + t * v;
+                for (size_t k = 0; k < n; k++)
+                    v += gsl_matrix_get(V, k, (size_t)r) * cubic_at(ec[k].table, q, t);
                 y[m] = v;
             }
             double *a = &c[(size_t)Q * 4 * (size_t)max_lanes + (size_t)r];
@@ -1317,27 +1341,34 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
             a[3 * (size_t)max_lanes] = 4.5 * (-y[0] + 3.0 * y[1] - 3.0 * y[2] + y[3]);
         }
         for (size_t k = 0; k < n; k++)
-            b->A[r][k] = gsl_vector_get(S, (size_t)r) * gsl_matrix_get(V, k, (size_t)r);
+            b->A[r][k] = gsl_matrix_get(V, k, (size_t)r);
     }
     /* the smallest rank within the tolerance, at 4 points of every table
-     * interval */
+     * interval: each point's residual after the first R terms, one term
+     * more a rank (subtracted in the order of r, as a sum from scratch) */
     int rank = 0;
     double err = 0.0;
-    for (int R = 1; ok && R <= max_rank && rank == 0; R++) {
+    double *res = ok ? malloc(n * (size_t)M * 4 * sizeof *res) : NULL;
+    if (res != NULL)
+        for (size_t k = 0; k < n; k++)
+            for (int q = 0; q < M; q++)
+                for (int m = 0; m < 4; m++)
+                    res[(k * M + (size_t)q) * 4 + (size_t)m] = cubic_at(ec[k].table, q, 0.25 * m);
+    for (int R = 1; res != NULL && R <= max_rank && rank == 0; R++) {
         double worst = 0.0;
         for (size_t k = 0; k < n; k++)
             for (int q = 0; q < M; q++)
                 for (int m = 0; m < 4; m++) {
                     const double t = 0.25 * m, u = (q + t) / RATIO;
                     const int Q = (int)u < MB ? (int)u : MB - 1;
-                    double v = cubic_at(ec[k].table, q, t);
-                    for (int r = 0; r < R; r++)
-                        v -= b->A[r][k] * basis_cubic(c, max_lanes, r, Q, u - Q);
-                    worst = sea_fmax(worst, fabs(v));
+                    double *v = &res[(k * M + (size_t)q) * 4 + (size_t)m];
+                    *v -= b->A[R - 1][k] * basis_cubic(c, max_lanes, R - 1, Q, u - Q);
+                    worst = sea_fmax(worst, fabs(*v));
                 }
         if (worst <= SEA_BASIS_TOL)
             rank = R, err = worst;
     }
+    free(res);
     /* a node reads lanes / 4 vectors instead of n / 4 tables: no basis
      * unless that halves them */
     if (2 * ((rank + 3) & ~3) > (int)n)
@@ -1357,9 +1388,10 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
                         r < rank ? c[e * (size_t)max_lanes + (size_t)r] : 0.0;
     }
     gsl_matrix_free(X);
+    gsl_matrix_free(T);
     gsl_matrix_free(V);
     gsl_vector_free(S);
-    gsl_vector_free(work);
+    gsl_vector_free(tau);
     free(c);
     return b;
 }
@@ -2010,6 +2042,10 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
     double t_lo = 0.0, t_hi = 0.0;
     if (!f->delta)
         view_window(f, a.t_cut, &t_lo, &t_hi);
+    /* factored: the cross-slope nodes' X and Y, each scaled by its w_j /
+     * den, summed (the sum over the indices is linear in them: once) */
+    double XT[SEA_BASIS_RANK_MAX] = { 0.0 };
+    double YT[SEA_BASIS_RANK_MAX][SEA_BASIS_RANK_MAX] = { { 0.0 } };
     for (int j = 0; j < nj; j++) {
         const double w_j = wj != NULL ? wj[j] : 1.0;
         const double x_j = xj != NULL ? xj[j] : 0.0;
@@ -2154,23 +2190,32 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                 }
             }
         }
-        if (factored)
-            for (size_t k = 0; k < n; k++) {
-                double v = 0.0;
-                for (int r = 0; r < sb->rank; r++) {
-                    double y = X[r];
-                    for (int q = 0; q < sb->rank; q++)
-                        y -= sb->A[q][k] * Y[r][q];
-                    v += sb->A[r][k] * y;
-                }
-                num[k] += v;
-            }
-        if (den > 0.0)
+        if (den > 0.0) {
             for (size_t k = 0; k < n; k++) {
                 T[k] += w_j * num[k] / den;
                 D[k] += w_j * knum[k] / den;
             }
+            if (factored) {
+                const double c = w_j / den;
+                for (int r = 0; r < sb->rank; r++) {
+                    XT[r] += c * X[r];
+                    for (int q = 0; q < sb->rank; q++)
+                        YT[r][q] += c * Y[r][q];
+                }
+            }
+        }
     }
+    if (factored)
+        for (size_t k = 0; k < n; k++) {
+            double v = 0.0;
+            for (int r = 0; r < sb->rank; r++) {
+                double y = XT[r];
+                for (int q = 0; q < sb->rank; q++)
+                    y -= sb->A[q][k] * YT[r][q];
+                v += sb->A[r][k] * y;
+            }
+            T[k] += v;
+        }
 }
 
 /* E_R toward d (zenith in [0, pi)) for indices N[0..n), n <= SEA_MULTI_BLOCK,
