@@ -14,6 +14,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "seabake.h"
 #include "internal.h"
@@ -329,6 +330,14 @@ sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int ro
     return bake_frame(r, t, view_k, row0, step, NULL, out, progress, ctx, each, each_ctx, err);
 }
 
+/* Seconds of a monotonic clock (the bake's parts, sea_bake_times). */
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 /* Texel rows of an ny-row level that row0, row0 + step, ... are. */
 static size_t share_rows(size_t ny, size_t row0, size_t step)
 {
@@ -394,14 +403,21 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     sea_multires_frame *f = NULL;
     sea_bake_level spare; /* (level_arrays) */
     memset(&spare, 0, sizeof spare);
+    double t0 = now_s();
     st = sea_multires_frame_alloc_lean(sea_render_multires(r), t,
                                        progress != NULL ? synth_report : NULL, &sp, &f, err);
     if (st == SEA_OK)
         PROGRESS(synth);
+    double t1 = now_s();
+    out->seconds.waves = t1 - t0;
     /* the sensor's image from the same surfaces, before the levels' maps
      * are made (the frame is the one sea_render_frame would synthesise) */
-    if (st == SEA_OK && img != NULL)
+    if (st == SEA_OK && img != NULL) {
         st = sea_render_frame_in(r, f, t, img, err);
+        t0 = t1;
+        t1 = now_s();
+        out->seconds.image = t1 - t0;
+    }
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
         bl->level = lv[l];
@@ -425,20 +441,25 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
             hole[2] = hole[0] + (double)lv[l - 1].nx * lv[l - 1].facet;
             hole[3] = hole[1] + (double)lv[l - 1].ny * lv[l - 1].facet;
         }
+        t0 = now_s();
+        const double texels = (double)(lv[l].nx * share_rows(lv[l].ny, r0, rs));
+        if (st == SEA_OK)
+            st = level_optics(r, f, bl, 0, NULL, r0, rs, &bp, err);
+        PROGRESS(texels);
+        t1 = now_s();
+        out->seconds.optics += t1 - t0;
+        t0 = t1;
         unsigned char *mask = view_mask(cam, &lv[l], bl->view_k, has_hole ? hole : NULL);
         if (mask == NULL) {
             st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the view mask of level %d",
                           lv[l].level);
             break;
         }
-        const double texels = (double)(lv[l].nx * share_rows(lv[l].ny, r0, rs));
-        if (st == SEA_OK)
-            st = level_optics(r, f, bl, 0, NULL, r0, rs, &bp, err);
-        PROGRESS(texels);
         if (st == SEA_OK)
             st = level_optics(r, f, bl, 1, mask, r0, rs, &bp, err);
         PROGRESS(texels * (double)(bl->view_k * bl->view_k));
         free(mask);
+        out->seconds.view += now_s() - t0;
         if (st == SEA_OK && each != NULL) {
             /* the frame's moments of the level, north first while each
              * reads them (no look at the surfaces meanwhile) */

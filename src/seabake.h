@@ -1274,10 +1274,20 @@ typedef struct {
     sea_dir lr_obs, lr_sun;   /* the directions lr_optics was computed for */
 } sea_bake_level;
 
+/* Where a bake's computing went: wall-clock seconds of its parts (the
+ * calls' own, not the time spent in a sea_bake_level_fn). */
+typedef struct {
+    double waves;  /* synthesising the frame's facets (and their bounds) */
+    double image;  /* the sensor's image from them (sea_bake_frame_image) */
+    double optics; /* the texels' own optics toward the sensor */
+    double view;   /* the view texels: what the sensor sees at each */
+} sea_bake_times;
+
 typedef struct {
     double time;          /* s */
     size_t n_levels;      /* as sea_render_levels: finest first, then the LR level */
     sea_bake_level levels[SEA_CLIP_MAX_LEVELS];
+    sea_bake_times seconds; /* of the call that made it */
 } sea_bake;
 
 /* Bakes every level of r at time t (finite).  The optics of a texel are

@@ -1450,6 +1450,21 @@ sb_run bake "$RSCENE" -o "$BDIR/out"
 check_rc bake.rc 0
 check_eq bake.stdout "$SB_OUT" ""
 check_match bake.summary "$SB_ERR" "^bake: .*out: [0-9]+ texels in [0-9.e+-]+ s"
+# The maps' seconds and their parts (waves, image, texel optics, view
+# texels): parts of that time, so they add up to no more than it (a
+# consistency check, not a speed one); no image without --pov.
+maps_parts() {
+    n='\([0-9.e+-]*\)'
+    printf '%s\n' "$1" | sed -n "s/.*maps $n s (waves $n s, image $n s, texel optics $n s, view texels $n s), files.*/\1 \2 \3 \4 \5/p"
+}
+parts_ok() { # MAPS WAVES IMAGE OPTICS VIEW IMAGE_WANTED(0/1)
+    awk -v m="$1" -v a="$2" -v i="$3" -v o="$4" -v v="$5" -v want="$6" 'BEGIN {
+        ok = m > 0 && a > 0 && o > 0 && v > 0 && i >= 0 && a + i + o + v <= m
+        ok = ok && (want ? i > 0 : i == 0)
+        exit !ok }'
+}
+# shellcheck disable=SC2046 # (five numbers)
+check bake.summary_parts parts_ok $(maps_parts "$SB_ERR") 0
 check bake.manifest test -s "$BDIR/out/manifest.json"
 # Levels from the manifest: "HR indices|LR indices".
 if have python3 python3; then
@@ -1597,6 +1612,8 @@ sb_run bake "$RSCENE" -o "$BDIR/out" --pov --emission-space texels
 check_error bake.bad_space 2 "--emission-space: 'texels' is not sensor or map"
 sb_run bake "$RSCENE" -o "$BDIR/pov" --pov
 check_rc bake.pov.rc 0
+# shellcheck disable=SC2046 # (five numbers)
+check bake.pov.summary_parts parts_ok $(maps_parts "$SB_ERR") 1
 for f in scene.pov sea.inc scene.ini seabake.inc; do
     check "bake.pov.$f" test -s "$BDIR/pov/$f"
 done

@@ -80,7 +80,7 @@ no_temporaries() {
 
 # The summary line without its seconds.
 timeless() {
-    printf '%s\n' "$1" | sed -E 's/[0-9][0-9.e+-]* s( |,|:|$)/S s\1/g; s/\([0-9.e+-]+ texels\/s\)/(R texels\/s)/'
+    printf '%s\n' "$1" | sed -E 's/[0-9][0-9.e+-]* s( |,|:|\)|$)/S s\1/g; s/\([0-9.e+-]+ texels\/s\)/(R texels\/s)/'
 }
 
 # -------------------------------------------------------- built with MPI?

@@ -1210,10 +1210,12 @@ static sea_status bake_interrupted(sea_error *err)
                                      "it was", sea_cli_interrupted());
 }
 
-/* What a bake did: facets baked, seconds computing and writing. */
+/* What a bake did: facets baked, seconds computing and writing, and the
+ * parts of the computing that this process's bakes timed. */
 typedef struct {
     size_t texels;
     double compute, write;
+    sea_bake_times parts;
 } bake_stats;
 
 /* The progress bar of a frame: the computation is its first COMPUTE_SHARE,
@@ -2056,6 +2058,12 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
         /* under MPI "maps" is rank 0's computing and waiting for the others */
         stats->compute += sea_cli_seconds() - t0 - (w.seconds - written);
         stats->write += w.seconds - written;
+        if (st == SEA_OK && owner == 0) { /* this process's own bake */
+            stats->parts.waves += b.seconds.waves;
+            stats->parts.image += b.seconds.image;
+            stats->parts.optics += b.seconds.optics;
+            stats->parts.view += b.seconds.view;
+        }
         if (st == SEA_OK && vst != SEA_OK) {
             sea_bake_free(&b);
             st = vst;
@@ -2187,7 +2195,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     bake_setup s;
     sea_render *r = NULL;
     sea_cli_out_dir od;
-    bake_stats stats = {0, 0.0, 0.0};
+    bake_stats stats = {0};
     double prepare = 0.0;
     sea_cli_out_dir_init(&od);
     /* under MPI rank 0 alone owns the directory (see bake_send_frames) */
@@ -2236,11 +2244,13 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     sea_cli_signals_restore();
     if (st == SEA_OK && !s.quiet && rank == 0) {
         const double secs = sea_cli_seconds() - start;
+        const sea_bake_times *p = &stats.parts;
         fprintf(stderr,
-                "bake: %s: %zu texels in %.3g s (%.3g texels/s): prepare %.3g s, maps %.3g s, "
+                "bake: %s: %zu texels in %.3g s (%.3g texels/s): prepare %.3g s, maps %.3g s "
+                "(waves %.3g s, image %.3g s, texel optics %.3g s, view texels %.3g s), "
                 "files %.3g s\n",
                 s.dir, stats.texels, secs, secs > 0.0 ? (double)stats.texels / secs : 0.0,
-                prepare, stats.compute, stats.write);
+                prepare, stats.compute, p->waves, p->image, p->optics, p->view, stats.write);
     }
     sea_render_free(r);
     free(s.dir);
