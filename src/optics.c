@@ -1277,6 +1277,14 @@ static inline double basis_pos(double c, int *q)
     return interval_pos(c, SEA_BASIS_INTERVALS, q);
 }
 
+/* Whether a basis of rank r halves the lookups of n indices: a node reads
+ * lanes / 4 vectors (lanes: r rounded up to a multiple of 4) instead of
+ * n / 4 tables. */
+static int basis_halves(int r, size_t n)
+{
+    return 2 * ((r + 3) & ~3) <= (int)n;
+}
+
 static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
 {
     enum { M = SEA_FRESNEL_INTERVALS, C = 4 * SEA_FRESNEL_INTERVALS, MB = SEA_BASIS_INTERVALS };
@@ -1284,9 +1292,9 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
     const int max_rank = (int)n < SEA_BASIS_RANK_MAX ? (int)n : SEA_BASIS_RANK_MAX;
     const int max_lanes = (max_rank + 3) & ~3;
     spectral_basis *b = calloc(1, sizeof *b);
-    /* a basis of 4 lanes at least halves the lookups of 8 indices or more
-     * only: below, none (no decomposition to make) */
-    if (n < 8) {
+    /* where not even rank 1 would halve the lookups (fewer than 8
+     * indices), no basis and no decomposition to make */
+    if (!basis_halves(1, n)) {
         if (b != NULL) {
             b->n = n;
             for (size_t k = 0; k < n; k++)
@@ -1369,9 +1377,7 @@ static spectral_basis *basis_build(const emis_ctx *ec, size_t n)
             rank = R, err = worst;
     }
     free(res);
-    /* a node reads lanes / 4 vectors instead of n / 4 tables: no basis
-     * unless that halves them */
-    if (2 * ((rank + 3) & ~3) > (int)n)
+    if (!basis_halves(rank, n))
         rank = 0;
     if (b != NULL && ok && rank > 0) {
         /* the blocks at the rank's own width */

@@ -536,14 +536,16 @@ static void test_query(void)
         double worst = 0.0;
         for (int j = 0; j < sc.height; j++)
             for (int i = 0; i < sc.width; i++) {
-                sea_multires_sample a, b, c, e;
+                /* a: the pixel; b: a look at its centre; lc: the lean
+                 * frame's; fo, lo: both frames' between pixel centres */
+                sea_multires_sample a, b, lc, fo, lo;
                 sea_multires_pixel(f, i, j, &a);
                 sea_multires_look(f, i + 0.5, j + 0.5, &b);
                 same += memcmp(&a, &b, sizeof a) == 0;
-                sea_multires_look(lean, i + 0.5, j + 0.5, &c);
-                sea_multires_look(f, i + 0.25, j + 0.75, &b);
-                sea_multires_look(lean, i + 0.25, j + 0.75, &e);
-                lean_same += memcmp(&a, &c, sizeof a) == 0 && memcmp(&b, &e, sizeof b) == 0;
+                sea_multires_look(lean, i + 0.5, j + 0.5, &lc);
+                sea_multires_look(f, i + 0.25, j + 0.75, &fo);
+                sea_multires_look(lean, i + 0.25, j + 0.75, &lo);
+                lean_same += memcmp(&a, &lc, sizeof a) == 0 && memcmp(&fo, &lo, sizeof fo) == 0;
                 if (!a.hit) {
                     sky++;
                     continue;
