@@ -1313,16 +1313,29 @@ typedef struct {
     const sea_camera *cam;
 } bake_writer;
 
-/* Runs the jobs (group indices) of a level in parallel, the first failure
- * in job order returned; job(w, ctx, g, buffers, err). */
+/* The jobs of a level's files: a group's files (its index), and two that
+ * are not a group: the emission group's preview alone (its map, the
+ * largest file, is then the job BAKE_EMISSION alone, so that the two run
+ * on different threads), and the view texels into the spill file (while
+ * the groups are written). */
+enum {
+    BAKE_EMISSION = BAKE_N_GROUPS - 1,
+    JOB_EMISSION_PNG = BAKE_N_GROUPS,
+    JOB_SPILL_VIEW,
+    JOB_MAX
+};
+_Static_assert(BAKE_EMISSION >= 0, "the emission group is the last");
+
+/* Runs the jobs (group indices and the JOB_ ones) of a level in parallel,
+ * the first failure in job order returned; job(w, ctx, g, buffers, err). */
 typedef sea_status (*group_job)(bake_writer *w, const void *ctx, size_t g,
                                 float *const buf[GROUP_CH_MAX], sea_error *err);
 
 static sea_status run_jobs(bake_writer *w, const void *ctx, const size_t *jobs, size_t n,
                            group_job job, sea_error *err)
 {
-    sea_status st[BAKE_N_GROUPS + 1];
-    sea_error e[BAKE_N_GROUPS + 1];
+    sea_status st[JOB_MAX];
+    sea_error e[JOB_MAX];
 #ifdef _OPENMP
     /* A job's EXR file compresses its chunks on a team of its own
      * (sea_exr_write): let that team run inside this one, so that the
@@ -1368,13 +1381,15 @@ static sea_status level_job(bake_writer *w, const void *ctx, size_t g,
     const level_job_ctx *c = ctx;
     const sea_bake_level *bl = c->bl;
     const size_t n = bl->level.nx * bl->level.ny;
-    const bool emission = BAKE_GROUPS[g].q[0] == Q_EMISSION;
-    float *const *data = buf;
+    if (g == JOB_SPILL_VIEW)
+        return spill_io(c->spill, true, bl->view, n * bl->view_k * bl->view_k * sizeof(float),
+                        SPILL_CHANNELS * n * sizeof(float), err);
     float *const one[GROUP_CH_MAX] = {w->emission, NULL, NULL, NULL};
-    if (emission)
-        data = one; /* filled before the jobs */
-    else
-        fill_group(bl, g, w->scale, buf);
+    if (g == BAKE_EMISSION || g == JOB_EMISSION_PNG) /* filled before the jobs */
+        return write_group(w->s, w->tmp, &bl->level, bl->view_k, BAKE_EMISSION, w->frame, w->t,
+                           w->scale, one, w->pv, g == BAKE_EMISSION, g == JOB_EMISSION_PNG, err);
+    float *const *data = buf;
+    fill_group(bl, g, w->scale, buf);
     if (w->defer && toned_group(g)) {
         for (size_t k = 0; k < SPILL_CHANNELS; k++)
             if (SPILL_GROUP[k] == g)
@@ -1399,11 +1414,14 @@ static sea_status level_ready(void *ctx, const sea_bake *b, size_t l, sea_error 
     const size_t n = bl->level.nx * bl->level.ny, nv = n * bl->view_k * bl->view_k;
     sea_status st = SEA_OK;
     level_job_ctx c = {bl, -1};
-    size_t jobs[BAKE_N_GROUPS], nj = 0;
+    size_t jobs[JOB_MAX], nj = 0;
     if (w->defer) {
+        /* (the radiances are finite: sea_bake checks them) */
         double top = w->top;
+#pragma omp parallel for schedule(static) reduction(max : top)
         for (size_t q = 0; q < n; q++)
             top = fmax(top, bl->optics[q].radiance);
+#pragma omp parallel for schedule(static) reduction(max : top)
         for (size_t q = 0; q < nv; q++)
             top = fmax(top, bl->view[q]);
         w->top = top;
@@ -1414,15 +1432,14 @@ static sea_status level_ready(void *ctx, const sea_bake *b, size_t l, sea_error 
         if (c.spill < 0)
             st = sea_fail(err, SEA_ERR_IO, "cannot create '%s': %s", path, strerror(errno));
         free(path);
-        if (st == SEA_OK)
-            st = spill_io(c.spill, true, bl->view, nv * sizeof(float),
-                          SPILL_CHANNELS * n * sizeof(float), err);
+        jobs[nj++] = JOB_SPILL_VIEW; /* the largest first */
     } else {
         const double scale = w->scale;
 #pragma omp parallel for schedule(static)
         for (size_t q = 0; q < nv; q++)
             w->emission[q] = (float)(bl->view[q] * scale);
-        jobs[nj++] = BAKE_N_GROUPS - 1; /* the largest first */
+        jobs[nj++] = BAKE_EMISSION; /* the largest first */
+        jobs[nj++] = JOB_EMISSION_PNG;
     }
     for (size_t g = 0; g < BAKE_N_GROUPS; g++)
         if (BAKE_GROUPS[g].q[0] != Q_EMISSION)
@@ -1541,10 +1558,10 @@ static sea_status spill_job(bake_writer *w, const void *ctx, size_t g,
     (void)buf;
     const spill_job_ctx *c = ctx;
     float *data[GROUP_CH_MAX] = {NULL, NULL, NULL, NULL};
-    if (BAKE_GROUPS[g].q[0] == Q_EMISSION) {
+    if (g == BAKE_EMISSION || g == JOB_EMISSION_PNG) {
         data[0] = w->emission;
-        return write_group(w->s, w->tmp, c->lv, c->view_k, g, w->frame, w->t, w->scale, data,
-                           w->pv, true, true, err);
+        return write_group(w->s, w->tmp, c->lv, c->view_k, BAKE_EMISSION, w->frame, w->t,
+                           w->scale, data, w->pv, g == BAKE_EMISSION, g == JOB_EMISSION_PNG, err);
     }
     for (size_t k = 0; k < SPILL_CHANNELS; k++)
         if (SPILL_GROUP[k] == g)
@@ -1555,9 +1572,7 @@ static sea_status spill_job(bake_writer *w, const void *ctx, size_t g,
 
 static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *err)
 {
-    enum { CHUNK = 1 << 16 };
-    float *chunk = malloc(CHUNK * sizeof *chunk);
-    sea_status st = chunk ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    sea_status st = SEA_OK;
     for (size_t l = 0; l < b->n_levels && st == SEA_OK; l++) {
         const sea_bake_level *bl = &b->levels[l];
         if (bl->level.low_res)
@@ -1579,12 +1594,16 @@ static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *er
                 st = spill_io(fd, false, spilled[k], n * sizeof(float), k * n * sizeof(float),
                               err);
         }
-        for (size_t c0 = 0; c0 < nv && st == SEA_OK; c0 += CHUNK) {
-            const size_t c1 = c0 + CHUNK < nv ? c0 + CHUNK : nv;
-            st = spill_io(fd, false, chunk, (c1 - c0) * sizeof(float),
-                          (SPILL_CHANNELS * n + c0) * sizeof(float), err);
-            for (size_t q = c0; q < c1 && st == SEA_OK; q++)
-                w->emission[q] = (float)(chunk[q - c0] * w->scale);
+        /* the view radiances, then as the emission map holds them */
+        if (st == SEA_OK)
+            st = spill_io(fd, false, w->emission, nv * sizeof(float),
+                          SPILL_CHANNELS * n * sizeof(float), err);
+        if (st == SEA_OK) {
+            const double scale = w->scale;
+            float *const e = w->emission;
+#pragma omp parallel for schedule(static)
+            for (size_t q = 0; q < nv; q++)
+                e[q] = (float)(e[q] * scale);
         }
         if (fd >= 0)
             close(fd);
@@ -1592,13 +1611,13 @@ static sea_status write_spilled(bake_writer *w, const sea_bake *b, sea_error *er
             unlink(path);
         free(path);
         const spill_job_ctx c = {&bl->level, bl->view_k, spilled};
-        size_t jobs[1 + SPILL_CHANNELS] = {BAKE_N_GROUPS - 1};
+        /* the emission map and its preview first, the largest */
+        size_t jobs[2 + SPILL_CHANNELS] = {BAKE_EMISSION, JOB_EMISSION_PNG};
         for (size_t k = 0; k < SPILL_CHANNELS; k++)
-            jobs[1 + k] = SPILL_GROUP[k];
+            jobs[2 + k] = SPILL_GROUP[k];
         if (st == SEA_OK)
-            st = run_jobs(w, &c, jobs, 1 + SPILL_CHANNELS, spill_job, err);
+            st = run_jobs(w, &c, jobs, 2 + SPILL_CHANNELS, spill_job, err);
     }
-    free(chunk);
     return st;
 }
 
