@@ -1319,12 +1319,11 @@ typedef struct {
  * on different threads), and the view texels into the spill file (while
  * the groups are written). */
 enum {
-    BAKE_EMISSION = BAKE_N_GROUPS - 1,
+    BAKE_EMISSION = BAKE_N_GROUPS - 1, /* the last group of BAKE_GROUPS */
     JOB_EMISSION_PNG = BAKE_N_GROUPS,
     JOB_SPILL_VIEW,
     JOB_MAX
 };
-_Static_assert(BAKE_EMISSION >= 0, "the emission group is the last");
 
 /* Runs the jobs (group indices and the JOB_ ones) of a level in parallel,
  * the first failure in job order returned; job(w, ctx, g, buffers, err). */
