@@ -1325,6 +1325,22 @@ enum {
     JOB_MAX
 };
 
+/* Whether job g is one of the emission group's: BAKE_EMISSION (its map)
+ * or JOB_EMISSION_PNG (its preview). */
+static bool is_emission_job(size_t g)
+{
+    return g == BAKE_EMISSION || g == JOB_EMISSION_PNG;
+}
+
+/* Emission job g of level lv, from w->emission (filled before the jobs). */
+static sea_status emission_job(bake_writer *w, const sea_clip_level *lv, size_t view_k, size_t g,
+                               sea_error *err)
+{
+    float *const data[GROUP_CH_MAX] = {w->emission, NULL, NULL, NULL};
+    return write_group(w->s, w->tmp, lv, view_k, BAKE_EMISSION, w->frame, w->t, w->scale, data,
+                       w->pv, g == BAKE_EMISSION, g == JOB_EMISSION_PNG, err);
+}
+
 /* Runs the jobs (group indices and the JOB_ ones) of a level in parallel,
  * the first failure in job order returned; job(w, ctx, g, buffers, err). */
 typedef sea_status (*group_job)(bake_writer *w, const void *ctx, size_t g,
@@ -1383,11 +1399,8 @@ static sea_status level_job(bake_writer *w, const void *ctx, size_t g,
     if (g == JOB_SPILL_VIEW)
         return spill_io(c->spill, true, bl->view, n * bl->view_k * bl->view_k * sizeof(float),
                         SPILL_CHANNELS * n * sizeof(float), err);
-    float *const one[GROUP_CH_MAX] = {w->emission, NULL, NULL, NULL};
-    if (g == BAKE_EMISSION || g == JOB_EMISSION_PNG) /* filled before the jobs */
-        return write_group(w->s, w->tmp, &bl->level, bl->view_k, BAKE_EMISSION, w->frame, w->t,
-                           w->scale, one, w->pv, g == BAKE_EMISSION, g == JOB_EMISSION_PNG, err);
-    float *const *data = buf;
+    if (is_emission_job(g))
+        return emission_job(w, &bl->level, bl->view_k, g, err);
     fill_group(bl, g, w->scale, buf);
     if (w->defer && toned_group(g)) {
         for (size_t k = 0; k < SPILL_CHANNELS; k++)
@@ -1395,10 +1408,10 @@ static sea_status level_job(bake_writer *w, const void *ctx, size_t g,
                 return spill_io(c->spill, true, buf[BAKE_GROUPS[g].preview], n * sizeof(float),
                                 k * n * sizeof(float), err) == SEA_OK
                            ? write_group(w->s, w->tmp, &bl->level, bl->view_k, g, w->frame, w->t,
-                                         w->scale, data, w->pv, true, false, err)
+                                         w->scale, buf, w->pv, true, false, err)
                            : SEA_ERR_IO;
     }
-    return write_group(w->s, w->tmp, &bl->level, bl->view_k, g, w->frame, w->t, w->scale, data,
+    return write_group(w->s, w->tmp, &bl->level, bl->view_k, g, w->frame, w->t, w->scale, buf,
                        w->pv, true, true, err);
 }
 
@@ -1556,12 +1569,9 @@ static sea_status spill_job(bake_writer *w, const void *ctx, size_t g,
 {
     (void)buf;
     const spill_job_ctx *c = ctx;
+    if (is_emission_job(g))
+        return emission_job(w, c->lv, c->view_k, g, err);
     float *data[GROUP_CH_MAX] = {NULL, NULL, NULL, NULL};
-    if (g == BAKE_EMISSION || g == JOB_EMISSION_PNG) {
-        data[0] = w->emission;
-        return write_group(w->s, w->tmp, c->lv, c->view_k, BAKE_EMISSION, w->frame, w->t,
-                           w->scale, data, w->pv, g == BAKE_EMISSION, g == JOB_EMISSION_PNG, err);
-    }
     for (size_t k = 0; k < SPILL_CHANNELS; k++)
         if (SPILL_GROUP[k] == g)
             data[BAKE_GROUPS[g].preview] = c->spilled[k];
