@@ -799,11 +799,19 @@ typedef struct {
     double inv_band;           /* 1 / band width, m^-1 */
 } mr_window;
 
+/* The bounds a march needs of the chain of levels from l down to the
+ * low-resolution level: its heights' range and a bound on its gradient
+ * (chain_extent). */
+typedef struct {
+    double zlo, zhi, gmax;
+} mr_extent;
+
 struct sea_multires_frame {
     const sea_multires *mr;
     double t;
     sea_heightfield *hf[SEA_CLIP_MAX_LEVELS];
     mr_window win[SEA_CLIP_MAX_LEVELS];
+    mr_extent ext[SEA_CLIP_MAX_LEVELS]; /* by the chain's finest level */
 };
 
 /* What a ray marches: one lone heightfield (everywhere, weight 1), or the
@@ -1018,16 +1026,12 @@ static sea_moments surf_moments(const surface *s, double x, double y, int *domin
     return o;
 }
 
-/* The blend's levels' bounds and finest facet. */
-static void surface_init(surface *s, const sea_multires_frame *f, sea_level_blend b)
+/* The range and gradient bound of the chain of levels from finest down
+ * (the frame's levels and windows made), kept in f->ext[finest]. */
+static mr_extent chain_extent(const sea_multires_frame *f, int finest)
 {
     const sea_multires *mr = f->mr;
-    memset(s, 0, sizeof *s);
-    s->f = f;
-    s->b = b;
-    s->zlo = s->zhi = 0.0; /* the low-resolution level ends every chain */
-    int finest = b.neighbour >= 0 && b.alpha > 0.0 && b.neighbour < b.level ? b.neighbour
-                                                                             : b.level;
+    mr_extent e = { 0.0, 0.0, 0.0 }; /* the low-resolution level ends every chain */
     /* The gradient of a chain sum_q c_q h_q, c_q = w_q prod_(p < q) (1 -
      * w_p): sum c_q grad h_q (sum c_q <= 1: at most the largest gmax) plus
      * sum h_q grad c_q, |grad c_q| <= sum_(p <= q) |grad w_p|, each fade
@@ -1039,15 +1043,32 @@ static void surface_init(surface *s, const sea_multires_frame *f, sea_level_blen
             continue;
         double lo, hi;
         sea_heightfield_range(f->hf[q], &lo, &hi);
-        s->zlo = fmin(s->zlo, lo);
-        s->zhi = fmax(s->zhi, hi);
+        e.zlo = fmin(e.zlo, lo);
+        e.zhi = fmax(e.zhi, hi);
         g = fmax(g, f->hf[q]->gmax);
         bands += f->win[q].inv_band;
         n++;
     }
-    s->gmax = g + fmax(-s->zlo, s->zhi) * n * bands;
+    e.gmax = g + fmax(-e.zlo, e.zhi) * n * bands;
+    return e;
+}
+
+/* The blend's levels' bounds (chain_extent, once a frame) and finest
+ * facet. */
+static void surface_init(surface *s, const sea_multires_frame *f, sea_level_blend b)
+{
+    const sea_multires *mr = f->mr;
+    memset(s, 0, sizeof *s);
+    s->f = f;
+    s->b = b;
+    int finest = b.neighbour >= 0 && b.alpha > 0.0 && b.neighbour < b.level ? b.neighbour
+                                                                             : b.level;
     if (finest > mr->first_lr)
         finest = mr->first_lr;
+    const mr_extent *e = &f->ext[finest];
+    s->zlo = e->zlo;
+    s->zhi = e->zhi;
+    s->gmax = e->gmax;
     s->step_min = STEP_MIN_FACETS * mr->lev[finest].facet;
 }
 
@@ -1836,6 +1857,8 @@ static sea_status frame_alloc(const sea_multires *mr, double t, sea_progress_fn 
         sea_multires_frame_free(f);
         return st;
     }
+    for (int l = 0; l <= mr->first_lr; l++)
+        f->ext[l] = chain_extent(f, l);
     *out = f;
     return SEA_OK;
 }
@@ -1947,8 +1970,13 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
      * most */
     double qm[3];
     out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
-    /* the view azimuth of the 1/D weights below */
-    const double cphi = cos(out->obs.phi), sphi = sin(out->obs.phi);
+    /* the view azimuth of the 1/D weights below (a pixel of one ray has
+     * none) */
+    double cphi = 1.0, sphi = 0.0;
+    if (many) {
+        cphi = cos(out->obs.phi);
+        sphi = sin(out->obs.phi);
+    }
     /* The rays' hits, the lowest row of rays first.  At a horizontal
      * distance s from the sensor a ray of slope k = d_z / |d_h| and map
      * direction w = d_h / |d_h| is at z0 + k s over the map point o + s w.
@@ -1964,8 +1992,14 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
         for (int a = 0; a < nu; a++) {
             const int k = b * nu + a;
             ray *r = &rays[k];
+            /* the pixel's centre ray when the ray's image point is the
+             * centre's, bit for bit (one ray at a pixel centre) */
+            const double ur = u - 0.5 + (a + 0.5) / nu, vr = v - 0.5 + (b + 0.5) / nv;
             double d[3];
-            sea_camera_ray(cam, u - 0.5 + (a + 0.5) / nu, v - 0.5 + (b + 0.5) / nv, d);
+            if (ur == u && vr == v)
+                memcpy(d, dc, sizeof d);
+            else
+                sea_camera_ray(cam, ur, vr, d);
             ray_init(r, cam, d);
             hit_t[k] = -1.0;
             double t_a, t_b, t;
