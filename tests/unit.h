@@ -46,10 +46,11 @@ int test_stability_register(void);
 int test_multires_register(void);
 int test_mc_register(void);
 
-/* SEA_UNIT_QUICK set (check-valgrind sets it): the statistical tests that
- * need large areas run on small ones, to exercise the same code under a
- * memory checker in minutes; their statistical tolerances are then not
- * asserted (exactness, finiteness and bounds still are). */
+/* SEA_UNIT_QUICK set (check-valgrind sets it, and scripts/test for the
+ * sanitizer run): the statistical tests that need large areas run on small
+ * ones, to exercise the same code under a memory checker in minutes; their
+ * statistical tolerances are then not asserted (exactness, finiteness and
+ * bounds still are). */
 #include <stdlib.h>
 #define UNIT_QUICK (getenv("SEA_UNIT_QUICK") != NULL)
 
