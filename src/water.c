@@ -11,6 +11,7 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -280,6 +281,85 @@ static const char *builtin_text(const char *name)
     return NULL;
 }
 
+/* A copy of table t (NOMEM: out is left empty). */
+static int table_copy(const sea_table *t, sea_table *out)
+{
+    const size_t bytes = t->len * sizeof(double);
+    memset(out, 0, sizeof *out);
+    out->nu = malloc(bytes);
+    out->a = malloc(bytes);
+    out->b = malloc(bytes);
+    if (out->nu == NULL || out->a == NULL || out->b == NULL) {
+        table_free(out);
+        return 0;
+    }
+    memcpy(out->nu, t->nu, bytes);
+    memcpy(out->a, t->a, bytes);
+    memcpy(out->b, t->b, bytes);
+    out->len = t->len;
+    return 1;
+}
+
+/* The built-in tables, parsed once per process: every command reads the
+ * pure-water table and the 3694-row sea-water correction at least twice
+ * (the scene's check of its wavelengths, then the optics), and the parse
+ * (strtod of 18 000 numbers) was 17 % of a small render's instructions.
+ * The first caller parses the text with table_parse, as a user's file is
+ * parsed, and every caller gets a copy of the result (or of its error):
+ * the same numbers bit for bit.  The parsed tables live until the process
+ * ends. */
+enum { BUILTIN_SLOTS = 8 };
+static struct {
+    const char *text; /* the built-in text parsed (NULL: slot free) */
+    const char *col_a;
+    sea_status st;
+    sea_error err;
+    sea_table t;
+} builtin_parsed[BUILTIN_SLOTS];
+static pthread_mutex_t builtin_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static sea_status builtin_parse(const char *name, const char *source, const char *col_a,
+                                const char *col_b, const table_bounds *bounds, sea_table *out,
+                                sea_error *err)
+{
+    const char *text = builtin_text(name);
+    memset(out, 0, sizeof *out);
+    if (text == NULL)
+        return sea_fail(err, SEA_ERR_DOMAIN, "no built-in table %s", name);
+    sea_status st = SEA_OK;
+    sea_error e = { { 0 } };
+    sea_table copy = { 0 };
+    pthread_mutex_lock(&builtin_lock);
+    size_t k = 0;
+    while (k < BUILTIN_SLOTS && builtin_parsed[k].text != NULL &&
+           !(builtin_parsed[k].text == text && strcmp(builtin_parsed[k].col_a, col_a) == 0))
+        k++;
+    if (k == BUILTIN_SLOTS) { /* (more tables than slots: parsed each time) */
+        pthread_mutex_unlock(&builtin_lock);
+        return table_parse(text, source, col_a, col_b, bounds, out, err);
+    }
+    if (builtin_parsed[k].text == NULL) {
+        builtin_parsed[k].st =
+            table_parse(text, source, col_a, col_b, bounds, &builtin_parsed[k].t,
+                        &builtin_parsed[k].err);
+        builtin_parsed[k].col_a = col_a;
+        builtin_parsed[k].text = text;
+    }
+    st = builtin_parsed[k].st;
+    if (st != SEA_OK)
+        e = builtin_parsed[k].err;
+    else if (!table_copy(&builtin_parsed[k].t, &copy))
+        st = sea_fail(&e, SEA_ERR_NOMEM, "%s: out of memory", source);
+    pthread_mutex_unlock(&builtin_lock);
+    if (st != SEA_OK) {
+        if (err != NULL)
+            *err = e;
+        return st;
+    }
+    *out = copy;
+    return SEA_OK;
+}
+
 static const struct {
     const char *name, *file, *cite;
 } SEA_TABLES[] = {
@@ -353,8 +433,8 @@ static sea_status water_finish(sea_table *pure, double salinity, const char *wha
     w->nu_min = w->pure.nu[0];
     w->nu_max = w->pure.nu[w->pure.len - 1];
     if (salinity > 0.0) {
-        st = table_parse(builtin_text("seawater_correction"), "seawater_correction.csv",
-                         "n_salt_corr", "k_salt_corr", &ANY_FINITE, &w->salt, err);
+        st = builtin_parse("seawater_correction", "seawater_correction.csv", "n_salt_corr",
+                           "k_salt_corr", &ANY_FINITE, &w->salt, err);
         if (st != SEA_OK)
             goto fail;
         w->salt_scale = salinity / SEA_CORRECTION_SALINITY;
@@ -398,8 +478,7 @@ sea_status sea_water_alloc(sea_water_table table, double salinity, sea_water **o
         return st;
     char source[64];
     snprintf(source, sizeof source, "%s.csv", SEA_TABLES[table].file);
-    st = table_parse(builtin_text(SEA_TABLES[table].file), source, "n", "k", &WATER_NK, &pure,
-                     err);
+    st = builtin_parse(SEA_TABLES[table].file, source, "n", "k", &WATER_NK, &pure, err);
     if (st != SEA_OK)
         return st;
     return water_finish(&pure, salinity, SEA_TABLES[table].cite, out, err);

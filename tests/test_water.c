@@ -180,6 +180,63 @@ static void test_user_table(void)
     CU_ASSERT(strstr(err.msg, "/nonexistent/table.csv") != NULL);
 }
 
+/* The built-in tables are parsed once per process and copied to every
+ * caller (water.c): each caller's indices are those of a fresh parse of
+ * the same CSV file (sea_water_load, which parses every time) bit for bit,
+ * at 997 wavelengths over the table's range, the first allocation and the
+ * later ones alike; and 17 allocations on every thread at once (with the
+ * sea-water correction, cached too) all give the same values bit for bit. */
+static void test_builtin_parsed_once(void)
+{
+    static const struct {
+        sea_water_table t;
+        const char *file;
+    } tabs[] = { { SEA_WATER_HALE_QUERRY, "water_nk_hale_querry.csv" },
+                 { SEA_WATER_SEGELSTEIN, "water_nk_segelstein.csv" } };
+    enum { NW = 997, NT = 16 };
+    for (size_t k = 0; k < sizeof tabs / sizeof tabs[0]; k++) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/data/%s", SEA_TOP_SRCDIR, tabs[k].file);
+        sea_water *w[3] = { NULL, NULL, NULL };
+        CU_ASSERT_FATAL(sea_water_alloc(tabs[k].t, 0.0, &w[0], NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_water_alloc(tabs[k].t, 0.0, &w[1], NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_water_load(path, 0.0, &w[2], NULL) == SEA_OK);
+        double lo, hi;
+        sea_water_range(w[2], &lo, &hi);
+        int mismatches = 0;
+        for (int i = 0; i < NW; i++) {
+            const double wl = lo + (hi - lo) * i / (NW - 1);
+            double complex N[3];
+            for (int m = 0; m < 3; m++)
+                CU_ASSERT(sea_water_index(w[m], wl, &N[m], NULL) == SEA_OK);
+            mismatches += memcmp(&N[0], &N[2], sizeof N[0]) != 0;
+            mismatches += memcmp(&N[1], &N[2], sizeof N[0]) != 0;
+        }
+        CU_ASSERT_EQUAL(mismatches, 0);
+        for (int m = 0; m < 3; m++)
+            sea_water_free(w[m]);
+    }
+    static double complex seq[NW], par[NT][NW];
+    int failures = 0;
+#pragma omp parallel for schedule(static, 1) reduction(+ : failures)
+    for (int t = -1; t < NT; t++) {
+        /* t = -1: the reference row, allocated beside the others */
+        sea_water *w = NULL;
+        double complex *row = t < 0 ? seq : par[t];
+        const sea_status st = sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL);
+        failures += st != SEA_OK;
+        for (int i = 0; i < NW && st == SEA_OK; i++)
+            failures += sea_water_index(w, (2.5 + 12.5 * i / (NW - 1)) * 1e-6, &row[i], NULL) !=
+                        SEA_OK;
+        sea_water_free(w);
+    }
+    CU_ASSERT_EQUAL(failures, 0);
+    int mismatches = 0;
+    for (int t = 0; t < NT; t++)
+        mismatches += memcmp(par[t], seq, sizeof seq) != 0;
+    CU_ASSERT_EQUAL(mismatches, 0);
+}
+
 /* Normal incidence: rho = ((n-1)^2 + k^2)/((n+1)^2 + k^2) (closed form, 1e-14). */
 /* A table whose n is within bounds can leave them with the sea-water
  * correction (n = 1.0 at 15.5 um, dn = -0.018 at 35 g/kg): refused at load
@@ -277,6 +334,8 @@ int test_water_register(void)
            !CU_add_test(s, "out of range", test_out_of_range) ||
            !CU_add_test(s, "the range's ends are in range", test_range_ends) ||
            !CU_add_test(s, "user table and its errors", test_user_table) ||
+           !CU_add_test(s, "built-in tables parsed once, copied alike",
+                        test_builtin_parsed_once) ||
            !CU_add_test(s, "bounds after the sea-water correction", test_corrected_bounds) ||
            !CU_add_test(s, "Fresnel normal incidence", test_fresnel_normal) ||
            !CU_add_test(s, "Fresnel real index = Eq 1", test_fresnel_real_index) ||
