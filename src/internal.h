@@ -107,6 +107,10 @@ static inline void sea_catmull_rom(double f, double w[4])
     w[3] = 0.5 * (f3 - f2);
 }
 
+/* shadow.c, for the tests: the largest difference between G's polynomials
+ * compiled in (src/shadow_g_table.h) and those the code computes now (0
+ * where the table was made; INFINITY when out of memory). */
+SEA_INTERNAL double sea_shadow_g_table_drift(void);
 /* shadow.c: sea_shadow_visible and sea_shadow_hidden of (mu, m, s) at
  * once, from one G (identical values). */
 SEA_INTERNAL void sea_shadow_split(double mu, double m, double s, double *visible,

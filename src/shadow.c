@@ -12,7 +12,7 @@
 #include "config.h"
 
 #include <math.h>
-#include <pthread.h>
+#include <stdlib.h>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -28,16 +28,25 @@
  * - t below 0: f = (G / phi) (1 + t)^2 is smooth on [0, 1] (1 at both
  * ends), held as SEA_G_PIECES polynomials of degree SEA_G_DEGREE in
  * u = 2 (x N - i) - 1 on each piece i, interpolated at Chebyshev nodes.
- * The table is built once (pthread_once), in double: f from erfc up to
+ * The table is computed in double (g_table_build): f from erfc up to
  * t = 1, beyond from Laplace's continued fraction to depth SEA_G_CF_BUILD.
  * Against a long double reference over [-12, 12] G is within 7.8e-15
  * relative (the rounding of t^2 / 2 inside exp, 1e-16 t^2 / 2, dominates;
  * the erfc and continued-fraction forms used before were 2.5e-14 off),
  * and costs one exp, one division and a degree-5 polynomial: 10 ns
- * against 76 ns over t in [0, 6]. */
+ * against 76 ns over t in [0, 6].  Building it takes 13 M instructions
+ * (1.5 M divisions of the continued fractions), 8 % of a small render's
+ * and a fifth of a second of every command under valgrind, so it is part
+ * of the sources, as the correlated table below is: src/shadow_g_table.h,
+ * written by src/gen-shadow-table.c (`make shadow-table`) from
+ * g_table_build in exact hexadecimal; sea_shadow_g_table_drift tells how
+ * far the code here now is from it. */
 enum { SEA_G_PIECES = 256, SEA_G_DEGREE = 5, SEA_G_CF_BUILD = 2000 };
+#ifdef SEA_CS_GENERATOR
 static double sea_g_table[SEA_G_PIECES][SEA_G_DEGREE + 1];
-static pthread_once_t sea_g_once = PTHREAD_ONCE_INIT;
+#else
+#include "shadow_g_table.h"
+#endif
 
 static double g_ratio_scaled(double x)
 {
@@ -57,7 +66,7 @@ static double g_ratio_scaled(double x)
     return R * (1.0 + t) * (1.0 + t);
 }
 
-static void g_table_build(void)
+static void g_table_build(double table[SEA_G_PIECES][SEA_G_DEGREE + 1])
 {
     enum { D = SEA_G_DEGREE };
     /* Chebyshev polynomials in the power basis: T[j][p] */
@@ -82,9 +91,23 @@ static void g_table_build(void)
             double c = 0.0;
             for (int j = 0; j <= D; j++)
                 c += a[j] * T[j][p];
-            sea_g_table[i][p] = c;
+            table[i][p] = c;
         }
     }
+}
+
+double sea_shadow_g_table_drift(void)
+{
+    double (*fresh)[SEA_G_DEGREE + 1] = malloc(sizeof(double[SEA_G_PIECES][SEA_G_DEGREE + 1]));
+    if (fresh == NULL)
+        return INFINITY;
+    g_table_build(fresh);
+    double d = 0.0;
+    for (int i = 0; i < SEA_G_PIECES; i++)
+        for (int p = 0; p <= SEA_G_DEGREE; p++)
+            d = fmax(d, fabs(fresh[i][p] - sea_g_table[i][p]));
+    free(fresh);
+    return d;
 }
 
 /* Zenith angles below this are nadir: tan(theta) < 1e-12 contributes
@@ -93,7 +116,6 @@ static const double SEA_NADIR_THETA = 1e-12;
 
 double sea_shadow_G(double t)
 {
-    pthread_once(&sea_g_once, g_table_build);
     const double at = fabs(t);
     if (!(at < 40.0)) /* phi underflows: G(t) = max(-t, 0) (NaN stays NaN) */
         return t > 0.0 ? 0.0 : t < 0.0 ? -t : t;

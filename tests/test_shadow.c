@@ -46,6 +46,21 @@ static void test_G_tail_and_identity(void)
         ASSERT_REL(sea_shadow_G(x) - sea_shadow_G(-x), -x, 1e-13, 1e-3);
 }
 
+/* G's polynomials are compiled in (src/shadow_g_table.h, written by
+ * src/gen-shadow-table.c from shadow.c's g_table_build); the code that
+ * made them must still make them.  Where the table was generated the
+ * difference is 0; elsewhere erfc, exp and cos of another libm may differ
+ * by an ulp, which moves a coefficient (of size 1 at most) by a few 1e-16:
+ * tolerance 1e-14.  A change to the construction without `make
+ * shadow-table` moves them by more (measured: the continued fraction 200
+ * deep instead of 2000, 6.3e-12; erfc up to t = 1.5 instead of 1,
+ * 1.8e-14). */
+static void test_G_table_current(void)
+{
+    const double d = sea_shadow_g_table_drift();
+    CU_ASSERT(d <= 1e-14);
+}
+
 /* G against an independent long double reference (erfcl below t = 3, a
  * continued fraction 600 deep above) at 200000 random points of [-12, 12]:
  * within 2e-14 relative (measured 7.8e-15, the rounding of t^2 / 2 inside
@@ -379,6 +394,7 @@ int test_shadow_register(void)
     return !CU_add_test(s, "G vs quadrature", test_G_vs_quadrature) ||
            !CU_add_test(s, "G tail and identity", test_G_tail_and_identity) ||
            !CU_add_test(s, "G against long double", test_G_vs_long_double) ||
+           !CU_add_test(s, "G's compiled polynomials are current", test_G_table_current) ||
            !CU_add_test(s, "G below the Mills bound", test_G_mills_bound) ||
            !CU_add_test(s, "Lambda vs quadrature", test_lambda_vs_quadrature) ||
            !CU_add_test(s, "Lambda zero-mean classic", test_lambda_zero_mean_classic) ||
