@@ -35,8 +35,8 @@
  * the erfc and continued-fraction forms used before were 2.5e-14 off),
  * and costs one exp, one division and a degree-5 polynomial: 10 ns
  * against 76 ns over t in [0, 6].  Building it takes 13 M instructions
- * (1.5 M divisions of the continued fractions), 8 % of a small render's
- * and a fifth of a second of every command under valgrind, so it is part
+ * (1.5 M divisions of the continued fractions), 8 % of those of a 4 x 4
+ * render (callgrind), which every process that used G paid, so it is part
  * of the sources, as the correlated table below is: src/shadow_g_table.h,
  * written by src/gen-shadow-table.c (`make shadow-table`) from
  * g_table_build in exact hexadecimal; sea_shadow_g_table_drift tells how
