@@ -152,6 +152,13 @@ typedef struct {
 SEA_INTERNAL sea_status sea_multires_frame_alloc_lean(const sea_multires *mr, double t,
                                                       sea_progress_fn progress, void *ctx,
                                                       sea_multires_frame **out, sea_error *err);
+/* multires.c, for the tests: where a blend of one level reads that
+ * level's heightfield alone (its window at full weight), the heights,
+ * gradients, moments and bounds against the chain's sums, at n points of
+ * each high-resolution level: the number that differ in any bit (0), and
+ * in *checked the points compared. */
+SEA_INTERNAL size_t sea_multires_alone_check(const sea_multires_frame *f, size_t n,
+                                             size_t *checked);
 /* multires.c: turns the rows of level `level`'s facets (a
  * high-resolution level of f) upside down in place and returns them: north
  * first after one call, south first again after the next.  While they are

@@ -784,6 +784,39 @@ static void test_select_kth(void)
     gsl_rng_free(rng);
 }
 
+/* Where the window of a pixel's one level is at full weight, its surface
+ * reads that level's heightfield directly (multires.c, surf_alone), not
+ * the chain of levels: the heights, gradients, moments and bounds there
+ * must be the chain's bit for bit (signed zeros aside: the chain's sums
+ * start from +0), in a render's frame and in a bake's lean one (finest
+ * bounds from the nodes), flat and round earth. */
+static void test_level_alone(void)
+{
+    for (int earth = 0; earth < 2; earth++) {
+        sea_scene sc = grazing_scene(earth, 84.0);
+        sea_render *r;
+        sea_multires_frame *f, *lean = NULL;
+        prepare_frame(&sc, &r, &f);
+        sea_error err;
+        CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc_lean(sea_render_multires(r), sc.time, NULL,
+                                                            NULL, &lean, &err),
+                              SEA_OK);
+        size_t checked = 0, checked_lean = 0;
+        const size_t bad = sea_multires_alone_check(f, 4000, &checked);
+        const size_t bad_lean = sea_multires_alone_check(lean, 4000, &checked_lean);
+        MEASURED("level alone (%s earth): %zu of %zu points differ, lean frame %zu of %zu\n",
+                 earth ? "round" : "flat", bad, checked, bad_lean, checked_lean);
+        CU_ASSERT_EQUAL(bad, 0);
+        CU_ASSERT_EQUAL(bad_lean, 0);
+        /* the view's high-resolution levels have full-weight parts */
+        CU_ASSERT(checked >= 2 * 4000);
+        CU_ASSERT_EQUAL(checked_lean, checked);
+        sea_multires_frame_free(lean);
+        sea_multires_frame_free(f);
+        sea_render_free(r);
+    }
+}
+
 int test_multires_register(void)
 {
     CU_pSuite s = CU_add_suite("multires", NULL, NULL);
@@ -799,6 +832,7 @@ int test_multires_register(void)
            !CU_add_test(s, "heightfield errors", test_heightfield_errors) ||
            !CU_add_test(s, "LEAN footprint averages", test_lean_footprint) ||
            !CU_add_test(s, "one query; heights along the sphere's vertical", test_query) ||
+           !CU_add_test(s, "a level alone where its window is at full weight", test_level_alone) ||
            !CU_add_test(s, "grazing images at 1 m facets against low resolution",
                         test_grazing_mean);
 }
