@@ -338,6 +338,16 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The most memory, bytes, a bake's surfaces spend on storing the bounds of
+ * their finest cells (8 bytes a facet: 8.4 million facets, six levels of
+ * 1182^2): stored, the march reads them instead of computing each from
+ * nine nodes, 8.5 % of the instructions of a bake at 128^2 a level; at
+ * 512^2 (bench/clipmap2048.ini's scene) the bake took 9.52 s instead of
+ * 10.13 s (means of seven interleaved runs) and 116 MB instead of 96.  Six
+ * levels of 2048^2 would need 201 MB more, beyond the bench's 1.5 GB
+ * (make bench). */
+static const double BAKE_STORED_BOUNDS_MAX = 64.0 * 1048576.0;
+
 /* Texel rows of an ny-row level that row0, row0 + step, ... are. */
 static size_t share_rows(size_t ny, size_t row0, size_t step)
 {
@@ -404,8 +414,12 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     sea_bake_level spare; /* (level_arrays) */
     memset(&spare, 0, sizeof spare);
     double t0 = now_s();
-    st = sea_multires_frame_alloc_lean(sea_render_multires(r), t,
-                                       progress != NULL ? synth_report : NULL, &sp, &f, err);
+    /* The surfaces keep the bounds of their finest cells (8 bytes a facet)
+     * where those take at most BAKE_STORED_BOUNDS_MAX; beyond, they compute
+     * them from the nodes as the rays ask (the same bounds, bit for bit). */
+    const int lean = sea_render_bake_lean(r) || synth * 8.0 > BAKE_STORED_BOUNDS_MAX;
+    st = (lean ? sea_multires_frame_alloc_lean : sea_multires_frame_alloc)(
+        sea_render_multires(r), t, progress != NULL ? synth_report : NULL, &sp, &f, err);
     if (st == SEA_OK)
         PROGRESS(synth);
     double t1 = now_s();

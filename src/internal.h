@@ -148,7 +148,8 @@ typedef struct {
 /* multires.c: sea_multires_frame_alloc, but the frame's surfaces keep no
  * bounds of their finest cells (8 bytes a facet, 200 MB at six levels of
  * 2048^2) and compute them from the facets as the march asks, bit for bit
- * the same: the same answers, a few % slower (the bake's frames). */
+ * the same: the same answers, 6 % slower (a bake's frames, where the
+ * bounds would take more than 64 MB: bake.c). */
 SEA_INTERNAL sea_status sea_multires_frame_alloc_lean(const sea_multires *mr, double t,
                                                       sea_progress_fn progress, void *ctx,
                                                       sea_multires_frame **out, sea_error *err);
@@ -172,6 +173,12 @@ SEA_INTERNAL void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, 
 /* render.c, for the bake: sea_render_frame from the frame f of r's
  * multiresolution sea at time t (sea_multires_frame_alloc of
  * sea_render_multires(r)), not one of its own: the same pixels. */
+/* render.c, for the tests: with lean non-zero a bake of r computes the
+ * finest bounds of its surfaces from the nodes as the rays ask, as it does
+ * when storing them would take more than BAKE_STORED_BOUNDS_MAX (bake.c);
+ * the same bounds, bit for bit. */
+SEA_INTERNAL void sea_render_set_bake_lean(sea_render *r, int lean);
+SEA_INTERNAL int sea_render_bake_lean(const sea_render *r);
 SEA_INTERNAL sea_status sea_render_frame_in(const sea_render *r, const sea_multires_frame *f,
                                             double t, sea_image *img, sea_error *err);
 /* SEA_ERR_DOMAIN unless img is the scene's size (sea_render_rows' check). */

@@ -164,7 +164,7 @@ struct sea_heightfield {
                        lazy (off[0] unused) */
     int lazy; /* the finest level's bounds computed from the nodes as the
                  march asks (cell_bounds_f, finest_bound): 8 bytes a node
-                 less, a few % more time (bake frames) */
+                 less, 6 % more time (large bakes' frames) */
     size_t off[HF_MIP_MAX], w[HF_MIP_MAX], h[HF_MIP_MAX];
     int nmip;
     double gmax; /* a bound on the surface's gradient, |grad h| (hf_build) */

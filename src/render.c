@@ -52,6 +52,8 @@ struct sea_render {
     double tb_lnL[SEA_TB_N];
     sea_render_choices choices;
     sea_two_scale_table *ts; /* scales = 2: what two scales add (NULL: nothing) */
+    int bake_lean; /* a bake computes its surfaces' finest bounds from the nodes
+                      whatever their size (sea_render_set_bake_lean) */
 };
 
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err)
@@ -437,6 +439,16 @@ sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *s
 const sea_scene *sea_render_scene(const sea_render *r)
 {
     return &r->sc;
+}
+
+void sea_render_set_bake_lean(sea_render *r, int lean)
+{
+    r->bake_lean = lean != 0;
+}
+
+int sea_render_bake_lean(const sea_render *r)
+{
+    return r->bake_lean;
 }
 
 const sea_camera *sea_render_camera(const sea_render *r)

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "internal.h"
 #include "unit.h"
 
 /* A 48 x 48 view 55 deg from nadir: footprints from ~2 to ~9 m, so several
@@ -509,11 +510,14 @@ static void test_each_level(void)
 }
 
 /* sea_bake_frame_image: the sensor's image is sea_render_frame's bit for
- * bit (every channel; rendered from the bake's own surfaces, which keep no
- * bounds of their finest cells and compute them as the march asks, where
- * the render's frame stores them: the same bounds to the bit), and the
- * levels are sea_bake_frame_each's (each_level compares them with a whole
- * bake's); an image of the wrong size is refused with nothing to free. */
+ * bit (every channel), and the levels are sea_bake_frame_each's
+ * (each_level compares them with a whole bake's); an image of the wrong
+ * size is refused with nothing to free.  The whole bake's surfaces store
+ * the bounds of their finest cells, as a bake of this size does; the
+ * image's bake computes them as the march asks (sea_render_set_bake_lean,
+ * what a bake does when they would take more than 64 MB): the same bounds
+ * to the bit, so the same image as the render's frame, which stores them,
+ * and the same maps. */
 static void test_frame_image(void)
 {
     const sea_scene sc = bake_scene();
@@ -527,6 +531,7 @@ static void test_frame_image(void)
     CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, sc.width, sc.height, &err), SEA_OK);
     CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 0.4, &ref, NULL, NULL, &err), SEA_OK);
     each_ctx c = {&all, 0, 0, 0, 0, -1};
+    sea_render_set_bake_lean(r, 1);
     CU_ASSERT_EQUAL_FATAL(
         sea_bake_frame_image(r, 0.4, k, &img, &b, NULL, NULL, each_level, &c, &err), SEA_OK);
     CU_ASSERT_EQUAL(c.calls, count_hr(&all));
