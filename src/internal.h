@@ -156,8 +156,8 @@ SEA_INTERNAL sea_status sea_multires_frame_alloc_lean(const sea_multires *mr, do
 /* multires.c, for the tests: where a blend of one level reads that
  * level's heightfield alone (its window at full weight), the heights,
  * gradients, moments and bounds against the chain's sums, at n points of
- * each high-resolution level: the number that differ in any bit (0), and
- * in *checked the points compared. */
+ * each high-resolution level: the number of points where any differs in
+ * any bit (0), and in *checked the points compared. */
 SEA_INTERNAL size_t sea_multires_alone_check(const sea_multires_frame *f, size_t n,
                                              size_t *checked);
 /* multires.c: turns the rows of level `level`'s facets (a
@@ -170,15 +170,15 @@ SEA_INTERNAL void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, 
                                             const sea_multires_hint *below,
                                             sea_multires_hint *top, sea_multires_sample *out);
 
-/* render.c, for the bake: sea_render_frame from the frame f of r's
- * multiresolution sea at time t (sea_multires_frame_alloc of
- * sea_render_multires(r)), not one of its own: the same pixels. */
 /* render.c, for the tests: with lean non-zero a bake of r computes the
  * finest bounds of its surfaces from the nodes as the rays ask, as it does
  * when storing them would take more than BAKE_STORED_BOUNDS_MAX (bake.c);
  * the same bounds, bit for bit. */
 SEA_INTERNAL void sea_render_set_bake_lean(sea_render *r, int lean);
 SEA_INTERNAL int sea_render_bake_lean(const sea_render *r);
+/* render.c, for the bake: sea_render_frame from the frame f of r's
+ * multiresolution sea at time t (sea_multires_frame_alloc of
+ * sea_render_multires(r)), not one of its own: the same pixels. */
 SEA_INTERNAL sea_status sea_render_frame_in(const sea_render *r, const sea_multires_frame *f,
                                             double t, sea_image *img, sea_error *err);
 /* SEA_ERR_DOMAIN unless img is the scene's size (sea_render_rows' check). */

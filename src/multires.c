@@ -1126,8 +1126,7 @@ static void surface_init(surface *s, const sea_multires_frame *f, sea_level_blen
  * differs in any bit (but for the sign of a zero: the chain's sums start
  * from +0, the same number to every use); *checked gets the points
  * compared. */
-__attribute__((cold)) size_t sea_multires_alone_check(const sea_multires_frame *f, size_t n,
-                                                   size_t *checked)
+size_t sea_multires_alone_check(const sea_multires_frame *f, size_t n, size_t *checked)
 {
     const sea_multires *mr = f->mr;
     uint64_t u = 0x9E3779B97F4A7C15u;
