@@ -1547,13 +1547,14 @@ check bake.manifest_scale grep -qE '"emission_scale":[[:space:]]*[0-9]' "$BDIR/o
 mkdir "$BDIR/umask_probe"
 check_eq bake.dir_mode "$(ls -ld "$BDIR/out" | cut -c1-10)" "$(ls -ld "$BDIR/umask_probe" | cut -c1-10)"
 
-# Re-baking replaces DIR as a whole: a stranger file goes, the new options
-# show, nothing is left beside it.
-: >"$BDIR/out/stranger"
+# Re-baking replaces a bake as a whole: files of the earlier options go,
+# the new options show, nothing is left beside it.  The manifest lists
+# every file of the directory ("files"), itself included.
+check_eq bake.files_listed "$(python3 -c 'import json,sys; print(" ".join(json.load(open(sys.argv[1]))["files"]))' "$BDIR/out/manifest.json")" \
+    "$(ls "$BDIR/out" | tr '\n' ' ' | sed 's/ $//')"
 sb_run bake "$RSCENE" -o "$BDIR/out/" --compression none --format half --quiet
 check_rc bake.rebake 0
 check_eq bake.rebake_quiet "$SB_ERR" ""
-check bake.rebake_replaced test ! -e "$BDIR/out/stranger"
 check bake.rebake_manifest grep -q '"compression":[[:space:]]*"none"' "$BDIR/out/manifest.json"
 check_eq bake.rebake_leftovers "$(bake_leftovers)" 0
 check_match bake.half_channels "$(exr_header "$BDIR/out/optics_$l0.exr")" "410001000000.*520001000000"
@@ -1668,19 +1669,95 @@ for d in . .. / ./ "$BDIR/.."; do
     check_error "bake.dot[$d]" 2 "-o: '.*' cannot be replaced by the bake \(name the directory itself, not '.', '..' or '/'\)"
 done
 check_eq bake.dot_leftovers "$(find "$BDIR/.." -maxdepth 1 -name '*.tmp.*' | grep -c '')" 0
-# A symbolic link to a directory is followed: the directory it points to is
-# replaced, the link kept; a link to nothing is refused.
-mkdir -p "$BDIR/real" && : >"$BDIR/real/stranger"
-ln -s real "$BDIR/link"
-sb_run bake "$RSCENE" -o "$BDIR/link" --quiet
-check_rc bake.symlink_rc 0
-check bake.symlink_kept test -L "$BDIR/link"
-check bake.symlink_target_replaced test ! -e "$BDIR/real/stranger"
-check bake.symlink_target_new test -s "$BDIR/real/manifest.json"
+# seabake replaces only what it can show it wrote.  Each case directly and
+# through a symbolic link (the link is followed, the directory it points
+# to replaced, the link kept): an empty directory and a bake are replaced;
+# a bake with one extra file of the user's, a directory that is not a
+# bake, a bake whose listed file is a symbolic link, and a manifest that is
+# not seabake's are refused before any work, untouched, nothing beside them.
+mkdir -p "$BDIR/own"
+sb_run bake "$RSCENE" -o "$BDIR/own/seed" --quiet
+check_rc bake.own_seed 0
+own_case() { # own_case NAME SETUP: makes $BDIR/own/NAME as SETUP says
+    rm -rf "${BDIR:?}/own/$1"
+    case $2 in
+    empty) mkdir "$BDIR/own/$1" ;;
+    bake) cp -a "$BDIR/own/seed" "$BDIR/own/$1" ;;
+    extra) cp -a "$BDIR/own/seed" "$BDIR/own/$1" && echo data >"$BDIR/own/$1/notes.txt" ;;
+    subdir) cp -a "$BDIR/own/seed" "$BDIR/own/$1" && mkdir "$BDIR/own/$1/src" ;;
+    user) mkdir -p "$BDIR/own/$1/src" && echo data >"$BDIR/own/$1/notes.txt" ;;
+    linked) cp -a "$BDIR/own/seed" "$BDIR/own/$1" && f=$(cd "$BDIR/own/$1" && ls moments_*.exr | head -n 1) &&
+            rm "$BDIR/own/$1/$f" && ln -s /etc/hostname "$BDIR/own/$1/$f" ;;
+    foreign) mkdir "$BDIR/own/$1" && echo '{"format": "other", "files": ["manifest.json", "a"]}' \
+                 >"$BDIR/own/$1/manifest.json" && : >"$BDIR/own/$1/a" ;;
+    v01) cp -a "$BDIR/own/seed" "$BDIR/own/$1" &&
+         python3 -c 'import json,sys; p=sys.argv[1]; m=json.load(open(p)); del m["files"]; json.dump(m, open(p, "w"))' \
+             "$BDIR/own/$1/manifest.json" ;;
+    esac
+}
+for via in dir link; do
+    for c in empty bake; do
+        own_case "$c" "$c"
+        o="$BDIR/own/$c"
+        if [ $via = link ]; then ln -sfn "$c" "$BDIR/own/l_$c"; o="$BDIR/own/l_$c"; fi
+        sb_run bake "$RSCENE" -o "$o" --quiet
+        check_rc "bake.own.$via.$c" 0
+        check "bake.own.$via.${c}_new" test -s "$BDIR/own/$c/manifest.json"
+        [ $via = link ] && check "bake.own.$via.${c}_link_kept" test -L "$o"
+    done
+    for c in extra subdir user linked foreign v01; do
+        own_case "$c" "$c"
+        o="$BDIR/own/$c"
+        if [ $via = link ]; then ln -sfn "$c" "$BDIR/own/l_$c"; o="$BDIR/own/l_$c"; fi
+        before=$(bake_state "$BDIR/own/$c")
+        sb_run bake "$RSCENE" -o "$o" --quiet
+        check_error "bake.own.$via.$c" 2 "-o: '.*$( [ $via = link ] && echo l_)$c' is not a bake that seabake wrote \(.*\); seabake replaces only its own bakes: choose another -o, or move or remove '.*' yourself"
+        check_eq "bake.own.$via.${c}_untouched" "$(bake_state "$BDIR/own/$c")" "$before"
+    done
+done
+check_match bake.own.user_names "$(sb_run bake "$RSCENE" -o "$BDIR/own/user"; echo "$SB_ERR")" \
+    "it has no manifest.json and holds 'notes.txt' and 1 more"
+check_match bake.own.extra_names "$(own_case extra extra; sb_run bake "$RSCENE" -o "$BDIR/own/extra"; echo "$SB_ERR")" \
+    "it holds what its manifest.json does not list as a file of the bake: 'notes.txt'\)"
+check_eq bake.own_leftovers "$(find "$BDIR/own" -maxdepth 1 \( -name '*.tmp.*' -o -name '*.old.*' \) | grep -c '')" 0
+# Directories named like seabake's temporaries but not made by it (no
+# marker inside) are never removed nor restored from.
+mkdir -p "$BDIR/names/results.tmp.backup" "$BDIR/names/results.old.2024ab" \
+    "$BDIR/names/results.tmp.AbC123" "$BDIR/names/results.old.XyZ789"
+for d in results.tmp.backup results.old.2024ab results.tmp.AbC123 results.old.XyZ789; do
+    echo mine >"$BDIR/names/$d/f"
+done
+names_before=$(bake_state "$BDIR/names")
+sb_run bake "$RSCENE" -o "$BDIR/names/results"
+check_rc bake.names_rc 0
+check_no_match bake.names_silent "$SB_ERR" "removed|restored"
+for d in results.tmp.backup results.old.2024ab results.tmp.AbC123 results.old.XyZ789; do
+    check_eq "bake.names_kept[$d]" "$(cat "$BDIR/names/$d/f")" mine
+done
+# ... nor one whose marker names another directory or kind.
+mkdir -p "$BDIR/names/results.old.Mrk001"
+printf 'seabake temporary directory\nkind old\ntarget other\npid 1\nhost h\n' \
+    >"$BDIR/names/results.old.Mrk001/.seabake-temporary"
+echo mine >"$BDIR/names/results.old.Mrk001/f"
+rm -rf "$BDIR/names/results"
+sb_run bake "$RSCENE" -o "$BDIR/names/results" --quiet
+check_rc bake.names_marker_other 0
+check_eq bake.names_marker_other_kept "$(cat "$BDIR/names/results.old.Mrk001/f")" mine
+rm -rf "$BDIR/names"
+# A link to nothing is refused.
 ln -s nowhere "$BDIR/dangling"
 sb_run bake "$RSCENE" -o "$BDIR/dangling"
 check_error bake.symlink_dangling 2 "-o: '.*dangling' is a symbolic link to nothing"
-rm -rf "$BDIR/real" "$BDIR/link" "$BDIR/dangling" "$BDIR/.real.lock"
+rm -rf "$BDIR/own" "$BDIR/dangling"
+# The lock file is never followed: a symbolic link in its place is refused
+# and the file it names is not created.
+mkdir -p "$BDIR/lklink"
+ln -s "$BDIR/lklink/elsewhere" "$BDIR/lklink/.out.lock"
+sb_run bake "$RSCENE" -o "$BDIR/lklink/out"
+check_error bake.lock_symlink 3 "-o: the lock file '.*\.out\.lock' is a symbolic link"
+check bake.lock_symlink_not_created test ! -e "$BDIR/lklink/elsewhere"
+check bake.lock_symlink_no_out test ! -e "$BDIR/lklink/out"
+rm -rf "$BDIR/lklink"
 # --set, as for render: the manifest shows the overridden wind.
 sb_run bake "$RSCENE" -o "$BDIR/set" --set sea.wind_speed=12.5 --quiet
 check_rc bake.set_rc 0
@@ -1698,7 +1775,9 @@ check_eq bake.failures_leftovers "$(bake_leftovers)" 0
 # the first uncompressed map (16 bytes a texel, over a hundred texels even
 # in the small scene used under valgrind); DIR is left as it was and
 # nothing is left beside it.
-mkdir -p "$BDIR/inj/out" && : >"$BDIR/inj/out/keep"
+mkdir -p "$BDIR/inj"
+sb_run bake "$RSCENE" -o "$BDIR/inj/out" --quiet
+check_rc bake.inj_seed 0
 inj_before=$(bake_state "$BDIR/inj/out")
 SB_CMD="seabake bake --compression none (ulimit -f 2)"
 # shellcheck disable=SC2086
@@ -1816,11 +1895,18 @@ fi
 # A bake killed between moving DIR aside and putting the new one in place
 # (DIR missing, DIR.old.XXXXXX holding it): the next bake puts it back
 # first, then replaces it as usual.
-mkdir -p "$BDIR/rs/out.old.AbC123" && : >"$BDIR/rs/out.old.AbC123/keep"
+# The state is made as seabake's commit makes it: the bake is marked
+# (.seabake-temporary: kind old, its target's name), then renamed aside.
+mkdir -p "$BDIR/rs"
+sb_run bake "$RSCENE" -o "$BDIR/rs/out" --quiet --set sea.wind_speed=6
+printf 'seabake temporary directory\nkind old\ntarget out\npid 1\nhost h\n' \
+    >"$BDIR/rs/out/.seabake-temporary"
+mv "$BDIR/rs/out" "$BDIR/rs/out.old.AbC123"
 sb_run bake "$RSCENE" -o "$BDIR/rs/out" --quiet
 check_rc bake.restore_rc 0
 check_match bake.restore_note "$SB_ERR" "^bake: '.*rs/out' restored from 'out.old.AbC123', left by a bake that was killed while replacing it$"
-check bake.restore_replaced test ! -e "$BDIR/rs/out/keep"
+check bake.restore_replaced absent grep -q '"wind_speed_m_s":[[:space:]]*6,' "$BDIR/rs/out/manifest.json"
+check bake.restore_no_marker test ! -e "$BDIR/rs/out/.seabake-temporary"
 check_eq bake.restore_leftovers "$(ls -A "$BDIR/rs" | tr '\n' ' ')" ".out.lock out "
 
 # Frames: every map of every HR level once per frame, numbered.

@@ -228,7 +228,7 @@ check_eq bake.parent.nothing "$(ls -A "$SB_TMP" | grep -c missing)" 0
 # Rank 0, the writer, cannot write a file over 8 KiB (ulimit -f, SIGXFSZ
 # ignored: EFBIG) while ranks 1 and 2 send frames 1 and 2: the run fails
 # with one process's message under the same limit, DIR keeps its old
-# content and no temporary directory is left.  TCP between the ranks:
+# bake and no temporary directory is left.  TCP between the ranks:
 # OpenMPI's shared-memory segments are files, which the limit would stop.
 cat >"$SB_TMP/rank0_fsize.sh" <<'EOF'
 #!/bin/bash
@@ -236,7 +236,12 @@ if [ "${OMPI_COMM_WORLD_RANK:-0}" = 0 ]; then trap '' XFSZ; ulimit -f 8; fi
 exec "$@"
 EOF
 chmod +x "$SB_TMP/rank0_fsize.sh"
-for d in one np3; do mkdir -p "$SB_TMP/w_$d" && echo old >"$SB_TMP/w_$d/keep"; done
+# old_bake DIR: an earlier bake in DIR (another seed), which a failed bake
+# must leave as it was; kept DIR: its manifest's checksum.
+old_bake() { "$SEABAKE" bake "$EX/tiny.ini" -o "$1" --set sea.seed=99 --quiet; }
+kept() { cksum <"$1/manifest.json"; }
+for d in one np3; do old_bake "$SB_TMP/w_$d"; done
+old_manifest=$(kept "$SB_TMP/w_one")
 SB_CMD="seabake bake (ulimit -f 8)"
 "$SB_TMP/rank0_fsize.sh" "$SEABAKE" bake "$EX/tiny.ini" --frames 0:4 -o "$SB_TMP/w_one" \
     >/dev/null 2>"$SB_TMP/err.one"
@@ -250,10 +255,10 @@ MPI_OPTS=()
 MPI_WRAP=()
 check_error bake.fsize.np3 3 "File too large"
 check_eq bake.fsize.same_message "$SB_ERR" "$err_one"
-check_eq bake.fsize.kept "$(ls -A "$SB_TMP/w_np3")" keep
+check_eq bake.fsize.kept "$(kept "$SB_TMP/w_np3")" "$old_manifest"
 no_temporaries bake.fsize.no_temporaries "$SB_TMP"
 # the same in one frame shared by rows
-mkdir -p "$SB_TMP/w1_np3" && echo old >"$SB_TMP/w1_np3/keep"
+old_bake "$SB_TMP/w1_np3"
 "$SB_TMP/rank0_fsize.sh" "$SEABAKE" bake "$EX/tiny.ini" -o "$SB_TMP/w_one" >/dev/null 2>"$SB_TMP/err.one"
 err_one=$(cat "$SB_TMP/err.one")
 MPI_OPTS=(--mca btl self,tcp)
@@ -263,13 +268,13 @@ MPI_OPTS=()
 MPI_WRAP=()
 check_error bake.rows.fsize.np3 3 "File too large"
 check_eq bake.rows.fsize.same_message "$SB_ERR" "$err_one"
-check_eq bake.rows.fsize.kept "$(ls -A "$SB_TMP/w1_np3")" keep
+check_eq bake.rows.fsize.kept "$(kept "$SB_TMP/w1_np3")" "$old_manifest"
 no_temporaries bake.rows.fsize.no_temporaries "$SB_TMP"
 
 # Rank 1 (a sender) stops on SIGTERM 3 s into a 41-frame bake (about 20 s
 # of work on two cores): the run fails with the signal's message, from
 # rank 0, DIR keeps its old content, nothing is left.
-mkdir -p "$SB_TMP/s_np3" && echo old >"$SB_TMP/s_np3/keep"
+old_bake "$SB_TMP/s_np3"
 MPI_WRAP=("$SB_TMP/rank1_term.sh")
 sb_mpirun 3 bake "$EX/tiny.ini" --frames 0:40 -o "$SB_TMP/s_np3"
 MPI_WRAP=()
@@ -278,17 +283,17 @@ check bake.term.failed [ "$SB_RC" -ne 0 ]
 check_eq bake.term.one_line "$(printf '%s\n' "$SB_ERR" | grep -c '')" 1
 check_eq bake.term.message "$SB_ERR" \
     "seabake: error: interrupted by signal 15: the output directory is left as it was"
-check_eq bake.term.kept "$(ls -A "$SB_TMP/s_np3")" keep
+check_eq bake.term.kept "$(kept "$SB_TMP/s_np3")" "$old_manifest"
 no_temporaries bake.term.no_temporaries "$SB_TMP"
 # and in one frame shared by rows (examples/mast.ini: about 15 s of work)
-mkdir -p "$SB_TMP/s1_np3" && echo old >"$SB_TMP/s1_np3/keep"
+old_bake "$SB_TMP/s1_np3"
 MPI_WRAP=("$SB_TMP/rank1_term.sh")
 sb_mpirun 3 bake "$EX/mast.ini" -o "$SB_TMP/s1_np3"
 MPI_WRAP=()
 check bake.rows.term.failed [ "$SB_RC" -ne 0 ]
 check_eq bake.rows.term.message "$SB_ERR" \
     "seabake: error: interrupted by signal 15: the output directory is left as it was"
-check_eq bake.rows.term.kept "$(ls -A "$SB_TMP/s1_np3")" keep
+check_eq bake.rows.term.kept "$(kept "$SB_TMP/s1_np3")" "$old_manifest"
 no_temporaries bake.rows.term.no_temporaries "$SB_TMP"
 
 finish

@@ -18,6 +18,7 @@
  * temporary directory is removed and DIR is exactly as it was. */
 #define _XOPEN_SOURCE 700
 #include <assert.h>
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -154,14 +155,18 @@ static const char BAKE_HELP[] =
     "roughness, saturation anisotropy, hue 2 x rotation); seabake(1), BAKE.\n"
     "Row 0 is the north edge.  Low-resolution levels get no maps; manifest.json\n"
     "lists every level (facet size, origin, extent, texels, files, channels,\n"
-    "units), the scene, the sensor, seed, times and the emission scale.  DIR is\n"
-    "replaced atomically: a failed bake leaves it as it was.  Two bakes into one\n"
+    "units), the scene, the sensor, seed, times, the emission scale and every\n"
+    "file of DIR.  An existing DIR is replaced only if it is empty or a bake that\n"
+    "seabake wrote (its manifest lists every file in it); anything else is refused\n"
+    "before any work.  DIR is replaced atomically: a failed bake leaves it as it\n"
+    "was.  Two bakes into one\n"
     "DIR both succeed (the later wins; one waits for the other's commit); the\n"
     "temporaries of a killed bake are removed by the next one.\n"
     "\n"
     "Options:\n"
     "  -o DIR              the output directory (required); its parent must exist;\n"
-    "                      not '.', '..' or '/'; a symbolic link to a directory\n"
+    "                      not '.', '..' or '/'; if it exists, empty or a bake\n"
+    "                      seabake wrote; a symbolic link to a directory\n"
     "                      is followed (that directory replaced, the link kept)\n"
     "  --format F          float (default) or half channels, as in seabake render\n"
     "  --compression C     none, zip (default) or piz\n"
@@ -1084,13 +1089,64 @@ static sea_status write_text(const char *tmp, const char *name, const char *text
     return st;
 }
 
+static int compare_names(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* The manifest's "files": every file in the directory, sorted, the
+ * manifest itself included (the temporary directory's marker, a dot file,
+ * is not part of the bake).  A later bake replaces the directory only if
+ * this list names everything in it (sea_cli_out_dir_begin). */
+static sea_status list_files(const char *tmp, cJSON *m, sea_error *err)
+{
+    DIR *d = opendir(tmp);
+    if (d == NULL)
+        return sea_fail(err, SEA_ERR_IO, "cannot read '%s': %s", tmp, strerror(errno));
+    /* room for one more name than read: manifest.json */
+    size_t n = 0, cap = 64;
+    char **names = malloc(cap * sizeof *names);
+    bool nomem = names == NULL;
+    struct dirent *e;
+    while (!nomem && (e = readdir(d)) != NULL) {
+        if (e->d_name[0] == '.')
+            continue;
+        if (n + 2 > cap) {
+            char **more = realloc(names, 2 * cap * sizeof *names);
+            if ((nomem = more == NULL))
+                break;
+            names = more;
+            cap *= 2;
+        }
+        nomem = (names[n] = strdup(e->d_name)) == NULL;
+        n += !nomem;
+    }
+    closedir(d);
+    if (!nomem)
+        nomem = (names[n] = strdup("manifest.json")) == NULL;
+    n += !nomem;
+    cJSON *files = NULL;
+    if (!nomem) {
+        qsort(names, n, sizeof *names, compare_names);
+        files = cJSON_CreateStringArray((const char *const *)names, (int)n);
+        nomem = files == NULL || !cJSON_AddItemToObject(m, "files", files);
+    }
+    for (size_t i = 0; i < n; ++i)
+        free(names[i]);
+    free(names);
+    return nomem ? sea_fail(err, SEA_ERR_NOMEM, "out of memory") : SEA_OK;
+}
+
 static sea_status write_manifest(const char *tmp, cJSON *m, sea_error *err)
 {
+    sea_status st = list_files(tmp, m, err);
+    if (st != SEA_OK)
+        return st;
     char *text = cJSON_Print(m);
     char *line = NULL;
     if (text != NULL && (line = malloc(strlen(text) + 2)) != NULL)
         snprintf(line, strlen(text) + 2, "%s\n", text);
-    sea_status st = write_text(tmp, "manifest.json", line, err);
+    st = write_text(tmp, "manifest.json", line, err);
     free(text);
     free(line);
     return st;

@@ -4,8 +4,7 @@
  * parent must exist), and bake's atomic directories (a sibling
  * DIR.tmp.XXXXXX renamed over DIR when every file is in it, under a lock
  * beside DIR). */
-#define _DEFAULT_SOURCE
-#define _XOPEN_SOURCE 700
+#define _GNU_SOURCE /* renameat2 */
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -15,8 +14,11 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/file.h>
+#include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include <cjson/cJSON.h>
 
 #include "cli.h"
 
@@ -250,13 +252,29 @@ static const char *base_name(const char *path, size_t *len)
 static sea_status take_lock(sea_cli_out_dir *od, bool quiet, sea_error *err)
 {
     if (od->lock_fd < 0) {
-        od->lock_fd = open(od->lock, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+        /* O_NOFOLLOW: a symbolic link planted under the lock's name must
+         * not make the bake create or lock a file elsewhere. */
+        od->lock_fd = open(od->lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666);
         /* another user's lock file: flock needs no write access */
         if (od->lock_fd < 0 && errno == EACCES)
-            od->lock_fd = open(od->lock, O_RDONLY | O_CLOEXEC);
+            od->lock_fd = open(od->lock, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+        if (od->lock_fd < 0 && errno == ELOOP)
+            return sea_fail(err, SEA_ERR_IO,
+                            "-o: the lock file '%s' is a symbolic link; remove it (seabake "
+                            "makes it as an empty file)",
+                            od->lock);
         if (od->lock_fd < 0)
             return sea_fail(err, SEA_ERR_IO, "-o: cannot create the lock file '%s': %s",
                             od->lock, strerror(errno));
+        struct stat sb;
+        if (fstat(od->lock_fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+            close(od->lock_fd);
+            od->lock_fd = -1;
+            return sea_fail(err, SEA_ERR_IO,
+                            "-o: the lock file '%s' is not a regular file; remove it (seabake "
+                            "makes it as an empty file)",
+                            od->lock);
+        }
     }
     if (flock(od->lock_fd, LOCK_EX | LOCK_NB) == 0)
         return SEA_OK;
@@ -281,8 +299,33 @@ static void drop_lock(sea_cli_out_dir *od)
     }
 }
 
-/* "BASE.tmp.XXXXXX" or "BASE.old.XXXXXX" (mkdtemp's letters): one of ours. */
-static int our_temporary(const char *name, const char *base, size_t blen)
+/* ------------------------------------------ what seabake may remove or replace
+ *
+ * seabake removes or replaces a directory only when it can show that it
+ * wrote it: never on a name alone.
+ *
+ * Its temporaries (DIR.tmp.XXXXXX while a bake runs, DIR.old.XXXXXX inside
+ * a commit) hold a marker file, SEA_CLI_TEMP_MARKER, written by the process
+ * that made them: its first line is SEA_CLI_TEMP_MAGIC, then "kind tmp" or
+ * "kind old", "target BASE" (the directory it belongs to), and the process's
+ * pid and host.  A directory named like a temporary without that marker, or
+ * whose marker names another kind or target, or that another user owns, is
+ * left alone.
+ *
+ * A bake directory that may be replaced is empty, or holds a manifest.json
+ * with "format": "seabake-bake" whose "files" list names every other entry,
+ * each a regular file (the marker of an interrupted commit aside). */
+
+static const char SEA_CLI_TEMP_MARKER[] = ".seabake-temporary";
+static const char SEA_CLI_TEMP_MAGIC[] = "seabake temporary directory";
+/* A manifest is a few hundred kilobytes at most (a thousand frames of six
+ * levels); anything far larger is not one of seabake's. */
+static const long SEA_CLI_MANIFEST_MAX = 64L << 20;
+
+/* "BASE.tmp.XXXXXX" (1) or "BASE.old.XXXXXX" (2), six letters or digits
+ * as mkdtemp and old_name make them; 0 otherwise.  A candidate only: the
+ * marker decides. */
+static int temporary_kind(const char *name, const char *base, size_t blen)
 {
     if (strncmp(name, base, blen) != 0)
         return 0;
@@ -296,12 +339,227 @@ static int our_temporary(const char *name, const char *base, size_t blen)
     return kind;
 }
 
+/* Writes the marker into dir: O_EXCL and O_NOFOLLOW, so that nothing is
+ * overwritten or followed.  0 or an errno. */
+static int write_marker(const char *dir, const char *kind, const char *base, size_t blen)
+{
+    char *path = sea_cli_path_join(dir, SEA_CLI_TEMP_MARKER);
+    if (path == NULL)
+        return ENOMEM;
+    char host[256] = "";
+    gethostname(host, sizeof host - 1);
+    int e = 0;
+    const int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        e = errno;
+    } else {
+        char text[1024];
+        const int n = snprintf(text, sizeof text, "%s\nkind %s\ntarget %.*s\npid %ld\nhost %s\n",
+                               SEA_CLI_TEMP_MAGIC, kind, (int)blen, base, (long)getpid(), host);
+        if (n < 0 || (size_t)n >= sizeof text || write(fd, text, (size_t)n) != n)
+            e = errno ? errno : EIO;
+        if (close(fd) != 0 && e == 0)
+            e = errno;
+        if (e != 0)
+            unlink(path);
+    }
+    free(path);
+    return e;
+}
+
+/* True if dir holds a marker of this kind ("tmp" or "old") and target that
+ * this user wrote. */
+static bool has_marker(const char *dir, const char *kind, const char *base, size_t blen)
+{
+    char *path = sea_cli_path_join(dir, SEA_CLI_TEMP_MARKER);
+    if (path == NULL)
+        return false;
+    const int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    free(path);
+    if (fd < 0)
+        return false;
+    struct stat sb;
+    char text[1024];
+    ssize_t n = -1;
+    if (fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_uid == geteuid() &&
+        sb.st_size < (off_t)sizeof text)
+        n = read(fd, text, sizeof text - 1);
+    close(fd);
+    if (n <= 0)
+        return false;
+    text[n] = '\0';
+    char want[600];
+    snprintf(want, sizeof want, "%s\nkind %s\ntarget %.*s\n", SEA_CLI_TEMP_MAGIC, kind, (int)blen,
+             base);
+    return strncmp(text, want, strlen(want)) == 0;
+}
+
+/* Removes dir's marker (after a commit, or a restore). */
+static void remove_marker(const char *dir)
+{
+    char *path = sea_cli_path_join(dir, SEA_CLI_TEMP_MARKER);
+    if (path != NULL)
+        unlink(path);
+    free(path);
+}
+
+/* Reads dir/manifest.json into a cJSON tree; NULL (with *why set) if it is
+ * not a regular file of sensible size or not JSON. */
+static cJSON *read_manifest(const char *dir, const char **why)
+{
+    char *path = sea_cli_path_join(dir, "manifest.json");
+    if (path == NULL) {
+        *why = "out of memory";
+        return NULL;
+    }
+    const int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    free(path);
+    struct stat sb;
+    char *text = NULL;
+    cJSON *m = NULL;
+    *why = "its manifest.json cannot be read";
+    if (fd >= 0 && fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_size <= SEA_CLI_MANIFEST_MAX &&
+        (text = malloc((size_t)sb.st_size + 1)) != NULL) {
+        size_t got = 0;
+        ssize_t n;
+        while (got < (size_t)sb.st_size &&
+               (n = read(fd, text + got, (size_t)sb.st_size - got)) > 0)
+            got += (size_t)n;
+        text[got] = '\0';
+        if (got == (size_t)sb.st_size && (m = cJSON_Parse(text)) == NULL)
+            *why = "its manifest.json is not JSON";
+    }
+    if (fd >= 0)
+        close(fd);
+    free(text);
+    return m;
+}
+
+/* True if the manifest's "files" list names name. */
+static bool manifest_lists(const cJSON *files, const char *name)
+{
+    const cJSON *f;
+    cJSON_ArrayForEach(f, files)
+    {
+        if (cJSON_IsString(f) && strcmp(f->valuestring, name) == 0)
+            return true;
+    }
+    return false;
+}
+
+static int compare_names(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* SEA_OK if the existing directory od->target may be replaced by a bake
+ * (the rule above); otherwise SEA_ERR_DOMAIN naming what was found and how
+ * to proceed.  Nothing is changed. */
+static sea_status check_replaceable(const sea_cli_out_dir *od, sea_error *err)
+{
+    DIR *d = opendir(od->target);
+    if (d == NULL)
+        return sea_fail(err, SEA_ERR_IO, "-o: cannot read the directory '%s': %s", od->user,
+                        strerror(errno));
+    /* the entries, sorted, so that the message is the same on every run */
+    char **names = NULL;
+    size_t n = 0, cap = 0;
+    bool has_manifest = false, nomem = false;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0 ||
+            strcmp(e->d_name, SEA_CLI_TEMP_MARKER) == 0)
+            continue;
+        if (strcmp(e->d_name, "manifest.json") == 0) {
+            has_manifest = true;
+            continue;
+        }
+        if (n == cap) {
+            cap = cap ? 2 * cap : 16;
+            char **more = realloc(names, cap * sizeof *names);
+            if (more == NULL) {
+                nomem = true;
+                break;
+            }
+            names = more;
+        }
+        if ((names[n] = strdup(e->d_name)) == NULL) {
+            nomem = true;
+            break;
+        }
+        ++n;
+    }
+    closedir(d);
+    sea_status st = SEA_OK;
+    cJSON *m = NULL;
+    const char *why = NULL;
+    char *bad = NULL;
+    if (nomem) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    qsort(names, n, sizeof *names, compare_names);
+    size_t nbad = 0; /* entries the manifest does not account for */
+    if (!has_manifest) {
+        if (n == 0)
+            goto done; /* empty: nothing to lose */
+        why = "it has no manifest.json and holds";
+        bad = names[0];
+        nbad = n;
+    } else if ((m = read_manifest(od->target, &why)) != NULL) {
+        const cJSON *format = cJSON_GetObjectItemCaseSensitive(m, "format");
+        const cJSON *files = cJSON_GetObjectItemCaseSensitive(m, "files");
+        why = NULL;
+        if (!cJSON_IsString(format) || strcmp(format->valuestring, "seabake-bake") != 0)
+            why = "its manifest.json is not a seabake bake's (no \"format\": \"seabake-bake\")";
+        else if (!cJSON_IsArray(files))
+            why = "its manifest.json has no \"files\" list (a bake by seabake 0.1, or not "
+                  "seabake's)";
+        for (size_t i = 0; why == NULL && i < n; ++i) {
+            struct stat sb;
+            char *path = sea_cli_path_join(od->target, names[i]);
+            const bool regular = path != NULL && lstat(path, &sb) == 0 && S_ISREG(sb.st_mode);
+            free(path);
+            if (manifest_lists(files, names[i]) && regular)
+                continue;
+            if (bad == NULL)
+                bad = names[i];
+            ++nbad;
+        }
+        if (why == NULL && bad != NULL)
+            why = "it holds what its manifest.json does not list as a file of the bake:";
+    }
+    if (why != NULL) {
+        char more[64] = "";
+        if (nbad > 1)
+            snprintf(more, sizeof more, " and %zu more", nbad - 1);
+        if (bad != NULL)
+            st = sea_fail(err, SEA_ERR_DOMAIN,
+                          "-o: '%s' is not a bake that seabake wrote (%s '%s'%s); seabake "
+                          "replaces only its own bakes: choose another -o, or move or remove "
+                          "'%s' yourself",
+                          od->user, why, bad, more, od->user);
+        else
+            st = sea_fail(err, SEA_ERR_DOMAIN,
+                          "-o: '%s' is not a bake that seabake wrote (%s); seabake replaces only "
+                          "its own bakes: choose another -o, or move or remove '%s' yourself",
+                          od->user, why, od->user);
+    }
+done:
+    cJSON_Delete(m);
+    for (size_t i = 0; i < n; ++i)
+        free(names[i]);
+    free(names);
+    return st;
+}
+
 /* Under the lock: the temporary directories of bakes that are gone.  A live
  * bake holds an flock on its DIR.tmp.XXXXXX from its creation (under this
  * lock) to its end, so one whose flock can be taken is stale; a DIR.old.XXXXXX
  * exists only inside a commit, which holds this lock, so any is stale.  A
  * bake killed between moving DIR aside and putting the new one in place
- * left DIR missing: its old copy is put back. */
+ * left DIR missing: its old copy is put back.  Each only with seabake's
+ * marker inside (above). */
 static void clean_stale(sea_cli_out_dir *od)
 {
     DIR *d = opendir(od->parent);
@@ -313,12 +571,13 @@ static void clean_stale(sea_cli_out_dir *od)
     const uid_t me = geteuid();
     struct dirent *e;
     while (b != NULL && (e = readdir(d)) != NULL) {
-        const int kind = our_temporary(e->d_name, b, blen);
+        const int kind = temporary_kind(e->d_name, b, blen);
         if (kind == 0)
             continue;
         char *path = sea_cli_path_join(od->parent, e->d_name);
         struct stat sb;
-        if (path == NULL || lstat(path, &sb) != 0 || !S_ISDIR(sb.st_mode) || sb.st_uid != me) {
+        if (path == NULL || lstat(path, &sb) != 0 || !S_ISDIR(sb.st_mode) || sb.st_uid != me ||
+            !has_marker(path, kind == 1 ? "tmp" : "old", b, blen)) {
             free(path);
             continue;
         }
@@ -336,6 +595,7 @@ static void clean_stale(sea_cli_out_dir *od)
         struct stat tb;
         if (kind == 2 && lstat(od->target, &tb) != 0 && errno == ENOENT &&
             rename(path, od->target) == 0) {
+            remove_marker(od->target);
             fprintf(stderr,
                     "bake: '%s' restored from '%s', left by a bake that was killed while "
                     "replacing it\n",
@@ -347,6 +607,43 @@ static void clean_stale(sea_cli_out_dir *od)
     }
     free(b);
     closedir(d);
+}
+
+/* Moves the existing target aside to a fresh DIR.old.XXXXXX; *old gets its
+ * name.  renameat2's RENAME_NOREPLACE makes the name without a directory
+ * to rename onto; where the file system lacks it, mkdtemp reserves the name
+ * and rename replaces that empty directory (POSIX). */
+static sea_status move_aside(const sea_cli_out_dir *od, char **old, sea_error *err)
+{
+    if ((*old = sea_cli_sibling_template(od->target, "old")) == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    static const char letters[] = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789";
+    char *x = *old + strlen(*old) - 6;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        unsigned char r[6];
+        if (getrandom(r, sizeof r, 0) != (ssize_t)sizeof r)
+            break;
+        for (int i = 0; i < 6; ++i)
+            x[i] = letters[r[i] % (sizeof letters - 1)];
+        if (renameat2(AT_FDCWD, od->target, AT_FDCWD, *old, RENAME_NOREPLACE) == 0)
+            return SEA_OK;
+        if (errno != EEXIST)
+            break;
+    }
+    if (errno != EINVAL && errno != ENOSYS && errno != EEXIST)
+        return sea_fail(err, SEA_ERR_IO, "-o: cannot move '%s' aside: %s", od->target,
+                        strerror(errno));
+    memcpy(x, "XXXXXX", 6);
+    if (mkdtemp(*old) == NULL)
+        return sea_fail(err, SEA_ERR_IO, "-o: cannot create a directory in '%s': %s", od->parent,
+                        strerror(errno));
+    if (rename(od->target, *old) != 0) {
+        const int e = errno;
+        rmdir(*old);
+        return sea_fail(err, SEA_ERR_IO, "-o: cannot move '%s' aside to '%s': %s", od->target,
+                        *old, strerror(e));
+    }
+    return SEA_OK;
 }
 
 sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quiet, sea_error *err)
@@ -414,6 +711,8 @@ sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quie
                           "-o: '%s' is a mount point, which cannot be replaced (bake into a "
                           "directory inside it)",
                           od->user);
+        else
+            st = check_replaceable(od, err);
     } else if (errno != ENOENT) {
         st = sea_fail(err, SEA_ERR_IO, "-o: cannot examine '%s': %s", od->user, strerror(errno));
     }
@@ -424,6 +723,12 @@ sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quie
         od->tmp = NULL;
     }
     od->made = st == SEA_OK;
+    if (st == SEA_OK) {
+        const int e = write_marker(od->tmp, "tmp", base, blen);
+        if (e != 0)
+            st = sea_fail(err, SEA_ERR_IO, "-o: cannot write into '%s': %s", od->tmp,
+                          strerror(e));
+    }
     if (st == SEA_OK) {
         /* The flock that tells other bakes this temporary is alive.  Where
          * the file system has no flock, theirs fails too and they keep it. */
@@ -440,38 +745,46 @@ sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quie
 }
 
 /* Puts the finished temporary directory in place of the target, under the
- * lock: an existing directory is renamed aside, the new one renamed in,
- * the old one removed, all before another bake may commit. */
+ * lock: an existing directory, checked again to be a bake, is marked and
+ * renamed aside, the new one renamed in, the old one removed, all before
+ * another bake may commit. */
 sea_status sea_cli_out_dir_commit(sea_cli_out_dir *od, bool quiet, sea_error *err)
 {
     sea_status st = take_lock(od, quiet, err);
     if (st != SEA_OK)
         return st;
+    size_t blen;
+    const char *base = base_name(od->target, &blen);
     struct stat sb;
     char *old = NULL;
     if (lstat(od->target, &sb) != 0) {
         if (rename(od->tmp, od->target) != 0)
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", od->tmp,
                           od->target, strerror(errno));
+        else
+            remove_marker(od->target);
     } else if (!S_ISDIR(sb.st_mode)) {
         st = sea_fail(err, SEA_ERR_IO, "-o: '%s' exists and is not a directory", od->user);
-    } else if ((old = sea_cli_sibling_template(od->target, "old")) == NULL) {
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    } else if (mkdtemp(old) == NULL) {
-        /* mkdtemp reserves a unique name; renaming a directory onto an
-         * empty directory replaces it (POSIX rename). */
-        st = sea_fail(err, SEA_ERR_IO, "-o: cannot create a directory in '%s': %s", od->parent,
-                      strerror(errno));
-    } else if (rename(od->target, old) != 0) {
-        st = sea_fail(err, SEA_ERR_IO, "-o: cannot move '%s' aside to '%s': %s", od->target, old,
-                      strerror(errno));
-        rmdir(old);
-    } else if (rename(od->tmp, od->target) != 0) {
-        st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", od->tmp, od->target,
-                      strerror(errno));
-        rename(old, od->target); /* put the old one back */
+    } else if ((st = check_replaceable(od, err)) != SEA_OK) {
+        /* something was put into DIR while the bake ran */
     } else {
-        sea_cli_remove_tree(old);
+        /* A marker left by a commit killed before its rename is replaced. */
+        remove_marker(od->target);
+        int e = write_marker(od->target, "old", base, blen);
+        if (e != 0)
+            st = sea_fail(err, SEA_ERR_IO, "-o: cannot write into '%s': %s", od->user,
+                          strerror(e));
+        else if ((st = move_aside(od, &old, err)) != SEA_OK)
+            remove_marker(od->target);
+        else if (rename(od->tmp, od->target) != 0) {
+            st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", od->tmp,
+                          od->target, strerror(errno));
+            if (rename(old, od->target) == 0) /* put the old one back */
+                remove_marker(od->target);
+        } else {
+            remove_marker(od->target);
+            sea_cli_remove_tree(old);
+        }
     }
     free(old);
     if (st == SEA_OK) {
