@@ -46,28 +46,41 @@ int main(void)
         (st = sea_spectrum_slope_cov(&spectrum, 0.0, &slopes.cov, &err)) != SEA_OK)
         return failed("slope statistics", st, &err);
 
-    /* The quadrature plan: built once, then only read (it could serve many threads). */
+    /* The default model (what the program computes): built once, then only read (it
+     * could serve many threads).  Its tables need the spectrum and the low-resolution
+     * statistics of the sea its facets' mirror rays meet. */
+    sea_model_params mp;
+    sea_model_params_default(&mp);
+    sea_model *model = NULL;
+    if ((st = sea_model_alloc(&mp, &spectrum, &slopes, NULL, &N, 1, NULL, &model, &err)) !=
+        SEA_OK)
+        return failed("default model", st, &err);
+    /* The paper's model: a quadrature plan with Smith's shadowing, one hit, one scale. */
     sea_optics *optics = NULL;
-    if ((st = sea_optics_alloc(&optics, &err)) != SEA_OK)
+    if ((st = sea_optics_alloc(&optics, &err)) != SEA_OK) {
+        sea_model_free(model);
         return failed("quadrature plan", st, &err);
-    /* The program's default: a facet's chance to be seen depends on its slope (the
-     * library's own default is the paper's Smith shadowing, SEA_SHADOW_SMITH). */
-    sea_optics_set_shadowing(optics, SEA_SHADOW_CORRELATED);
+    }
+    sea_optics_set_shadowing(optics, SEA_SHADOW_SMITH);
 
     printf("# %.1f um, n = %.4f, k = %.4f; 10 m/s: sigma_x^2 = %.5f, sigma_y^2 = %.5f\n",
            wavelength * 1e6, creal(N), cimag(N), slopes.cov.xx, slopes.cov.yy);
-    printf("theta_deg  emissivity  flat_sea\n");
+    printf("theta_deg  emissivity  the_paper  flat_sea\n");
     for (size_t i = 0; i < sizeof theta_deg / sizeof theta_deg[0]; i++) {
         const sea_dir view = sea_dir_fold(theta_deg[i] * deg, 0.0); /* toward the sensor */
-        double eps, eps_flat;
-        if ((st = sea_emissivity(optics, SEA_EMIS_AUTO, N, &slopes, view, &eps, &err)) != SEA_OK ||
+        double eps, eps_paper, eps_flat;
+        if ((st = sea_model_emissivity(model, &slopes, view, &eps, NULL, &err)) != SEA_OK ||
+            (st = sea_emissivity(optics, SEA_EMIS_AUTO, N, &slopes, view, &eps_paper, &err)) !=
+                SEA_OK ||
             (st = sea_emissivity(optics, SEA_EMIS_AUTO, N, &flat, view, &eps_flat, &err)) !=
                 SEA_OK) {
             sea_optics_free(optics);
+            sea_model_free(model);
             return failed("emissivity", st, &err);
         }
-        printf("%9.1f  %10.6f  %8.6f\n", theta_deg[i], eps, eps_flat);
+        printf("%9.1f  %10.6f  %9.6f  %8.6f\n", theta_deg[i], eps, eps_paper, eps_flat);
     }
+    sea_model_free(model);
     sea_optics_free(optics);
     return 0;
 }

@@ -183,6 +183,9 @@ sea_status sea_optics_alloc(sea_optics **out, sea_error *err)
     atomic_init(&p->n_fresnel, 0);
     atomic_init(&p->n_basis, 0);
     p->use_basis = 1;
+    /* the default model's (sea_model_params_default): the paper's Smith
+     * shadowing is one sea_optics_set_shadowing away */
+    p->shadowing = SEA_SHADOW_CORRELATED;
 #ifdef SEA_OPTICS_AVX2
     __builtin_cpu_init();
     p->avx2 = __builtin_cpu_supports("avx2") != 0;
@@ -265,6 +268,18 @@ int sea_emis_method_from_name(const char *name)
         return SEA_EMIS_FAST;
     if (strcmp(name, "full") == 0)
         return SEA_EMIS_FULL;
+    return -1;
+}
+
+int sea_reflections_from_name(const char *name)
+{
+    if (strcmp(name, "auto") == 0)
+        return SEA_REFLECTIONS_AUTO;
+    for (int r = 1; r <= SEA_REFLECTIONS_MAX; r++) {
+        char d[2] = { (char)('0' + r), '\0' };
+        if (strcmp(name, d) == 0)
+            return r;
+    }
     return -1;
 }
 
@@ -1953,10 +1968,55 @@ static double hit_chance(const sea_slope_stats *st, const double g[3], double L_
     return P * share < SEA_MULTI_SHARE_NEGLIGIBLE ? 0.0 : P;
 }
 
+/* The sea around a facet (seabake-model(7), MULTIPLE REFLECTIONS): what
+ * its mirror rays meet again.  A mirror ray travels metres before it meets
+ * the sea again, farther than the finest facets are long, so the facets it
+ * meets, and the chance that it meets any, are those of the sea as a whole:
+ * the low-resolution slope statistics (m = 0, C_LR), whatever the facet it
+ * left.  (A facet as large as the hop carries nearly all the slope variance
+ * itself, so its own statistics are nearly these.)  Then what the second
+ * hit reads depends on the mirror ray's direction alone, and is tabulated
+ * once per scene: the emissivity E_(R-1) of the facets met toward -r, and
+ * with a sky model the sky they reflect, K_(R-1), per index, on a grid of
+ * the direction's zenith cosine u_z = x |x|, x in [-1, 1] (2 SEA_AROUND_HALF
+ * intervals: fine near the horizon, where the chance of meeting the sea climbs
+ * to 1 over a few hundredths of u_z on a calm sea) and of
+ * cos^2 of its azimuth to the wind (the sea's slopes are symmetric about
+ * the wind and across it: SEA_AROUND_NW nodes on [0, 1]), read by
+ * Catmull-Rom in both.  exact: every read evaluated at its direction
+ * instead (the reference). */
+enum { SEA_AROUND_HALF = 64, SEA_AROUND_NW = 9 };
+/* Stored as two halves, x <= 0 and x >= 0, each of SEA_AROUND_HALF + 1
+ * nodes in x and SEA_AROUND_NW in the azimuth, padded with one ghost node
+ * on every side (the linear extrapolation 2 f_0 - f_1 of the last two:
+ * neither axis is an angle the values are even in, and no stencil crosses
+ * the horizon, which parts the facets seen from above from those seen
+ * from below), so that a read takes the 4 x 4 nodes around it unchecked. */
+enum { SEA_AROUND_ROWS = SEA_AROUND_HALF + 3, SEA_AROUND_COLS = SEA_AROUND_NW + 2,
+       SEA_AROUND_CELLS = 2 * SEA_AROUND_ROWS * SEA_AROUND_COLS };
+struct sea_around {
+    const sea_optics *p;
+    sea_slope_stats lr; /* the sea around: m = 0, C_LR */
+    double cw, sw;      /* its principal axes: the wind's azimuth */
+    int reflections;    /* of the facets the sensor sees; the table holds E_(R-1) */
+    int exact;
+    size_t n;
+    double complex *N;
+    int has_sky;
+    sea_sky sky;        /* the caller's, which must outlive this */
+    /* cell c = (half SEA_AROUND_ROWS + row) SEA_AROUND_COLS + col: E and K
+     * at [c n + k]; P[c] the chance a rising mirror ray -u meets the sea,
+     * given nothing of the facet it left: Lambda / (1 + Lambda), Lambda =
+     * lambda_toward(lr, -u), 1 where -u falls */
+    double *E, *K, *P;
+    /* the second hits' orders (second_hit_around) */
+    double split_scale, split_min, cross_scale, cross_min;
+};
+
 static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
                           double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
-                          const sea_sky *sky, size_t k0, const spectral_basis *sb, double *out,
-                          double *kout);
+                          const sea_sky *sky, size_t k0, const spectral_basis *sb,
+                          const sea_around *ar, double *out, double *kout);
 
 /* The reflectance of the block's indices at cos psi c: through the basis
  * sb where there is one (the second hits), else each index's table (the
@@ -2027,13 +2087,188 @@ static int met_basis(const sea_optics *p, const sea_slope_stats *st, const doubl
  * integral), and the delta case (no spread along the view) has no t.
  * w_tot: the integral of the weight (rule a's estimate), for the nodes'
  * shares of the average. */
-static void second_hit(const sea_optics *p, const sea_slope_stats *st, const view_frame *f,
-                       double L_in, const emis_ctx *ec, size_t n, int R, fixed_rule a,
-                       double w_tot, const sea_sky *sky, size_t k0, const spectral_basis *sb,
-                       double *T, double *D)
+/* The pieces of the window [t_lo, t_hi] between the roots of r_z = 0 for
+ * the facets gamma_X = aX + bX t, gamma_Y = aY + bY t seen from f:
+ * c (1 + gX^2 + gY^2) - 2 (c - gX s) = 0, r_z of the sign of -(qa t^2 +
+ * qb t + qc).  cut[0..nc) the ends (at most 5), root[i] whether cut i is a
+ * root; a piece between two roots where the ray rises is cut in two, so
+ * that a rising piece has one root end. */
+typedef struct {
+    double cut[5], qa, qb, qc;
+    int root[5], nc;
+} mirror_pieces;
+
+static void mirror_pieces_of(const view_frame *f, double aX, double bX, double aY, double bY,
+                             double t_lo, double t_hi, mirror_pieces *mp)
+{
+    double *cut = mp->cut;
+    int nc = 0;
+    cut[nc++] = t_lo;
+    double qa = 0.0, qb = 0.0, qc = 0.0;
+    if (!f->delta) {
+        const double c = f->cos_th, s = f->sin_th;
+        qa = c * (bX * bX + bY * bY);
+        qb = 2.0 * c * (aX * bX + aY * bY) + 2.0 * s * bX;
+        qc = c * (aX * aX + aY * aY - 1.0) + 2.0 * s * aX;
+        double roots[2];
+        int nr = 0;
+        if (fabs(qa) > 0.0) {
+            const double disc = qb * qb - 4.0 * qa * qc;
+            if (disc > 0.0) {
+                /* the stable pair of roots */
+                const double q = -0.5 * (qb + copysign(sqrt(disc), qb));
+                roots[nr++] = q / qa;
+                if (q != 0.0)
+                    roots[nr++] = qc / q;
+            }
+        } else if (qb != 0.0) {
+            roots[nr++] = -qc / qb;
+        }
+        if (nr == 2 && roots[1] < roots[0]) {
+            const double x = roots[0];
+            roots[0] = roots[1];
+            roots[1] = x;
+        }
+        for (int r = 0; r < nr; r++)
+            if (roots[r] > cut[nc - 1] && roots[r] < t_hi)
+                cut[nc++] = roots[r];
+    }
+    cut[nc++] = t_hi;
+    int *root = mp->root;
+    root[0] = 0;
+    root[1] = nc > 2;
+    root[2] = nc > 3;
+    root[3] = root[4] = 0;
+    if (nc == 4) {
+        const double tm = 0.5 * (cut[1] + cut[2]);
+        if ((qa * tm + qb) * tm + qc < 0.0) {
+            cut[4] = cut[3];
+            cut[3] = cut[2];
+            cut[2] = tm;
+            root[2] = 0;
+            root[3] = 1;
+            nc = 5;
+        }
+    }
+    mp->qa = qa;
+    mp->qb = qb;
+    mp->qc = qc;
+    mp->nc = nc;
+}
+
+static void around_values(const sea_around *ar, const double o[3], size_t k0, size_t n,
+                          const emis_ctx *ec, const spectral_basis *sb, double *e, double *kv,
+                          double *pinf);
+
+/* second_hit in the sea around ar (seabake-model(7), MULTIPLE
+ * REFLECTIONS): the same split rule at ar's orders, each node's mirror ray
+ * g read from ar's table (or evaluated, ar->exact): the facets met's
+ * E_(R-1) and K_(R-1) toward -g, and P = p / (1 + L_in (1 - p)) with p =
+ * Lambda_g / (1 + Lambda_g) of the sea around (Eq 14c's bistatic factor
+ * Lambda_g / (1 + L_in + Lambda_g); 1 where g falls). */
+static void second_hit_around(const sea_optics *p, const view_frame *f, double L_in,
+                              const emis_ctx *ec, size_t n, fixed_rule a, double w_tot,
+                              const sea_sky *sky, size_t k0, const spectral_basis *sb,
+                              const sea_around *ar, double *T, double *D)
 {
     for (size_t k = 0; k < n; k++)
         T[k] = D[k] = 0.0;
+    const int n_gh =
+        a.n_gh > 0 ? (int)sea_fmin(a.n_gh, sea_fmax(ar->cross_min, ceil(ar->cross_scale * a.n_gh)))
+                   : 0;
+    const int nj = n_gh > 0 ? n_gh : 1;
+    const double *xj = n_gh > 0 ? &p->gh_x[SEA_TRI(n_gh - 1)] : NULL;
+    const double *wj = n_gh > 0 ? &p->gh_w[SEA_TRI(n_gh - 1)] : NULL;
+    double t_lo = 0.0, t_hi = 0.0;
+    if (!f->delta)
+        view_window(f, a.t_cut, &t_lo, &t_hi);
+    const double cph = f->cos_phi, sph = f->sin_phi;
+    for (int j = 0; j < nj; j++) {
+        const double w_j = wj != NULL ? wj[j] : 1.0;
+        const double x_j = xj != NULL ? xj[j] : 0.0;
+        const double aX = f->m_X, bX = f->delta ? 0.0 : f->s_X;
+        const double aY = n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
+        const double bY = n_gh == 0 || f->delta ? 0.0 : f->b_YX;
+        mirror_pieces mp;
+        mirror_pieces_of(f, aX, bX, aY, bY, t_lo, t_hi, &mp);
+        double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+        for (int piece = 0; piece + 1 < mp.nc; piece++) {
+            const double ta = mp.cut[piece], tb = mp.cut[piece + 1];
+            const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
+            const int m =
+                f->delta ? 1
+                         : (int)sea_fmin(SEA_EMIS_GL_MAX,
+                                         sea_fmax(ar->split_min, ceil(ar->split_scale * a.n_gl *
+                                                                      (tb - ta) / (t_hi - t_lo))));
+            int toward = 0; /* as second_hit: nodes crowd toward a rising piece's root */
+            if (!f->delta && (mp.qa * mid + mp.qb) * mid + mp.qc < 0.0 &&
+                mp.root[piece] != mp.root[piece + 1])
+                toward = mp.root[piece + 1] ? 1 : -1;
+            const double *gx = &p->gl_x[SEA_TRI(m - 1)], *gw = &p->gl_w[SEA_TRI(m - 1)];
+            for (int i = 0; i < m; i++) {
+                double t = 0.0, dt = 1.0;
+                if (!f->delta) {
+                    if (toward == 0) {
+                        t = mid + half * gx[i];
+                        dt = half * gw[i];
+                    } else {
+                        const double u = 0.5 * (gx[i] + 1.0), L = tb - ta;
+                        t = toward > 0 ? tb - L * u * u : ta + L * u * u;
+                        dt = L * u * gw[i];
+                    }
+                }
+                double w = f->delta ? 1.0 : dt * rule_weight(f, t);
+                if (f->corr && w > 0.0)
+                    w *= sea_shadow_correlated(f->z, t);
+                if (!(w > 0.0))
+                    continue;
+                den += w;
+                const double gX = aX + bX * t, gY = aY + bY * t;
+                const double inv = 1.0 / sqrt(1.0 + gX * gX + gY * gY);
+                const double cpsi = (f->cos_th - gX * f->sin_th) * inv;
+                if (!(cpsi > 0.0))
+                    continue;
+                /* the mirror ray 2 (n.v) n - v, a unit vector, in the sea's axes */
+                const double two_c = 2.0 * cpsi * inv;
+                const double x = -two_c * gX - f->sin_th, y = -two_c * gY;
+                const double o[3] = { -(x * cph - y * sph), -(x * sph + y * cph),
+                                      -(two_c - f->cos_th) };
+                double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK], pinf;
+                around_values(ar, o, k0, n, ec, sb, eB, kB, &pinf);
+                const double P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + L_in * (1.0 - pinf));
+                if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
+                    continue;
+                double rho[SEA_MULTI_BLOCK];
+                rho_of_block(ec, n, sb, f->delta, cpsi, rho);
+                const double wP = w * P;
+                for (size_t k = 0; k < n; k++)
+                    num[k] += wP * rho[k] * eB[k];
+                if (sky != NULL) {
+                    for (size_t k = 0; k < n; k++)
+                        knum[k] += wP * rho[k] * (kB[k] - sea_sky_radiance(sky, k0 + k, -o[2]));
+                }
+            }
+        }
+        if (den > 0.0)
+            for (size_t k = 0; k < n; k++) {
+                T[k] += w_j * num[k] / den;
+                D[k] += w_j * knum[k] / den;
+            }
+    }
+}
+
+static void second_hit(const sea_optics *p, const sea_slope_stats *st, const view_frame *f,
+                       double L_in, const emis_ctx *ec, size_t n, int R, fixed_rule a,
+                       double w_tot, const sea_sky *sky, size_t k0, const spectral_basis *sb,
+                       const sea_around *ar, double *T, double *D)
+{
+    if (ar != NULL) {
+        second_hit_around(p, f, L_in, ec, n, a, w_tot, sky, k0, sb, ar, T, D);
+        return;
+    }
+    for (size_t k = 0; k < n; k++)
+        T[k] = D[k] = 0.0;
+    const sea_slope_stats *met = st;
     /* one hit left and no sky model: the facets met's emissivity through
      * the basis, summed over the indices once (met_basis) */
     const int factored = sb != NULL && sky == NULL && R == 2;
@@ -2059,56 +2294,10 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
         const double aX = f->m_X, bX = f->delta ? 0.0 : f->s_X;
         const double aY = n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
         const double bY = n_gh == 0 || f->delta ? 0.0 : f->b_YX;
-        /* the pieces of the window between the roots of r_z = 0:
-         * c (1 + gX^2 + gY^2) - 2 (c - gX s) = 0 */
-        double cut[5];
-        int nc = 0;
-        cut[nc++] = t_lo;
-        /* r_z has the sign of -(qa t^2 + qb t + qc) */
-        double qa = 0.0, qb = 0.0, qc = 0.0;
-        if (!f->delta) {
-            const double c = f->cos_th, s = f->sin_th;
-            qa = c * (bX * bX + bY * bY);
-            qb = 2.0 * c * (aX * bX + aY * bY) + 2.0 * s * bX;
-            qc = c * (aX * aX + aY * aY - 1.0) + 2.0 * s * aX;
-            double roots[2];
-            int nr = 0;
-            if (fabs(qa) > 0.0) {
-                const double disc = qb * qb - 4.0 * qa * qc;
-                if (disc > 0.0) {
-                    /* the stable pair of roots */
-                    const double q = -0.5 * (qb + copysign(sqrt(disc), qb));
-                    roots[nr++] = q / qa;
-                    if (q != 0.0)
-                        roots[nr++] = qc / q;
-                }
-            } else if (qb != 0.0) {
-                roots[nr++] = -qc / qb;
-            }
-            if (nr == 2 && roots[1] < roots[0]) {
-                const double x = roots[0];
-                roots[0] = roots[1];
-                roots[1] = x;
-            }
-            for (int r = 0; r < nr; r++)
-                if (roots[r] > cut[nc - 1] && roots[r] < t_hi)
-                    cut[nc++] = roots[r];
-        }
-        cut[nc++] = t_hi;
-        /* which cuts are roots; a piece between two roots where the ray
-         * rises is cut in two, so that a rising piece has one root end */
-        int root[5] = { 0, nc > 2, nc > 3, 0, 0 };
-        if (nc == 4) {
-            const double tm = 0.5 * (cut[1] + cut[2]);
-            if ((qa * tm + qb) * tm + qc < 0.0) {
-                cut[4] = cut[3];
-                cut[3] = cut[2];
-                cut[2] = tm;
-                root[2] = 0;
-                root[3] = 1;
-                nc = 5;
-            }
-        }
+        mirror_pieces mp;
+        mirror_pieces_of(f, aX, bX, aY, bY, t_lo, t_hi, &mp);
+        const double *cut = mp.cut, qa = mp.qa, qb = mp.qb, qc = mp.qc;
+        const int *root = mp.root, nc = mp.nc;
         double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
         /* factored: sum rho_k P E_1,k through the basis, rho_k = sum_r A_rk
          * B_r and E_1,k = e0 - sum_q A_qk g_q, as X_r = sum w P B_r e0 and
@@ -2157,7 +2346,7 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                     continue;
                 double g[3];
                 mirror_of_node(f, gX, gY, cpsi, g);
-                const double P = hit_chance(st, g, L_in, w_j * w / w_tot);
+                const double P = hit_chance(met, g, L_in, w_j * w / w_tot);
                 if (P == 0.0)
                     continue;
                 if (factored) {
@@ -2184,7 +2373,7 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
                 /* no facet turned toward the ray (a slope distribution
                  * without spread, tilted): there is nothing to meet, and
                  * the ray escapes (so the closure holds) */
-                if (!emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, sb, eB,
+                if (!emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, sb, NULL, eB,
                                     sky != NULL ? kB : NULL))
                     continue;
                 double rho[SEA_MULTI_BLOCK];
@@ -2239,8 +2428,8 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
  * toward fd (then out and kout are 0), else 1. */
 static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const view_frame *fd,
                           double L_in, const emis_ctx *ec, size_t n, int R, const fixed_rule *r0,
-                          const sea_sky *sky, size_t k0, const spectral_basis *sb, double *out,
-                          double *kout)
+                          const sea_sky *sky, size_t k0, const spectral_basis *sb,
+                          const sea_around *ar, double *out, double *kout)
 {
     const int first = r0 != NULL;
     const view_frame f = *fd;
@@ -2303,7 +2492,7 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
             w_tot = 0.5 * (t_hi - t_lo) * s;
         }
         double T[SEA_MULTI_BLOCK], D[SEA_MULTI_BLOCK];
-        second_hit(p, st, &f, L_in, ec, n, R, a, w_tot, sky, k0, sb, T, D);
+        second_hit(p, st, &f, L_in, ec, n, R, a, w_tot, sky, k0, sb, ar, T, D);
         for (size_t k = 0; k < n; k++) {
             out[k] += T[k];
             if (kout != NULL)
@@ -2317,8 +2506,8 @@ static int emis_multi_rec(const sea_optics *p, const sea_slope_stats *st, const 
 static sea_status emissivity_general(const sea_optics *p, sea_emis_method method,
                                      const sea_emis_rule *rule, const double complex *N, size_t n,
                                      const sea_slope_stats *st, sea_dir v, int reflections,
-                                     const sea_sky *sky, double *out, double *sky_out,
-                                     sea_error *err)
+                                     const sea_sky *sky, const sea_around *ar, double *out,
+                                     double *sky_out, sea_error *err)
 {
     if (reflections < 1 || reflections > SEA_REFLECTIONS_MAX)
         return sea_fail(err, SEA_ERR_DOMAIN, "reflections %d is outside 1..%d", reflections,
@@ -2337,7 +2526,7 @@ static sea_status emissivity_general(const sea_optics *p, sea_emis_method method
     const fixed_rule r0 = fixed_rule_of(&f, method, rule);
     /* the sensor's facets are seen: the mirror ray's chance is conditioned
      * on it (Eq 14c); the facets met again were met from below */
-    const double L_in = lambda_along(st, v);
+    const double L_in = lambda_along(ar != NULL ? &ar->lr : st, v);
     for (size_t k0 = 0; k0 < n; k0 += SEA_MULTI_BLOCK) {
         const size_t m = n - k0 < SEA_MULTI_BLOCK ? n - k0 : SEA_MULTI_BLOCK;
         emis_ctx ec[SEA_MULTI_BLOCK];
@@ -2345,7 +2534,7 @@ static sea_status emissivity_general(const sea_optics *p, sea_emis_method method
         for (size_t k = 0; k < m; k++)
             ec[k] = (emis_ctx){ N[k0 + k], fresnel_of(p, N[k0 + k], &slot) };
         (void)emis_multi_rec(p, st, &f, L_in, ec, m, reflections, &r0, sky, k0,
-                             spectral_basis_of(p, ec, m), &out[k0],
+                             spectral_basis_of(p, ec, m), ar, &out[k0],
                              sky != NULL ? &sky_out[k0] : NULL);
     }
     return SEA_OK;
@@ -2364,7 +2553,8 @@ sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
         (sky->model == SEA_SKY_TABLE && (sky->n_zenith < 2 || sky->zenith == NULL)))
         return sea_fail(err, SEA_ERR_DOMAIN, "sky model %d or zenith emissivity out of range",
                         sky != NULL ? sky->model : -1);
-    return emissivity_general(p, method, rule, N, n, st, v, reflections, sky, eps, sky_out, err);
+    return emissivity_general(p, method, rule, N, n, st, v, reflections, sky, NULL, eps, sky_out,
+                              err);
 }
 
 sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
@@ -2372,7 +2562,255 @@ sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
                                   const sea_slope_stats *st, sea_dir v, int reflections,
                                   double *out, sea_error *err)
 {
-    return emissivity_general(p, method, rule, N, n, st, v, reflections, NULL, out, NULL, err);
+    return emissivity_general(p, method, rule, N, n, st, v, reflections, NULL, NULL, out, NULL,
+                              err);
+}
+
+/* ------------------------------------------------------- the sea around */
+
+/* The facets of the sea around seen toward o, with R - 1 hits left:
+ * E_(R-1) (and K_(R-1) with a sky) for indices k0 .. k0 + n, directly. */
+static void around_direct(const sea_around *ar, const double o[3], size_t k0, size_t n,
+                          const emis_ctx *ec, const spectral_basis *sb, double *e, double *kv)
+{
+    view_frame fo;
+    view_frame_of_vec(ar->p, &ar->lr, o, &fo);
+    /* the sea around is homogeneous: its own facets are its around */
+    if (!emis_multi_rec(ar->p, &ar->lr, &fo, 0.0, ec, n, ar->reflections - 1, NULL,
+                        ar->has_sky ? &ar->sky : NULL, k0, sb, NULL, e, ar->has_sky ? kv : NULL))
+        for (size_t k = 0; k < n; k++)
+            e[k] = 0.0; /* no facet faces o: nothing is met (escapes) */
+    if (!ar->has_sky)
+        for (size_t k = 0; k < n; k++)
+            kv[k] = 0.0;
+}
+
+/* The node row and the weights of a position x >= 0 on an axis of nn
+ * intervals: the stencil's first node is the returned row of the padded
+ * table (the ghost is row 0). */
+static inline int around_stencil(double x, int nn, double w[4])
+{
+    int i = (int)x;
+    if (i > nn - 1)
+        i = nn - 1;
+    sea_catmull_rom(x - i, w);
+    return i;
+}
+
+static void around_values(const sea_around *ar, const double o[3], size_t k0, size_t n,
+                          const emis_ctx *ec, const spectral_basis *sb, double *e, double *kv,
+                          double *pinf)
+{
+    if (ar->exact) {
+        const double g[3] = { -o[0], -o[1], -o[2] };
+        const double L = g[2] > 0.0 ? lambda_toward(&ar->lr, g) : INFINITY;
+        *pinf = isinf(L) ? 1.0 : L / (1.0 + L);
+        around_direct(ar, o, k0, n, ec, sb, e, kv);
+        return;
+    }
+    /* the half and x = sqrt|u_z| in it, from the horizon; cos^2 of the
+     * azimuth to the wind */
+    const int below = o[2] < 0.0;
+    const double xz = sqrt(fabs(o[2])) * SEA_AROUND_HALF;
+    const double h2 = o[0] * o[0] + o[1] * o[1];
+    const double a = o[0] * ar->cw + o[1] * ar->sw;
+    const double xw = (h2 > 0.0 ? fmin(a * a / h2, 1.0) : 1.0) * (SEA_AROUND_NW - 1);
+    double wz[4], ww[4];
+    /* below: row r of the half is x = -(HALF - r)/HALF, so from the
+     * horizon the rows run backwards */
+    int rz = around_stencil(xz, SEA_AROUND_HALF, wz);
+    if (below) {
+        rz = SEA_AROUND_HALF - 1 - rz;
+        double t = wz[0];
+        wz[0] = wz[3];
+        wz[3] = t;
+        t = wz[1];
+        wz[1] = wz[2];
+        wz[2] = t;
+    }
+    const int cw = around_stencil(xw, SEA_AROUND_NW - 1, ww);
+    const size_t c0 = ((size_t)(below ? 0 : 1) * SEA_AROUND_ROWS + (size_t)rz) * SEA_AROUND_COLS +
+                      (size_t)cw;
+    const size_t na = ar->n;
+    for (int t = 0; t < 1 + ar->has_sky; t++) {
+        const double *T = (t == 0 ? ar->E : ar->K) + k0;
+        double *out = t == 0 ? e : kv;
+        for (size_t k = 0; k < n; k++) {
+            double v = 0.0;
+            for (int r = 0; r < 4; r++) {
+                const double *q = T + (c0 + (size_t)r * SEA_AROUND_COLS) * na + k;
+                v += wz[r] * ((ww[0] * q[0] + ww[1] * q[na]) + (ww[2] * q[2 * na] + ww[3] * q[3 * na]));
+            }
+            out[k] = v;
+        }
+    }
+    if (!ar->has_sky)
+        for (size_t k = 0; k < n; k++)
+            kv[k] = 0.0;
+    if (!below) {
+        *pinf = 1.0;
+    } else {
+        double v = 0.0;
+        for (int r = 0; r < 4; r++) {
+            const double *q = &ar->P[c0 + (size_t)r * SEA_AROUND_COLS];
+            v += wz[r] * ((ww[0] * q[0] + ww[1] * q[1]) + (ww[2] * q[2] + ww[3] * q[3]));
+        }
+        *pinf = fmin(fmax(v, 0.0), 1.0);
+    }
+}
+
+/* The table's cell of row r (0 .. HALF, from x = -1 in the lower half,
+ * from the horizon in the upper) and azimuth node j, ghosts aside. */
+static size_t around_cell(int half, int r, int j)
+{
+    return ((size_t)half * SEA_AROUND_ROWS + (size_t)(r + 1)) * SEA_AROUND_COLS + (size_t)(j + 1);
+}
+
+/* The ghosts of one array of m values a cell: f(-1) = 2 f(0) - f(1) at
+ * every edge of each half (the corners from the filled edges). */
+static void around_ghosts(double *v, size_t m)
+{
+    for (int half = 0; half < 2; half++) {
+        for (int j = 0; j < SEA_AROUND_NW; j++) {
+            const size_t lo = around_cell(half, -1, j), hi = around_cell(half, SEA_AROUND_HALF + 1, j);
+            const size_t a0 = around_cell(half, 0, j), a1 = around_cell(half, 1, j);
+            const size_t b0 = around_cell(half, SEA_AROUND_HALF, j),
+                         b1 = around_cell(half, SEA_AROUND_HALF - 1, j);
+            for (size_t k = 0; k < m; k++) {
+                v[lo * m + k] = 2.0 * v[a0 * m + k] - v[a1 * m + k];
+                v[hi * m + k] = 2.0 * v[b0 * m + k] - v[b1 * m + k];
+            }
+        }
+        for (int r = -1; r <= SEA_AROUND_HALF + 1; r++) {
+            const size_t lo = around_cell(half, r, -1), hi = around_cell(half, r, SEA_AROUND_NW);
+            const size_t a0 = around_cell(half, r, 0), a1 = around_cell(half, r, 1);
+            const size_t b0 = around_cell(half, r, SEA_AROUND_NW - 1),
+                         b1 = around_cell(half, r, SEA_AROUND_NW - 2);
+            for (size_t k = 0; k < m; k++) {
+                v[lo * m + k] = 2.0 * v[a0 * m + k] - v[a1 * m + k];
+                v[hi * m + k] = 2.0 * v[b0 * m + k] - v[b1 * m + k];
+            }
+        }
+    }
+}
+
+sea_status sea_around_alloc(const sea_optics *p, const sea_slope_stats *lr,
+                            const double complex *N, size_t n, int reflections, const sea_sky *sky,
+                            int exact, sea_around **out, sea_error *err)
+{
+    *out = NULL;
+    sea_status st = sea_slope_stats_check(lr, err);
+    if (st != SEA_OK)
+        return st;
+    if (reflections < 2 || reflections > SEA_REFLECTIONS_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "the sea around: reflections %d (allowed: 2..%d)",
+                        reflections, SEA_REFLECTIONS_MAX);
+    if (n < 1)
+        return sea_fail(err, SEA_ERR_DOMAIN, "the sea around: no index");
+    sea_around *ar = calloc(1, sizeof *ar);
+    if (ar == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the sea around");
+    ar->p = p;
+    ar->lr = *lr;
+    /* the covariance's principal axis (the wind's, for the spectrum's) */
+    const double ang = 0.5 * atan2(2.0 * lr->cov.xy, lr->cov.xx - lr->cov.yy);
+    ar->cw = cos(ang);
+    ar->sw = sin(ang);
+    ar->reflections = reflections;
+    ar->exact = exact != 0;
+    ar->split_scale = SEA_MULTI_SPLIT_SCALE;
+    ar->split_min = SEA_MULTI_SPLIT_MIN;
+    ar->cross_scale = SEA_MULTI_CROSS_SCALE;
+    ar->cross_min = SEA_MULTI_CROSS_MIN;
+    ar->n = n;
+    ar->has_sky = sky != NULL;
+    if (sky != NULL)
+        ar->sky = *sky;
+    const size_t cells = (size_t)SEA_AROUND_CELLS * n;
+    ar->N = malloc(n * sizeof *ar->N);
+    if (!ar->exact) {
+        ar->E = calloc(cells, sizeof *ar->E);
+        ar->K = calloc(cells, sizeof *ar->K);
+        ar->P = calloc(SEA_AROUND_CELLS, sizeof *ar->P);
+    }
+    if (ar->N == NULL || (!ar->exact && (ar->E == NULL || ar->K == NULL || ar->P == NULL))) {
+        sea_around_free(ar);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the sea around's table");
+    }
+    memcpy(ar->N, N, n * sizeof *N);
+    if (!ar->exact) {
+        /* every node direct: row r of the lower half at x = -(HALF - r) /
+         * HALF, of the upper at x = r / HALF, u_z = x |x|; azimuth node j
+         * at cos^2 = j / (NW - 1) to the wind, acos(sqrt(c2)) from it */
+        enum { NODES = 2 * (SEA_AROUND_HALF + 1) * SEA_AROUND_NW };
+#pragma omp parallel for schedule(dynamic, 4) if (NODES * n > 64)
+        for (int q = 0; q < NODES; q++) {
+            const int half = q / ((SEA_AROUND_HALF + 1) * SEA_AROUND_NW);
+            const int r = (q / SEA_AROUND_NW) % (SEA_AROUND_HALF + 1), j = q % SEA_AROUND_NW;
+            const double x = half == 0 ? -(double)(SEA_AROUND_HALF - r) / SEA_AROUND_HALF
+                                       : (double)r / SEA_AROUND_HALF;
+            const double uz = x * fabs(x);
+            const double c2 = (double)j / (SEA_AROUND_NW - 1);
+            const double h = sqrt(fmax(1.0 - uz * uz, 0.0));
+            const double ca = sqrt(c2), sa = sqrt(fmax(1.0 - c2, 0.0));
+            const double o[3] = { h * (ar->cw * ca - ar->sw * sa), h * (ar->sw * ca + ar->cw * sa),
+                                  uz };
+            const size_t c = around_cell(half, r, j);
+            const double g[3] = { -o[0], -o[1], -o[2] };
+            const double L = g[2] > 0.0 ? lambda_toward(&ar->lr, g) : INFINITY;
+            ar->P[c] = isinf(L) ? 1.0 : L / (1.0 + L);
+            for (size_t k0 = 0; k0 < n; k0 += SEA_MULTI_BLOCK) {
+                const size_t m = n - k0 < SEA_MULTI_BLOCK ? n - k0 : SEA_MULTI_BLOCK;
+                emis_ctx ec[SEA_MULTI_BLOCK];
+                size_t slot = 0;
+                for (size_t k = 0; k < m; k++)
+                    ec[k] = (emis_ctx){ N[k0 + k], fresnel_of(p, N[k0 + k], &slot) };
+                const size_t at = c * n + k0;
+                around_direct(ar, o, k0, m, ec, spectral_basis_of(p, ec, m), &ar->E[at],
+                              &ar->K[at]);
+            }
+        }
+        around_ghosts(ar->E, n);
+        around_ghosts(ar->K, n);
+        around_ghosts(ar->P, 1);
+    }
+    *out = ar;
+    return SEA_OK;
+}
+
+void sea_around_set_orders(sea_around *ar, double split_scale, double split_min,
+                           double cross_scale, double cross_min)
+{
+    ar->split_scale = split_scale;
+    ar->split_min = split_min;
+    ar->cross_scale = cross_scale;
+    ar->cross_min = cross_min;
+}
+
+void sea_around_free(sea_around *ar)
+{
+    if (ar == NULL)
+        return;
+    free(ar->N);
+    free(ar->E);
+    free(ar->K);
+    free(ar->P);
+    free(ar);
+}
+
+sea_status sea_emissivity_around_n(const sea_optics *p, sea_emis_method method,
+                                   const sea_emis_rule *rule, const double complex *N, size_t n,
+                                   const sea_slope_stats *st, sea_dir v, const sea_around *ar,
+                                   const sea_sky *sky, double *eps, double *sky_out,
+                                   sea_error *err)
+{
+    if (ar == NULL || ar->n != n || ar->has_sky != (sky != NULL))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "the sea around was made for %zu indices %s a sky; asked for %zu %s",
+                        ar != NULL ? ar->n : 0, ar != NULL && ar->has_sky ? "with" : "without", n,
+                        sky != NULL ? "with" : "without");
+    return emissivity_general(p, method, rule, N, n, st, v, ar->reflections, sky, ar, eps,
+                              sky_out, err);
 }
 
 /* ------------------------------------------------------------ sun disc */
@@ -2596,3 +3034,4 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
             out[i] = fresnel_at(p, N[i], m.cos_psi0, &slot) * m.g_over_D * m.S * disc_per;
     }
 }
+

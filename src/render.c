@@ -8,6 +8,7 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -30,7 +31,6 @@ struct sea_render {
     sea_camera cam;
     sea_multires *mr;
     sea_water *water;
-    sea_optics *optics;
     size_t nsamp;
     double *wl, *wt, *esun, *lsky;
     double *lsea;    /* blackbody radiance at the sea's temperature, per sample */
@@ -51,7 +51,9 @@ struct sea_render {
      * the brightness temperature's first guess */
     double tb_lnL[SEA_TB_N];
     sea_render_choices choices;
-    sea_two_scale_table *ts; /* scales = 2: what two scales add (NULL: nothing) */
+    /* the facets' emissivity: the default model or the scene's choices
+     * (its two-scale table, the sea around, where second hits matter) */
+    sea_model *model;
     int bake_lean; /* a bake computes its surfaces' finest bounds from the nodes
                       whatever their size (sea_render_set_bake_lean) */
 };
@@ -98,8 +100,7 @@ void sea_render_free(sea_render *r)
         return;
     sea_multires_free(r->mr);
     sea_water_free(r->water);
-    sea_optics_free(r->optics);
-    sea_two_scale_table_free(r->ts);
+    sea_model_free(r->model);
     free(r->wl);
     free(r->wt);
     free(r->esun);
@@ -244,21 +245,9 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     return SEA_OK;
 }
 
-/* The tolerance's rules (see sea_render_choices in seabake.h for the
- * measurements behind each step). */
-static double tol_emis_scale(double tol)
-{
-    return tol <= SEA_TOL_EMIS_T1 ? 1.0 : tol <= SEA_TOL_EMIS_T2 ? 0.65 : 0.5;
-}
-
 sea_emis_rule sea_render_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v)
 {
-    sea_emis_rule a = sea_emissivity_auto_rule(st, v);
-    if (emis_scale >= 1.0)
-        return a;
-    a.n_gl = (int)fmax(2.0, ceil(emis_scale * a.n_gl));
-    a.n_gh = (int)fmax(1.0, ceil(emis_scale * a.n_gh));
-    return a;
+    return sea_model_emis_rule(emis_scale, st, v);
 }
 
 sea_render_choices sea_render_choices_of(const sea_render *r)
@@ -279,46 +268,15 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
                                  double *Lk, sea_error *err)
 {
     double sl = 0.0, se = 0.0, sr = 0.0;
-    /* a scaled auto rule: the same orders for every wavelength */
-    const int scaled = r->sc.emissivity_method == SEA_EMIS_AUTO && r->choices.emis_scale < 1.0;
-    sea_emis_rule rule = { 0, 0 };
-    if (scaled && sea_slope_stats_check(st, NULL) == SEA_OK && obs.theta >= 0.0 &&
-        obs.theta < M_PI_2)
-        rule = sea_render_emis_rule(r->choices.emis_scale, st, obs);
-    /* Every sample's emissivity from one set of nodes: the geometry is the
-     * same at every wavelength. */
     double eps_all[SEA_SCENE_BAND_MAX], rr_all[SEA_SCENE_BAND_MAX];
     /* An isotropic sky (Eq 23) is seen in 1 - eps, with reflections >= 2
-     * as well: what the mirror rays do not meet again (sea_emissivity_multi_n).
-     * Any other sky is integrated over the facets' mirror rays (Eq 22,
-     * sea_emissivity_sky_n). */
+     * as well: what the mirror rays do not meet again.  Any other sky is
+     * integrated over the facets' mirror rays (Eq 22, sea_emissivity_sky_n). */
     const int directional = r->sc.sky_model != SEA_SKY_ISOTROPIC;
     double ksky_all[SEA_SCENE_BAND_MAX];
-    sea_status s =
-        directional
-            ? sea_emissivity_sky_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
-                                   scaled ? &rule : NULL, r->N, r->nsamp, st, obs,
-                                   r->sc.reflections, &r->sky, eps_all, ksky_all, err)
-            : sea_emissivity_multi_n(r->optics, (sea_emis_method)r->sc.emissivity_method,
-                                     scaled ? &rule : NULL, r->N, r->nsamp, st, obs,
-                                     r->sc.reflections, eps_all, err);
+    sea_status s = sea_model_emissivity(r->model, st, obs, eps_all, ksky_all, err);
     if (s != SEA_OK)
         return s;
-    if (r->ts != NULL) {
-        /* two scales (seabake-model(7), TWO SCALES): the emissivity gains
-         * what the longer waves' facets add; the sky is seen in the rest
-         * (a directional sky's reflection scaled by the reflectance's
-         * change, so that a uniform sky still closes) */
-        double d;
-        if ((s = sea_two_scale_delta(r->ts, obs, st, &d, err)) != SEA_OK)
-            return s;
-        for (size_t i = 0; i < r->nsamp && d != 0.0; i++) {
-            const double e0 = eps_all[i], e1 = fmin(fmax(e0 + d, 0.0), 1.0);
-            if (directional)
-                ksky_all[i] = e0 < 1.0 ? ksky_all[i] * (1.0 - e1) / (1.0 - e0) : 0.0;
-            eps_all[i] = e1;
-        }
-    }
     /* the sky the facets reflect, per sample */
     double sky_all[SEA_SCENE_BAND_MAX];
     for (size_t i = 0; i < r->nsamp; i++)
@@ -334,7 +292,8 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
                                                     r->esun[i])
                              : negligible;
         }
-        sea_reflectivity_disc_n(r->optics, r->N, r->nsamp, st, sun, obs, r->sc.sun_radius,
+        sea_reflectivity_disc_n(sea_model_optics(r->model), r->N, r->nsamp, st, sun, obs,
+                                r->sc.sun_radius,
                                 0.1 * r->sc.tolerance, isfinite(negligible) ? negligible : 0.0,
                                 rr_all);
     }
@@ -478,6 +437,53 @@ void sea_render_drop_pixels(sea_render *r)
 
 /* ------------------------------------------------------------- prepare */
 
+/* The facets' model for the samples set (sea_model_alloc), replacing any
+ * earlier one: the scene's choices, or (simple) one hit and one scale, for
+ * choosing the samples.  reflections = auto skips the second hit where it
+ * moves a pixel's radiance by less than SEA_AUTO_SKIP of the tolerance: the
+ * radiance's relative change per unit of emissivity is at most the sea's
+ * blackbody against the sky's (its zenith's and horizon's) over the least
+ * radiance a pixel of emissivity 0.8 or more can have (where second hits
+ * can be skipped the views are within 70 deg of the facets: water's
+ * emissivity is 0.87 or more there, 3-14 um). */
+static sea_status set_model(sea_render *r, const sea_spectrum *spec, const sea_slope_stats *lr,
+                            int simple, sea_error *err)
+{
+    const sea_scene *sc = &r->sc;
+    sea_model_free(r->model);
+    r->model = NULL;
+    sea_model_params mp;
+    sea_model_params_default(&mp);
+    mp.shadowing = (sea_shadowing)sc->shadowing;
+    mp.scales = simple ? 1 : sc->scales;
+    mp.reflections = simple ? 1 : sc->reflections;
+    mp.tolerance = sc->tolerance;
+    mp.reference = simple ? 0 : sc->reference;
+    mp.method = (sea_emis_method)sc->emissivity_method;
+    double dmax = 0.0, lmin = 0.0;
+    for (size_t k = 0; k < r->nsamp; k++) {
+        const double s1 = sea_sky_radiance(&r->sky, k, 1.0), s0 = sea_sky_radiance(&r->sky, k, 0.0);
+        dmax += r->wt[k] * fmax(fabs(r->lsea[k] - s1), fabs(r->lsea[k] - s0));
+        lmin += r->wt[k] * (0.8 * r->lsea[k] + 0.2 * fmin(s1, s0));
+    }
+    mp.sensitivity = lmin > 0.0 ? dmax / lmin : 1e300;
+    /* the finest sub-facet covariance in view: the waves shorter than the
+     * finest level's (sub-)facets */
+    const sea_clip_level *cl;
+    const size_t nl = sea_multires_levels(r->mr, &cl);
+    double L = INFINITY;
+    for (size_t l = 0; l < nl; l++)
+        if (!cl[l].low_res)
+            L = fmin(L, cl[l].facet / (double)(1 << cl[l].sub_n));
+    sea_cov2 fine = lr->cov;
+    if (isfinite(L)) {
+        sea_status st = sea_spectrum_slope_cov(spec, M_PI / L, &fine, err);
+        if (st != SEA_OK)
+            return st;
+    }
+    return sea_model_alloc(&mp, spec, lr, &fine, r->N, r->nsamp, &r->sky, &r->model, err);
+}
+
 sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err)
 {
     *out = NULL;
@@ -486,8 +492,9 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     r->sc = *sc;
     r->choices.tolerance = sc->tolerance;
-    r->choices.emis_scale =
-        sc->emissivity_method == SEA_EMIS_AUTO ? tol_emis_scale(sc->tolerance) : 1.0;
+    r->choices.emis_scale = sc->emissivity_method == SEA_EMIS_AUTO && !sc->reference
+                                ? sea_model_emis_scale(sc->tolerance)
+                                : 1.0;
     sea_status st;
     sea_response resp = { 0, NULL, NULL };
 #define TRY(expr)                                                                                 \
@@ -515,8 +522,6 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     TRY(sc->water_file[0] ? sea_water_load(sc->water_file, sc->salinity, &r->water, err)
                           : sea_water_alloc((sea_water_table)sc->water_table, sc->salinity,
                                             &r->water, err));
-    TRY(sea_optics_alloc(&r->optics, err));
-    sea_optics_set_shadowing(r->optics, (sea_shadowing)sc->shadowing);
     /* the sky's and the air's tables */
     double x_max, w_min, w_max;
     if (sc->sky_model == SEA_SKY_TABLE) {
@@ -536,18 +541,21 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     /* spectral samples */
     if (sc->wavelength <= 0.0 && sc->response_file[0])
         TRY(sea_response_load(sc->response_file, &resp, err));
+    sea_spectrum spec;
+    TRY(sea_spectrum_init(&spec, sc->wind_speed, sc->fetch, sc->wind_dir, err));
+    const sea_moments lrm = sea_multires_lr_moments(r->mr);
+    const sea_slope_stats lrs = sea_moments_stats(&lrm);
     size_t k = 1;
     if (sc->wavelength <= 0.0) {
         if (sc->band_samples > 0) {
             k = (size_t)sc->band_samples;
         } else {
             /* as few as the tolerance allows: double the rule until the
-             * low-resolution radiance at the image centre settles */
+             * low-resolution radiance at the image centre settles (a band's
+             * spectral detail: one hit and one scale tell it) */
             const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                                         sin(sc->sun_zenith) * sin(sc->sun_azimuth),
                                         cos(sc->sun_zenith) };
-            const sea_moments lrm = sea_multires_lr_moments(r->mr);
-            const sea_slope_stats lrs = sea_moments_stats(&lrm);
             sea_pixel_geom g;
             sea_camera_pixel(&r->cam, 0.5 * sc->width, 0.5 * sc->height, &g);
             const sea_dir obs = g.hit ? g.obs : (sea_dir){ sc->look_zenith, 0.0 };
@@ -556,6 +564,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
             for (k = 2; k <= SAMPLES_AUTO_MAX; k *= 2) {
                 double L, e, rho;
                 TRY(set_samples(r, k, &resp, err));
+                TRY(set_model(r, &spec, &lrs, 1, err));
                 TRY(facet_radiance(r, &lrs, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
                                    NULL, err));
                 if (fabs(L - prev) <= sc->tolerance * fabs(L))
@@ -564,22 +573,14 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
             }
             if (k > SAMPLES_AUTO_MAX)
                 k = SAMPLES_AUTO_MAX;
+            /* the reference: twice as many, as far as they go */
+            if (sc->reference && k < SAMPLES_AUTO_MAX)
+                k *= 2;
         }
     }
     TRY(set_samples(r, k, &resp, err));
-    if (sc->scales == 2) {
-        /* the two-scale table, at the band's middle sample (its rows
-         * computed as pixels need them) */
-        sea_spectrum spec;
-        sea_cov2 res, sub, total;
-        double kh;
-        TRY(sea_spectrum_init(&spec, sc->wind_speed, sc->fetch, sc->wind_dir, err));
-        TRY(sea_spectrum_split_half(&spec, 0.0, &kh, &res, &sub, err));
-        total = (sea_cov2){ sub.xx + res.xx, sub.yy + res.yy, sub.xy + res.xy };
-        TRY(sea_two_scale_table_alloc(r->optics, r->N[r->nsamp / 2], sub, total, sc->wind_dir,
-                                      &r->ts, err));
-        r->choices.two_scale_split = 2.0 * M_PI / kh;
-    }
+    TRY(set_model(r, &spec, &lrs, 0, err));
+    r->choices.two_scale_split = sea_model_split_wavelength(r->model);
 #undef TRY
     sea_response_free(&resp);
     *out = r;

@@ -330,7 +330,8 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_EARTH] = CHOICE(SEC_MODEL, "earth", earth_from_name, "flat, spherical", earth),
     [K_WINDOWS] = CHOICE(SEC_MODEL, "windows", windows_from_name, "view, clipmap", windows),
     [K_TOLERANCE] = REAL(SEC_MODEL, "tolerance", 0.0, 0.1, LO_OPEN, 1.0, "", tolerance),
-    [K_REFLECTIONS] = INT(SEC_MODEL, "reflections", 1, SEA_REFLECTIONS_MAX, 0, "", reflections),
+    [K_REFLECTIONS] = CHOICE(SEC_MODEL, "reflections", sea_reflections_from_name,
+                             "auto, 1, 2, 3", reflections),
     [K_SHADOWING] = CHOICE(SEC_MODEL, "shadowing", sea_shadowing_from_name, "smith, correlated",
                            shadowing),
     [K_SCALES] = INT(SEC_MODEL, "scales", 1, 2, 0, "", scales),
@@ -947,7 +948,8 @@ void sea_scene_defaults(sea_scene *sc)
     sc->earth = SEA_EARTH_FLAT;
     sc->windows = SEA_WINDOWS_VIEW;
     sc->tolerance = 1e-3;
-    sc->reflections = 1;
+    sc->reflections = SEA_REFLECTIONS_AUTO;
+    sc->reference = 0;
     sc->shadowing = SEA_SHADOW_CORRELATED;
     sc->scales = 2;
     sc->sky_model = SEA_SKY_ISOTROPIC;

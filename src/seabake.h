@@ -345,11 +345,11 @@ void sea_optics_free(sea_optics *p);
 /* Which single-bounce shadowing weighs the facets the sensor sees in the
  * emissivity (and so in the sky the sea reflects, 1 - emissivity, and in
  * the second hits of reflections >= 2): Smith's, independent of the
- * facet's slope (the paper, Eq 9c-9e: the default), or the correlated
- * function above (sea_shadow_correlated), which ray-traced Gaussian
- * surfaces follow to 1e-3 at 85 degrees where Smith's is 12e-3 low
- * (seabake-model(7), SHADOWING).  The reflectivity toward the sun keeps
- * Eq 14c's bistatic Smith factor. */
+ * facet's slope (the paper, Eq 9c-9e), or the correlated function above
+ * (sea_shadow_correlated, a plan's default as the default model's), which
+ * ray-traced Gaussian surfaces follow to 1e-3 at 85 degrees where Smith's
+ * is 12e-3 low (seabake-model(7), SHADOWING).  The reflectivity toward the
+ * sun keeps Eq 14c's bistatic Smith factor. */
 typedef enum {
     SEA_SHADOW_SMITH = 0,
     SEA_SHADOW_CORRELATED
@@ -430,6 +430,14 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
  * Same errors as sea_emissivity_n, and SEA_ERR_DOMAIN for reflections out
  * of range; reads p. */
 enum { SEA_REFLECTIONS_MAX = 3 };
+/* reflections = auto: two hits where the second changes a pixel's
+ * radiance by more than SEA_AUTO_SKIP times the tolerance, one where it
+ * cannot (render.c). */
+enum { SEA_REFLECTIONS_AUTO = 0 };
+#define SEA_AUTO_SKIP 0.01
+/* Parses "auto" (SEA_REFLECTIONS_AUTO) or a number of hits "1" .. "3";
+ * -1 otherwise.  Pure. */
+int sea_reflections_from_name(const char *name);
 sea_status sea_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
                                   const sea_emis_rule *rule, const double complex *N, size_t n,
                                   const sea_slope_stats *st, sea_dir v, int reflections,
@@ -457,31 +465,32 @@ sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_h
                                    sea_cov2 *res, sea_cov2 *sub, sea_error *err);
 
 /* What two scales add to a facet's one-scale emissivity, tabulated per
- * scene (wavelength-independent to 3 percent of itself from 3 to 12 um:
- * the table takes one index N).  split_sub: the covariance of the waves
- * shorter than the split (sea_spectrum_split_half's sub), total: the
- * low-resolution covariance; both in the x, y frame, wind_dir the wind's
- * azimuth.  The table spans views from 50 to 96 degrees seen from the
- * facet's plane (below 50 the addition is under 2e-6 up to 25 m/s and none
- * is added; beyond 85 a facet tilted away by the excess, seen from 85),
- * azimuths to the wind and facets from the split's size (nothing added)
- * to low resolution: 32 rows of view angles of 20 nodes, each node the
- * difference of sea_emissivity_two_scale (orders 12 x 4) and
- * sea_emissivity.  _alloc computes nothing: a row is computed when a
- * query first needs it (1-2 ms), by one thread while the others wait.
- * p must outlive the table.  SEA_ERR_DOMAIN unless 0 < tr split_sub <
- * tr total and N is finite. */
+ * scene for the indices N[0..n) (twoscale.c says how: on the facet's
+ * standardised visibility margin along the view, the share of the resolved
+ * band its covariance holds, the view's azimuth to the wind and zenith).
+ * split_sub: the covariance of the waves shorter than the split
+ * (sea_spectrum_split_half's sub), total: the low-resolution covariance;
+ * both in the x, y frame, wind_dir the wind's azimuth.  _alloc computes
+ * nothing: a row of the table is computed when a query first needs it, by
+ * one thread while the others wait.  p must outlive the table.
+ * SEA_ERR_DOMAIN unless 0 < tr split_sub < tr total and the n (1 to
+ * SEA_SCENE_BAND_MAX) indices are finite. */
 typedef struct sea_two_scale_table sea_two_scale_table;
-sea_status sea_two_scale_table_alloc(const sea_optics *p, double complex N, sea_cov2 split_sub,
-                                     sea_cov2 total, double wind_dir,
+sea_status sea_two_scale_table_alloc(const sea_optics *p, const double complex *N, size_t n,
+                                     sea_cov2 split_sub, sea_cov2 total, double wind_dir,
                                      sea_two_scale_table **out, sea_error *err);
-/* The addition *out for a facet of slope statistics st (its mean slope's
- * plane, its covariance's trace) seen from v, interpolated (Catmull-Rom in
- * the angle, the trace and the azimuth); 0 below 50 degrees.  Thread-safe;
- * SEA_ERR_NUMERIC if a row's emissivity fails (then *out = 0). */
+/* The addition out[k] for a facet of slope statistics st seen from v,
+ * interpolated (Catmull-Rom in every axis), or computed directly where the
+ * facet's mean plane faces away from v; 0 for a facet no larger than the
+ * split.  Thread-safe; SEA_ERR_NUMERIC if an emissivity fails (then out is
+ * 0). */
 sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
                                double *out, sea_error *err);
-/* Rows of view angles computed so far.  Thread-safe. */
+/* The same by quadrature at the facet's own statistics (sea_emissivity_two_scale's
+ * orders, 24 x 8): the reference the table is checked against.  Reads t. */
+sea_status sea_two_scale_delta_exact(const sea_two_scale_table *t, sea_dir v,
+                                     const sea_slope_stats *st, double *out, sea_error *err);
+/* Rows of the table computed so far.  Thread-safe. */
 size_t sea_two_scale_table_rows(const sea_two_scale_table *t);
 void sea_two_scale_table_free(sea_two_scale_table *t);
 
@@ -513,6 +522,94 @@ sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
                                 const sea_emis_rule *rule, const double complex *N, size_t n,
                                 const sea_slope_stats *st, sea_dir v, int reflections,
                                 const sea_sky *sky, double *eps, double *sky_out, sea_error *err);
+
+/* The sea around a facet, for multiple reflections (seabake-model(7),
+ * MULTIPLE REFLECTIONS): a mirror ray meets again the facets of the sea as a
+ * whole, of low-resolution statistics lr (m = 0, C_LR), whatever the facet
+ * it left, with the chance Eq 14c's bistatic factor gives under lr.  What
+ * the second hit reads is then a function of the mirror ray's direction,
+ * tabulated here once for the indices N[0..n) (the scene's samples), with
+ * `reflections` hits in all (2..SEA_REFLECTIONS_MAX) and, when sky is not
+ * NULL, the sky the facets met reflect (sky must outlive the table);
+ * exact: no table, every read evaluated at its direction (the reference).
+ * p must outlive it.  SEA_ERR_DOMAIN for invalid stats or reflections. */
+typedef struct sea_around sea_around;
+sea_status sea_around_alloc(const sea_optics *p, const sea_slope_stats *lr,
+                            const double complex *N, size_t n, int reflections, const sea_sky *sky,
+                            int exact, sea_around **out, sea_error *err);
+void sea_around_free(sea_around *ar);
+void sea_around_set_orders(sea_around *ar, double split_scale, double split_min,
+                           double cross_scale, double cross_min);
+/* sea_emissivity_multi_n (sky NULL) or sea_emissivity_sky_n for a facet of
+ * statistics st in the sea around ar, with ar's reflections: the facets the
+ * sensor sees are st's, the facets their mirror rays meet the sea
+ * around's.  ar must have been made for these N[0..n) and with a sky iff
+ * sky is not NULL (SEA_ERR_DOMAIN otherwise).  Reads p and ar. */
+sea_status sea_emissivity_around_n(const sea_optics *p, sea_emis_method method,
+                                   const sea_emis_rule *rule, const double complex *N, size_t n,
+                                   const sea_slope_stats *st, sea_dir v, const sea_around *ar,
+                                   const sea_sky *sky, double *eps, double *sky_out,
+                                   sea_error *err);
+
+/* ------------------------------------------------ the default model (model.c)
+ *
+ * The emissivity of a facet as the scenes, the calculators and the library
+ * compute it by default (seabake-model(7), THE DEFAULT MODEL): correlated
+ * shadowing, two scales, and a second surface hit where it changes the
+ * result by more than SEA_AUTO_SKIP of the tolerance, in the sea around
+ * (sea_around); each part only as finely as the tolerance asks.  With
+ * reference = 1 every approximation is replaced by its exact form: the auto
+ * rule at full orders, the second hits at converged orders with the sea
+ * around evaluated at every mirror ray, two scales by quadrature at the
+ * facet's own mean slope and every index, and at least two hits.  The
+ * paper's model is shadowing = smith, scales = 1, reflections = 1. */
+typedef struct {
+    sea_shadowing shadowing; /* SEA_SHADOW_CORRELATED */
+    int scales;              /* 1 or 2; 2 */
+    int reflections;         /* SEA_REFLECTIONS_AUTO or 1 .. SEA_REFLECTIONS_MAX; auto */
+    double tolerance;        /* relative, (0, 0.1]; 1e-3 */
+    int reference;           /* 0 */
+    sea_emis_method method;  /* the first hit's rule; SEA_EMIS_AUTO */
+    /* reflections = auto: the relative change of the result per unit of
+     * emissivity (a radiance's, for a render); 1 */
+    double sensitivity;
+} sea_model_params;
+void sea_model_params_default(sea_model_params *mp);
+typedef struct sea_model sea_model;
+/* The model for the indices N[0..n) (n <= SEA_SCENE_BAND_MAX) of a sea
+ * whose spectrum is given (NULL only with scales = 1) and whose low
+ * resolution is lr (m = 0, C_LR: the sea around, what the mirror rays
+ * meet), with facets down to the sub-facet covariance fine (NULL: lr's;
+ * reflections = auto marks where a second hit may matter down to it), under
+ * sky (NULL or isotropic: the sky is seen in 1 - eps, Eq 23; else
+ * sea_emissivity_sky_n's).  The sky's arrays must outlive the model.
+ * Builds the tables now (a few to a few tens of milliseconds), but the
+ * two-scale table's rows, which it computes as queries need them.
+ * SEA_ERR_DOMAIN for parameters out of range or two scales without a
+ * spectrum. */
+sea_status sea_model_alloc(const sea_model_params *mp, const sea_spectrum *spectrum,
+                           const sea_slope_stats *lr, const sea_cov2 *fine,
+                           const double complex *N, size_t n, const sea_sky *sky,
+                           sea_model **out, sea_error *err);
+void sea_model_free(sea_model *m);
+/* The emissivity of a facet of statistics st toward v, eps[i] for N[i],
+ * and with a directional sky the sky's radiance it reflects, ksky[i] (may
+ * be NULL without one).  Thread-safe (the two-scale table fills its rows
+ * under a lock); errors as sea_emissivity_multi_n. */
+sea_status sea_model_emissivity(const sea_model *m, const sea_slope_stats *st, sea_dir v,
+                                double *eps, double *ksky, sea_error *err);
+/* The hits the model follows for st toward v (1 or more).  Reads m. */
+int sea_model_hits(const sea_model *m, const sea_slope_stats *st, sea_dir v);
+/* Its quadrature plan, with its shadowing (read-only). */
+const sea_optics *sea_model_optics(const sea_model *m);
+/* scales = 2: the wavelength 2 pi / k_half of the split, m; else 0. */
+double sea_model_split_wavelength(const sea_model *m);
+/* scales = 2, not the reference: the two-scale table's rows computed. */
+size_t sea_model_two_scale_rows(const sea_model *m);
+/* The auto rule's orders times emis_scale (the tolerance's, below). */
+sea_emis_rule sea_model_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v);
+/* The tolerance's scale of the auto rule (sea_render_choices). */
+double sea_model_emis_scale(double tolerance);
 
 /* Tables on a grid of (x, wavelength) read from CSV files (gridtable.c):
  * a header naming the columns in any order, then every pair of the grid
@@ -911,10 +1008,16 @@ typedef struct {
     sea_earth earth;           /* earth = flat | spherical; flat */
     sea_windows windows;       /* windows = view | clipmap; view */
     double tolerance;          /* tolerance, relative, (0, 0.1]; 1e-3 */
-    int reflections;           /* reflections, surface hits, [1, SEA_REFLECTIONS_MAX]; 1 */
+    int reflections;           /* reflections = auto | 1 .. SEA_REFLECTIONS_MAX, surface hits;
+                                  SEA_REFLECTIONS_AUTO (0): a second hit where it changes the
+                                  radiance by more than SEA_AUTO_SKIP of the tolerance */
     int shadowing;             /* shadowing = smith | correlated: a sea_shadowing; correlated */
     int scales;                /* scales, [1, 2]: 2 adds the two-scale correction
                                   (sea_render_two_scale_delta); 2 */
+    /* Not a key of the file: the program's --reference.  1: every
+     * approximation the tolerance allows replaced by its exact form
+     * (seabake(1), REFERENCE), with at least two surface hits. */
+    int reference;
 } sea_scene;
 
 /* Defaults of every optional key; the required ones are marked unset

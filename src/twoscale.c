@@ -23,6 +23,7 @@
 #include <gsl/gsl_integration.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "seabake.h"
 #include "internal.h"
@@ -137,57 +138,150 @@ sea_status sea_emissivity_two_scale(const sea_optics *p, double complex N,
     return two_scale(p, N, sub, res, v, TS_NX, TS_NY, out, err);
 }
 
+/* Two scales for n indices at once (two_scale for N[0..n), each node's
+ * emissivity by sea_emissivity_n), by the Gauss-Legendre table gl (nx
+ * nodes) and the Gauss-Hermite workspace gh (ny nodes). */
+static sea_status two_scale_n(const sea_optics *p, const double complex *N, size_t n,
+                              const sea_slope_stats *sub, sea_cov2 res, sea_dir v,
+                              const gsl_integration_glfixed_table *gl, int nx,
+                              const gsl_integration_fixed_workspace *gh, int ny, double *out,
+                              sea_error *err)
+{
+    const double c = cos(v.phi), s = sin(v.phi);
+    const double vX = c * c * res.xx + 2.0 * c * s * res.xy + s * s * res.yy;
+    const double vY = s * s * res.xx - 2.0 * c * s * res.xy + c * c * res.yy;
+    const double cXY = (c * c - s * s) * res.xy + c * s * (res.yy - res.xx);
+    const double m0X = c * sub->mean.x + s * sub->mean.y;
+    const double tant = tan(v.theta);
+    const double sX = sqrt(fmax(vX, 0.0));
+    const double z = sX > 0.0 ? (1.0 / tant - m0X) / sX : INFINITY;
+    const double tb = fmin(z, 6.0);
+    if (!(vX > 1e-12 * (sub->cov.xx + sub->cov.yy)) || !(tb > -6.0))
+        return sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, sub, v, out, err);
+    const double slope = cXY / vX, sY = sqrt(fmax(vY - cXY * cXY / vX, 0.0));
+    const int correlated = sea_optics_shadowing(p) == SEA_SHADOW_CORRELATED;
+    const double *y = gsl_integration_fixed_nodes(gh), *wy = gsl_integration_fixed_weights(gh);
+    double num[SEA_SCENE_BAND_MAX], den = 0.0;
+    for (size_t k = 0; k < n; k++)
+        num[k] = 0.0;
+    for (int i = 0; i < nx; i++) {
+        double t, wt;
+        gsl_integration_glfixed_point(-6.0, tb, (size_t)i, &t, &wt, gl);
+        const double mX = m0X + sX * t;
+        const double g = 1.0 - mX * tant;
+        const double V = correlated ? sea_shadow_correlated(z, t) : 1.0;
+        const double w = wt * exp(-0.5 * t * t) * g * V;
+        if (!(w > 0.0))
+            continue;
+        for (int j = 0; j < ny; j++) {
+            const double dX = sX * t, dY = slope * dX + sY * y[j];
+            sea_slope_stats f = *sub;
+            f.mean.x += c * dX - s * dY;
+            f.mean.y += s * dX + c * dY;
+            double e[SEA_SCENE_BAND_MAX];
+            sea_status st = sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, &f, v, e, err);
+            if (st != SEA_OK)
+                return st;
+            for (size_t k = 0; k < n; k++)
+                num[k] += w * wy[j] * e[k];
+            den += w * wy[j];
+        }
+    }
+    if (!(den > 0.0))
+        return sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, sub, v, out, err);
+    for (size_t k = 0; k < n; k++)
+        out[k] = num[k] / den;
+    return SEA_OK;
+}
+
 /* ------------------------------------------------------------------ table
  *
- * What two scales add to a facet's one-scale eps~, as a function of the
- * view seen from the facet (its mean slope's plane), the view's azimuth to
- * the wind and how much of the split's resolved band the facet's own
- * covariance holds, f = (tr C - tr C_h) / (tr C_LR - tr C_h) in [0, 1]
- * (C_h: the waves shorter than the split; f = 1 low resolution, 0 a facet
- * no larger than the split).  A facet of mean slope m seen from v is taken
- * as a level facet seen from v's direction in its own plane: against the
- * two scales under the facet's mean slope this is within 5e-5 at 70-85 deg
- * (seabake-model(7), TWO SCALES).  The rows of view angles are computed
- * when a pixel first needs them: a view that never grazes computes none. */
-enum { TAB_NT = 32, TAB_NP = 5, TAB_NF = 5 };
-#define TAB_T0 (50.0 * M_PI / 180.0)
-#define TAB_T1 (96.0 * M_PI / 180.0)
-/* views beyond it from the facet's plane: a facet tilted away by the
- * excess, seen from here */
-#define TAB_TV (85.0 * M_PI / 180.0)
+ * What two scales add to a facet's one-scale eps~.  A facet of statistics
+ * (m, C) holds the fraction f = (tr C - tr C_h) / (tr C_LR - tr C_h) of the
+ * split's resolved band (C_h: the waves shorter than the split; f = 1 low
+ * resolution, 0 a facet no larger than the split): two scales give it
+ * facets of slopes N(m, f (C_LR - C_h)) each of covariance C_h, against the
+ * one scale (m, C_h + f (C_LR - C_h)).  The addition is a function of the
+ * standardised visibility margin of the one-scale facet along the view,
+ * z = (cot theta - m_X) / s_X (s_X the spread of its slopes along the view
+ * azimuth), to within a few tenths of a percent of itself whatever the
+ * mean slope that makes it (8 m/s, 4 um, f = 0.34: 0.04937-0.05088 at
+ * z = 0 from 72 to 88 deg with m_X from 0.33 to 0.035, and m_Y moving it by
+ * 0.3 %), and smoothly of f, of the view's azimuth to the wind, of the
+ * view zenith and of the index.  It is tabulated on those axes: z from
+ * TAB_Z0 in steps TAB_DZ (beyond, the addition is below 1e-5 and none is
+ * added), f^(1/4) on TAB_NF nodes (the addition climbs steeply from
+ * f = 0 near the visibility limit), the azimuth on TAB_NP nodes of [0, 90]
+ * deg (even at both ends), theta on TAB_NT nodes 10 deg apart to 90 deg,
+ * per index; Catmull-Rom in each (linear ghost nodes at the ends of z, f
+ * and theta).  A facet below the table's z (its mean plane turned away
+ * from the view, which a ray meeting the surface never finds at its hit
+ * point; blends and footprint averages can) is computed directly.  A
+ * theta row of z nodes is computed when a query first needs it (TAB_NF x
+ * TAB_NP nodes, each sea_emissivity_n and two scales at orders 12 x 4,
+ * within 1e-4 of 24 x 8), by one thread while the others wait. */
+enum { TAB_NZ = 31, TAB_NF = 9, TAB_NP = 3, TAB_NT = 9, TAB_NY2 = 2 };
+/* the second m_Y node: the addition is even in m_Y and within 0.1 % of
+ * quadratic to it (1.3 % of itself at 0.4 near the visibility limit) */
+static const double TAB_MY = 0.4, TAB_MY_MAX = 0.6;
+static const double TAB_Z0 = -0.25, TAB_DZ = 0.125;
+#define TAB_T0 (10.0 * M_PI / 180.0)
+#define TAB_DT (10.0 * M_PI / 180.0)
+enum { TAB_ROWS = TAB_NT * TAB_NZ, TAB_ROW = TAB_NF * TAB_NP * TAB_NY2 };
 
 struct sea_two_scale_table {
     const sea_optics *p;
-    double complex N;
+    size_t n;
+    double complex N[SEA_SCENE_BAND_MAX];
     sea_cov2 split_sub, total;
     double wind_dir;
     double cw, sw; /* cos and sin of wind_dir */
     double tr_h, tr_lr;
-    /* ready[it]: row it computed (read with acquire, written with release
-     * after its values) */
-    int ready[TAB_NT];
-    /* delta[(it * TAB_NP + ip) * TAB_NF + jf]: theta node it, azimuth
-     * ip 22.5 deg to the wind, f = jf / (TAB_NF - 1) */
-    double delta[TAB_NT * TAB_NP * TAB_NF];
+    gsl_integration_glfixed_table *gl, *gl_ref;
+    gsl_integration_fixed_workspace *gh, *gh_ref;
+    /* ready[row]: row (it, iz) computed (read with acquire, written with
+     * release after its values) */
+    int ready[TAB_ROWS];
+    /* delta[(((row TAB_NF + jf) TAB_NP + ip) TAB_NY2 + iy) n + k] */
+    double *delta;
 };
 
-sea_status sea_two_scale_table_alloc(const sea_optics *p, double complex N, sea_cov2 split_sub,
-                                     sea_cov2 total, double wind_dir,
+void sea_two_scale_table_free(sea_two_scale_table *t)
+{
+    if (t == NULL)
+        return;
+    if (t->gl != NULL) /* GSL's _free does not take NULL */
+        gsl_integration_glfixed_table_free(t->gl);
+    if (t->gl_ref != NULL)
+        gsl_integration_glfixed_table_free(t->gl_ref);
+    if (t->gh != NULL)
+        gsl_integration_fixed_free(t->gh);
+    if (t->gh_ref != NULL)
+        gsl_integration_fixed_free(t->gh_ref);
+    free(t->delta);
+    free(t);
+}
+
+sea_status sea_two_scale_table_alloc(const sea_optics *p, const double complex *N, size_t n,
+                                     sea_cov2 split_sub, sea_cov2 total, double wind_dir,
                                      sea_two_scale_table **out, sea_error *err)
 {
     *out = NULL;
     const double tr_h = split_sub.xx + split_sub.yy, tr_lr = total.xx + total.yy;
-    if (!(tr_h > 0.0 && tr_lr > tr_h) || !isfinite(tr_lr) || !isfinite(wind_dir) ||
-        !isfinite(creal(N)) || !isfinite(cimag(N)))
+    int finite = n >= 1 && n <= SEA_SCENE_BAND_MAX;
+    for (size_t k = 0; finite && k < n; k++)
+        finite = isfinite(creal(N[k])) && isfinite(cimag(N[k]));
+    if (!(tr_h > 0.0 && tr_lr > tr_h) || !isfinite(tr_lr) || !isfinite(wind_dir) || !finite)
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "two-scale table: the split's covariance (trace %g) must be below the "
-                        "total's (%g), both positive and finite, and the index finite",
-                        tr_h, tr_lr);
+                        "total's (%g), both positive and finite, and 1 to %d finite indices",
+                        tr_h, tr_lr, SEA_SCENE_BAND_MAX);
     sea_two_scale_table *t = calloc(1, sizeof *t);
     if (t == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the two-scale table");
     t->p = p;
-    t->N = N;
+    t->n = n;
+    memcpy(t->N, N, n * sizeof *N);
     t->split_sub = split_sub;
     t->total = total;
     t->wind_dir = wind_dir;
@@ -195,51 +289,110 @@ sea_status sea_two_scale_table_alloc(const sea_optics *p, double complex N, sea_
     t->sw = sin(wind_dir);
     t->tr_h = tr_h;
     t->tr_lr = tr_lr;
+    t->delta = malloc((size_t)TAB_ROWS * TAB_ROW * n * sizeof *t->delta);
+    t->gl = gsl_integration_glfixed_table_alloc(TAB_NX);
+    t->gl_ref = gsl_integration_glfixed_table_alloc(TS_NX);
+    t->gh = gsl_integration_fixed_alloc(gsl_integration_fixed_hermite, TAB_NY, 0.0, 0.5, 0.0, 0.0);
+    t->gh_ref = gsl_integration_fixed_alloc(gsl_integration_fixed_hermite, TS_NY, 0.0, 0.5, 0.0,
+                                            0.0);
+    if (t->delta == NULL || t->gl == NULL || t->gl_ref == NULL || t->gh == NULL ||
+        t->gh_ref == NULL) {
+        sea_two_scale_table_free(t);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the two-scale table");
+    }
     *out = t;
     return SEA_OK;
 }
 
-/* Row it: every azimuth and facet size (f = 0 adds nothing). */
-static sea_status table_row(sea_two_scale_table *t, int it, sea_error *err)
+/* The addition for a facet of mean slope m seen from v whose covariance
+ * holds f of the resolved band, by two scales at the given orders. */
+static sea_status delta_at(const sea_two_scale_table *t, sea_vec2 m, double f, sea_dir v,
+                           int ref, double *out, sea_error *err)
 {
-    const double tl = TAB_T0 + (TAB_T1 - TAB_T0) * it / (TAB_NT - 1);
-    const double tilt = tan(fmax(tl - TAB_TV, 0.0)); /* along the view, away */
     const sea_cov2 hs = t->split_sub, tot = t->total;
-    for (int ip = 0; ip < TAB_NP; ip++) {
-        const sea_dir v = { fmin(tl, TAB_TV), t->wind_dir + M_PI / 8.0 * ip };
-        const sea_vec2 m = { tilt * cos(v.phi), tilt * sin(v.phi) };
-        for (int jf = 1; jf < TAB_NF; jf++) {
-            const double f = (double)jf / (TAB_NF - 1);
-            const sea_cov2 res = { f * (tot.xx - hs.xx), f * (tot.yy - hs.yy),
-                                   f * (tot.xy - hs.xy) };
-            const sea_slope_stats one = { m, { hs.xx + res.xx, hs.yy + res.yy, hs.xy + res.xy } };
-            const sea_slope_stats sub = { m, hs };
-            double e1, e2;
-            sea_status st = sea_emissivity(t->p, SEA_EMIS_AUTO, t->N, &one, v, &e1, err);
-            if (st == SEA_OK)
-                st = two_scale(t->p, t->N, &sub, res, v, TAB_NX, TAB_NY, &e2, err);
-            if (st != SEA_OK)
-                return st;
-            t->delta[(it * TAB_NP + ip) * TAB_NF + jf] = e2 - e1;
-        }
+    const sea_cov2 res = { f * (tot.xx - hs.xx), f * (tot.yy - hs.yy), f * (tot.xy - hs.xy) };
+    const sea_slope_stats one = { m, { hs.xx + res.xx, hs.yy + res.yy, hs.xy + res.xy } };
+    const sea_slope_stats sub = { m, hs };
+    double e1[SEA_SCENE_BAND_MAX], e2[SEA_SCENE_BAND_MAX];
+    sea_status st = sea_emissivity_n(t->p, SEA_EMIS_AUTO, NULL, t->N, t->n, &one, v, e1, err);
+    if (st == SEA_OK)
+        st = ref ? two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl_ref, TS_NX, t->gh_ref, TS_NY,
+                               e2, err)
+                 : two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl, TAB_NX, t->gh, TAB_NY, e2,
+                               err);
+    if (st != SEA_OK)
+        return st;
+    for (size_t k = 0; k < t->n; k++)
+        out[k] = e2[k] - e1[k];
+    return SEA_OK;
+}
+
+/* The share f of the resolved band that a facet of covariance C holds
+ * (from the traces), and the spread along the view azimuth phi of the
+ * covariance the addition is defined with, C_h + f (C_LR - C_h): the
+ * facet's own covariance enters its one-scale emissivity, and only its
+ * trace the addition. */
+static void facet_axes(const sea_two_scale_table *t, const sea_cov2 *C, double phi, double *sX,
+                       double *f)
+{
+    const double ff = (C->xx + C->yy - t->tr_h) / (t->tr_lr - t->tr_h);
+    *f = isfinite(ff) ? fmin(fmax(ff, 0.0), 1.0) : 0.0;
+    const sea_cov2 hs = t->split_sub, tot = t->total;
+    const sea_cov2 Cf = { hs.xx + *f * (tot.xx - hs.xx), hs.yy + *f * (tot.yy - hs.yy),
+                          hs.xy + *f * (tot.xy - hs.xy) };
+    const double c = cos(phi), s = sin(phi);
+    *sX = sqrt(fmax(Cf.xx * c * c + 2.0 * Cf.xy * s * c + Cf.yy * s * s, 0.0));
+}
+
+/* Row (it, iz): every f, azimuth and m_Y node; the node's facet has the
+ * m_X that puts it at z. */
+static sea_status table_row(sea_two_scale_table *t, int row, sea_error *err)
+{
+    const int it = row / TAB_NZ, iz = row % TAB_NZ;
+    const double th = fmin(TAB_T0 + it * TAB_DT, 89.9 * M_PI / 180.0);
+    const double z = TAB_Z0 + iz * TAB_DZ;
+    for (int jf = 0; jf < TAB_NF; jf++) {
+        const double u = (double)jf / (TAB_NF - 1), u2 = u * u, f = u2 * u2;
+        for (int ip = 0; ip < TAB_NP; ip++)
+            for (int iy = 0; iy < TAB_NY2; iy++) {
+                double *out = &t->delta[((((size_t)row * TAB_NF + (size_t)jf) * TAB_NP +
+                                          (size_t)ip) * TAB_NY2 + (size_t)iy) * t->n];
+                if (jf == 0) { /* f = 0: one scale */
+                    for (size_t k = 0; k < t->n; k++)
+                        out[k] = 0.0;
+                    continue;
+                }
+                const double phi = t->wind_dir + M_PI / 2.0 * ip / (TAB_NP - 1);
+                const sea_cov2 hs = t->split_sub, tot = t->total;
+                const sea_cov2 C = { hs.xx + f * (tot.xx - hs.xx), hs.yy + f * (tot.yy - hs.yy),
+                                     hs.xy + f * (tot.xy - hs.xy) };
+                double sX, fc;
+                facet_axes(t, &C, phi, &sX, &fc);
+                const double mX = 1.0 / tan(th) - z * sX, mY = iy * TAB_MY;
+                const double c = cos(phi), s = sin(phi);
+                const sea_vec2 m = { mX * c - mY * s, mX * s + mY * c };
+                sea_status st = delta_at(t, m, f, (sea_dir){ th, phi }, 0, out, err);
+                if (st != SEA_OK)
+                    return st;
+            }
     }
     return SEA_OK;
 }
 
-/* Rows k[0..3] computed, the first caller that needs one computing it
- * while the others wait. */
-static sea_status table_rows(sea_two_scale_table *t, const int k[4], sea_error *err)
+/* The rows rows[0..nr) computed, the first caller that needs one computing
+ * it while the others wait. */
+static sea_status table_rows(sea_two_scale_table *t, const int *rows, int nr, sea_error *err)
 {
     sea_status st = SEA_OK;
-    for (int a = 0; a < 4 && st == SEA_OK; a++) {
-        if (__atomic_load_n(&t->ready[k[a]], __ATOMIC_ACQUIRE))
+    for (int a = 0; a < nr && st == SEA_OK; a++) {
+        if (__atomic_load_n(&t->ready[rows[a]], __ATOMIC_ACQUIRE))
             continue;
 #pragma omp critical(sea_two_scale_row)
         {
-            if (!__atomic_load_n(&t->ready[k[a]], __ATOMIC_ACQUIRE)) {
-                st = table_row(t, k[a], err);
+            if (!__atomic_load_n(&t->ready[rows[a]], __ATOMIC_ACQUIRE)) {
+                st = table_row(t, rows[a], err);
                 if (st == SEA_OK)
-                    __atomic_store_n(&t->ready[k[a]], 1, __ATOMIC_RELEASE);
+                    __atomic_store_n(&t->ready[rows[a]], 1, __ATOMIC_RELEASE);
             }
         }
     }
@@ -249,96 +402,119 @@ static sea_status table_rows(sea_two_scale_table *t, const int k[4], sea_error *
 size_t sea_two_scale_table_rows(const sea_two_scale_table *t)
 {
     size_t n = 0;
-    for (int it = 0; it < TAB_NT; it++)
-        n += __atomic_load_n(&t->ready[it], __ATOMIC_ACQUIRE) != 0;
+    for (int r = 0; r < TAB_ROWS; r++)
+        n += __atomic_load_n(&t->ready[r], __ATOMIC_ACQUIRE) != 0;
     return n;
 }
 
-void sea_two_scale_table_free(sea_two_scale_table *t)
-{
-    free(t);
-}
-
-/* Four node indices around x in [0, n - 1] (clamped at the ends) and the
- * fraction between the middle two. */
-static double cr_nodes(double x, int n, int k[4])
+/* Catmull-Rom nodes and weights of x in [0, nn - 1]; past an end the
+ * ghost node is the linear extrapolation 2 f_0 - f_1 (ghost = 1: folded
+ * into the weights) or, mirrored (ghost = 0), the node inside. */
+static void cr_axis(double x, int nn, int mirror, int k[4], double w[4])
 {
     int i = (int)floor(x);
     if (i < 0)
         i = 0;
-    if (i > n - 2)
-        i = n - 2;
-    for (int a = 0; a < 4; a++) {
-        int j = i - 1 + a;
-        k[a] = j < 0 ? 0 : j > n - 1 ? n - 1 : j;
+    if (i > nn - 2)
+        i = nn - 2;
+    sea_catmull_rom(fmin(fmax(x - i, 0.0), 1.0), w);
+    for (int a = 0; a < 4; a++)
+        k[a] = i - 1 + a;
+    if (k[0] < 0) {
+        if (mirror) {
+            k[0] = 1;
+        } else {
+            w[1] += 2.0 * w[0];
+            w[2] -= w[0];
+            w[0] = 0.0;
+            k[0] = 0;
+        }
     }
-    return x - i;
+    if (k[3] > nn - 1) {
+        if (mirror) {
+            k[3] = nn - 2;
+        } else {
+            w[2] += 2.0 * w[3];
+            w[1] -= w[3];
+            w[3] = 0.0;
+            k[3] = nn - 1;
+        }
+    }
 }
 
 sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
                                double *out, sea_error *err)
 {
-    *out = 0.0;
-    /* the view in the plane of the facet's mean slope: normal n, tangent
-     * axes the wind projected on the plane and n x that */
-    const double mx = st->mean.x, my = st->mean.y;
-    const double nn = sqrt(1.0 + mx * mx + my * my);
-    const double n[3] = { -mx / nn, -my / nn, 1.0 / nn };
-    const double d[3] = { sin(v.theta) * cos(v.phi), sin(v.theta) * sin(v.phi), cos(v.theta) };
-    const double ct = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
-    if (!(ct < cos(TAB_T0)))
-        return SEA_OK; /* below the table's first angle (or not a number): nothing to add */
-    /* the wind's direction projected on the plane: the azimuth is read
-     * from it, whatever the scene's axes */
-    const double cw = t->cw, sw = t->sw;
-    const double wn = cw * n[0] + sw * n[1];
-    double ex[3] = { cw - wn * n[0], sw - wn * n[1], -wn * n[2] };
-    const double ne = sqrt(ex[0] * ex[0] + ex[1] * ex[1] + ex[2] * ex[2]);
-    for (int a = 0; a < 3; a++)
-        ex[a] /= ne;
-    const double ey[3] = { n[1] * ex[2] - n[2] * ex[1], n[2] * ex[0] - n[0] * ex[2],
-                           n[0] * ex[1] - n[1] * ex[0] };
-    const double px = d[0] * ex[0] + d[1] * ex[1] + d[2] * ex[2];
-    const double py = d[0] * ey[0] + d[1] * ey[1] + d[2] * ey[2];
-    const double theta = acos(fmax(ct, -1.0)); /* beyond 90: the facet's plane turned away */
-    const double phi = fabs(remainder(atan2(py, px), M_PI)); /* to the wind, [0, pi/2] */
-    double f = (st->cov.xx + st->cov.yy - t->tr_h) / (t->tr_lr - t->tr_h);
-    f = isfinite(f) ? fmin(fmax(f, 0.0), 1.0) : 0.0;
-
-    int kt[4], kf[4], kp[4];
-    double wt[4], wf[4], wp[4];
-    sea_catmull_rom(cr_nodes((fmin(theta, TAB_T1) - TAB_T0) / (TAB_T1 - TAB_T0) * (TAB_NT - 1),
-                        TAB_NT, kt),
-               wt);
-    sea_catmull_rom(cr_nodes(f * (TAB_NF - 1), TAB_NF, kf), wf);
-    const sea_status status = table_rows(t, kt, err);
+    for (size_t k = 0; k < t->n; k++)
+        out[k] = 0.0;
+    double sX, f;
+    facet_axes(t, &st->cov, v.phi, &sX, &f);
+    if (!(f > 0.0) || !(v.theta > 0.0 && v.theta < M_PI / 2.0) || !(sX > 0.0))
+        return SEA_OK; /* one scale, nadir, no spread, or not a number: nothing to add */
+    const double mX = st->mean.x * cos(v.phi) + st->mean.y * sin(v.phi);
+    const double z = (1.0 / tan(v.theta) - mX) / sX;
+    const double xz = (z - TAB_Z0) / TAB_DZ;
+    if (xz >= TAB_NZ - 1)
+        return SEA_OK; /* far from the visibility limit: below 1e-5 */
+    const double mY_abs = fabs(-st->mean.x * sin(v.phi) + st->mean.y * cos(v.phi));
+    if (!(xz >= 0.0) || mY_abs > TAB_MY_MAX) /* turned away, or far across: directly */
+        return delta_at(t, st->mean, f, v, 0, out, err);
+    int kz[4], kf[4], kp[4], kt[4];
+    double wz[4], wf[4], wp[4], wt[4];
+    cr_axis(xz, TAB_NZ, 0, kz, wz);
+    cr_axis(sqrt(sqrt(f)) * (TAB_NF - 1), TAB_NF, 0, kf, wf);
+    /* the azimuth to the wind in [0, 90] deg: the table is even about both
+     * ends (the sea's slopes are symmetric about the wind and across it) */
+    const double phi = fabs(remainder(v.phi - t->wind_dir, M_PI));
+    cr_axis(fmin(phi, M_PI / 2.0) / (M_PI / 2.0) * (TAB_NP - 1), TAB_NP, 1, kp, wp);
+    cr_axis((v.theta - TAB_T0) / TAB_DT, TAB_NT, 0, kt, wt);
+    int rows[16], nr = 0;
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++)
+            if (wt[a] != 0.0 && wz[b] != 0.0)
+                rows[nr++] = kt[a] * TAB_NZ + kz[b];
+    sea_status status = table_rows(t, rows, nr, err);
     if (status != SEA_OK)
         return status;
-    /* the azimuth: the table is even about 0 and about 90 degrees (the
-     * sea's slopes are symmetric about the wind and across it), so the
-     * nodes beyond the ends are mirrored, not clamped */
-    const double xp = phi / (M_PI / 8.0);
-    int i0 = (int)floor(xp);
-    if (i0 > TAB_NP - 2)
-        i0 = TAB_NP - 2;
+    /* m_Y: linear in m_Y^2 between the two nodes (extrapolated beyond) */
+    const double mY = -st->mean.x * sin(v.phi) + st->mean.y * cos(v.phi);
+    const double y = mY * mY / (TAB_MY * TAB_MY), wy[2] = { 1.0 - y, y };
+    const size_t n = t->n;
     for (int a = 0; a < 4; a++) {
-        int j = i0 - 1 + a;
-        kp[a] = j < 0 ? -j : j > TAB_NP - 1 ? 2 * (TAB_NP - 1) - j : j;
-    }
-    sea_catmull_rom(xp - i0, wp);
-    /* along the sub-facet share, then the azimuth, then the angle: 16
-     * short sums side by side instead of one chain of 64 additions */
-    double s = 0.0;
-    for (int i = 0; i < 4; i++) {
-        const double *row = &t->delta[kt[i] * TAB_NP * TAB_NF];
-        double si = 0.0;
-        for (int p = 0; p < 4; p++) {
-            const double *dp = row + kp[p] * TAB_NF;
-            si += wp[p] * ((wf[0] * dp[kf[0]] + wf[1] * dp[kf[1]]) +
-                           (wf[2] * dp[kf[2]] + wf[3] * dp[kf[3]]));
+        if (wt[a] == 0.0)
+            continue;
+        for (int b = 0; b < 4; b++) {
+            if (wz[b] == 0.0)
+                continue;
+            const double wab = wt[a] * wz[b];
+            const double *row = &t->delta[(size_t)(kt[a] * TAB_NZ + kz[b]) * TAB_ROW * n];
+            for (int c = 0; c < 4; c++) {
+                const double wabc = wab * wf[c];
+                if (wabc == 0.0)
+                    continue;
+                for (int d = 0; d < 4; d++)
+                    for (int e = 0; e < TAB_NY2; e++) {
+                        const double w = wabc * wp[d] * wy[e];
+                        const double *q =
+                            row + (((size_t)kf[c] * TAB_NP + (size_t)kp[d]) * TAB_NY2 +
+                                   (size_t)e) * n;
+                        for (size_t k = 0; k < n; k++)
+                            out[k] += w * q[k];
+                    }
+            }
         }
-        s += wt[i] * si;
     }
-    *out = s;
     return SEA_OK;
+}
+
+sea_status sea_two_scale_delta_exact(const sea_two_scale_table *t, sea_dir v,
+                                     const sea_slope_stats *st, double *out, sea_error *err)
+{
+    for (size_t k = 0; k < t->n; k++)
+        out[k] = 0.0;
+    double sX, f;
+    facet_axes(t, &st->cov, v.phi, &sX, &f);
+    if (!(f > 0.0) || !(v.theta > 0.0 && v.theta < M_PI / 2.0))
+        return SEA_OK;
+    return delta_at(t, st->mean, f, v, 1, out, err);
 }

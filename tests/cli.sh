@@ -48,7 +48,7 @@ check_close energy.nadir_total "$energy_total" 1 1e-3
 sb_run emissivity "${SEA[@]}" --theta 10,20,30 --phi 0:270:90
 check_eq grid.rows "$(csv_rows)" 12
 # theta is the outer loop, phi the inner one.
-check_eq grid.order "$(printf '%s\n' "$SB_OUT" | sed -n '2,6p' | cut -d, -f2,3 | tr '\n' ' ')" \
+check_eq grid.order "$(csv_data | sed -n '2,6p' | cut -d, -f2,3 | tr '\n' ' ')" \
     "10,0 10,90 10,180 10,270 20,0 "
 
 sb_run spectrum --wind 5 --facet 0,1,8,64,512
@@ -1108,25 +1108,40 @@ check_match render.explain_samples "$SB_ERR" "1 spectral sample, at 4 um"
 check_no_match render.explain_no_fallback "$SB_ERR" "fallback"
 check_match render.explain_emissivity "$SB_ERR" "emissivity: fast \(not scaled by the tolerance\)"
 check_match render.explain_waves "$SB_ERR" "waves: [0-9]+ sinusoids, 8 bins per octave x 32 directions \(the same at every tolerance\)$"
-check_match render.explain_reflections "$SB_ERR" "reflections: 1 \(the paper"
+check_match render.explain_reflections "$SB_ERR" "reflections: auto \(a second hit in the sea around wherever it can move a pixel by more than 0.01 of the tolerance"
+check_no_match render.explain_not_reference "$SB_ERR" "reference:"
 # --reflections overrides [model] reflections: said by --explain, written in
 # the EXR's header, and out of range refused before any work.
 sb_run render "$RSCENE" -o "$RDIR/refl2.exr" --reflections 2 --explain --quiet --png none
 check_rc render.reflections_rc 0
-check_match render.explain_reflections2 "$SB_ERR" "reflections: 2 \(a facet's mirror ray may meet the sea again"
-for bad in 0 4 2.5 x ''; do
+check_match render.explain_reflections2 "$SB_ERR" "reflections: 2 \(every facet's mirror ray may meet the sea again, in the sea around"
+sb_run render "$RSCENE" -o "$RDIR/refl1.exr" --reflections 1 --explain --quiet --png none
+check_match render.explain_reflections1 "$SB_ERR" "reflections: 1 \(the paper"
+sb_run render "$RSCENE" -o "$RDIR/reflauto.exr" --reflections auto --quiet --png none
+check_rc render.reflections_auto_rc 0
+sb_run render "$RSCENE" -o "$RDIR/refldef.exr" --quiet --png none
+check render.reflections_auto_is_default cmp -s "$RDIR/reflauto.exr" "$RDIR/refldef.exr"
+for bad in 0 4 2.5 x '' AUTO; do
     sb_run render "$RSCENE" -o "$RDIR/refl_bad.exr" --reflections "$bad"
-    check_error "render.reflections_bad_$bad" 2 "--reflections"
+    check_error "render.reflections_bad_$bad" 2 "--reflections: '$bad' is not a number of surface hits \(allowed: auto, 1, 2, 3\)"
     check_eq "render.reflections_bad_nofile_$bad" "$(ls "$RDIR"/refl_bad* 2>/dev/null)" ""
 done
-sb_run emissivity --wavelength 4 --wind 10 --theta 80 --reflections 2
+# --reference: said by --explain, at least two hits
+sb_run render "$RSCENE" -o "$RDIR/ref.exr" --reference --reflections 1 --explain --quiet --png none
+check_rc render.reference_rc 0
+check_match render.explain_reference "$SB_ERR" "reference: every approximation the tolerance allows replaced by its exact form"
+check_match render.explain_reference_hits "$SB_ERR" "reflections: 2 \(every facet's mirror ray"
+sb_run emissivity --wavelength 4 --wind 10 --theta 80 --reflections 2 --scales 1
 check_rc emissivity.reflections_rc 0
-e1=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 | tail -1 | cut -d, -f9)
+e1=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --reflections 1 --scales 1 | tail -1 | cut -d, -f9)
 e2=$(printf '%s\n' "$SB_OUT" | tail -1 | cut -d, -f9)
 # 10 m/s, 80 deg, 4 um: a second hit adds 0.031 (seabake-model(7))
 check_eq emissivity.reflections_adds "$(awk -v a="$e1" -v b="$e2" 'BEGIN { print (b > a + 0.02 && b < 1) ? "more" : a " -> " b }')" more
+# auto, the default, follows the second hit there
+ea=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --scales 1 | tail -1 | cut -d, -f9)
+check_eq emissivity.reflections_auto "$ea" "$e2"
 sb_run emissivity --wavelength 4 --wind 10 --theta 80 --reflections 4
-check_error emissivity.reflections_range 2 "--reflections: 4 is outside \[1, 3\]"
+check_error emissivity.reflections_range 2 "--reflections: '4' is not a number of surface hits \(allowed: auto, 1, 2, 3\)"
 sb_run energy --wavelength 4 --wind 10 --theta 80 --reflections 2
 check_error energy.no_reflections 2 "unknown option '--reflections'"
 # --shadowing: correlated by default (--explain says so), smith on request;
@@ -1143,15 +1158,16 @@ for bad in x Smith ''; do
 done
 sb_run render "$RSCENE" -o "$RDIR/shadow_bad.exr" --set model.shadowing=uncorrelated
 check_error render.shadowing_key_bad 2 "\[model\] shadowing: unknown name 'uncorrelated' \(allowed: smith, correlated\)"
-es=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --shadowing smith | tail -1 | cut -d, -f9)
-ec=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 | tail -1 | cut -d, -f9)
+es=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --shadowing smith --scales 1 --reflections 1 | tail -1 | cut -d, -f9)
+ec=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --scales 1 --reflections 1 | tail -1 | cut -d, -f9)
 check_eq emissivity.shadowing_default "$(awk -v s="$es" -v c="$ec" 'BEGIN { d = c - s; print (d > 0.007 && d < 0.008) ? "correlated" : s " -> " c }')" correlated
 sb_run energy --wavelength 4 --wind 10 --theta 80 --shadowing x
 check_error energy.shadowing_bad 2 "--shadowing: 'x' is not one of smith, correlated"
 # --scales: 2 by default in scenes (--explain says so, with the split), 1
-# on request; the emissivity subcommand's default is 1, and 2 adds 0.0077
-# at 80 deg, 4 um, 10 m/s along the wind (seabake-model(7), TWO SCALES);
-# 2 needs the spectrum and one reflection; out of range: usage errors.
+# on request, in the emissivity subcommand too (with --wind), where 2 adds
+# 0.0077 at 80 deg, 4 um, 10 m/s along the wind with one hit
+# (seabake-model(7), TWO SCALES); 2 needs the spectrum; out of range: usage
+# errors.
 sb_run render "$RSCENE" -o "$RDIR/scales.exr" --explain --quiet --png none
 check_match render.explain_scales "$SB_ERR" "scales: 2 \(the slopes of the waves longer than [0-9.]+ m, half the slope variance"
 sb_run render "$RSCENE" -o "$RDIR/scales.exr" --scales 1 --explain --quiet --png none
@@ -1161,13 +1177,20 @@ check_error render.scales_bad 2 "--scales: 3 is outside \[1, 2\]"
 check_eq render.scales_bad_nofile "$(ls "$RDIR"/scales_bad* 2>/dev/null)" ""
 sb_run render "$RSCENE" -o "$RDIR/scales_bad.exr" --set model.scales=0
 check_error render.scales_key_bad 2 "\[model\] scales: 0 is out of range \(allowed: an integer in \[1, 2\]\)"
-e1=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 | tail -1 | cut -d, -f9)
-e2=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --scales 2 | tail -1 | cut -d, -f9)
+e1=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --scales 1 --reflections 1 | tail -1 | cut -d, -f9)
+e2=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --reflections 1 | tail -1 | cut -d, -f9)
 check_eq emissivity.scales_adds "$(awk -v a="$e1" -v b="$e2" 'BEGIN { d = b - a; print (d > 0.007 && d < 0.0085) ? "two scales" : a " -> " b }')" "two scales"
 sb_run emissivity --wavelength 4 --cov 0.03,0.02,0 --theta 80 --scales 2
 check_error emissivity.scales_cov 2 "--scales 2 splits the sea spectrum's slopes: give --wind, not --cov"
+# two scales and second hits together: the default model, as scenes
 sb_run emissivity --wavelength 4 --wind 10 --theta 80 --scales 2 --reflections 2
-check_error emissivity.scales_reflections 2 "--scales 2 with --reflections 2: two scales are single-bounce"
+check_rc emissivity.scales_reflections 0
+e22=$(printf '%s\n' "$SB_OUT" | tail -1 | cut -d, -f9)
+ed=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 | tail -1 | cut -d, -f9)
+check_eq emissivity.scales_reflections_default "$e22" "$ed"
+# --reference: within the tolerance of the default (10 m/s, 80 deg: 3.5e-5)
+er=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 --reference | tail -1 | cut -d, -f9)
+check_close emissivity.reference_close "$ed" "$er" 1e-4
 sb_run energy --wavelength 4 --wind 10 --theta 80 --scales 2
 check_error energy.no_scales 2 "unknown option '--scales'"
 # examples/horizon.ini (clear sky, air, two reflections), shrunk: the sky

@@ -33,12 +33,13 @@ SB_ERR=$(cat "$SB_TMP/err")
 example=$(cat "$SB_TMP/example")
 check_rc example.rc 0
 check_eq example.stderr "$SB_ERR" ""
-check_eq example.header "$(printf '%s\n' "$example" | sed -n 2p)" "theta_deg  emissivity  flat_sea"
+check_eq example.header "$(printf '%s\n' "$example" | sed -n 2p)" "theta_deg  emissivity  the_paper  flat_sea"
 rows=$(printf '%s\n' "$example" | tail -n +3)
 check_eq example.rows "$(printf '%s\n' "$rows" | grep -c '')" 6
 ex_theta=$(printf '%s\n' "$rows" | awk '{ print $1 + 0 }')
 ex_eps=$(printf '%s\n' "$rows" | awk '{ print $2 }')
-ex_flat=$(printf '%s\n' "$rows" | awk '{ print $3 }')
+ex_paper=$(printf '%s\n' "$rows" | awk '{ print $3 }')
+ex_flat=$(printf '%s\n' "$rows" | awk '{ print $4 }')
 check_close example.angles "$ex_theta" "$THETAS" 0
 # Sane: in (0, 1], falling with the angle; rough water beats the flat
 # surface's Fresnel emissivity at grazing angles.
@@ -48,11 +49,19 @@ num_check example.falling \
 num_check example.grazing 'e > f + 0.1' e="$(printf '%s\n' "$ex_eps" | tail -n 1)" \
     f="$(printf '%s\n' "$ex_flat" | tail -n 1)"
 
-# The same numbers from the program.
+# The same numbers from the program: its default is the library's default
+# model, and the paper's model is three options away.
 thetas=$(echo $THETAS | tr ' ' ,)
 sb_run emissivity --wavelength 4 --wind 10 --theta "$thetas"
 check_ok program.emissivity
 check_close example.vs_program "$ex_eps" "$(csv_all emissivity)" 1e-6
+check_match program.model_comment "$(printf '%s\n' "$SB_OUT" | sed -n 1p)" \
+    "^# seabake emissivity: correlated shadowing, 2 scales, reflections auto, tolerance 0.001, rule auto$"
+sb_run emissivity --wavelength 4 --wind 10 --theta "$thetas" --shadowing smith --scales 1 \
+    --reflections 1
+check_ok program.paper
+check_close example.paper_vs_program "$ex_paper" "$(csv_all emissivity)" 1e-6
+check_match program.paper_comment "$(printf '%s\n' "$SB_OUT" | sed -n 1p)" "\(the paper's model\)$"
 sb_run emissivity --wavelength 4 --cov 0,0,0 --theta "$thetas"
 check_ok program.flat
 check_close example.flat_vs_program "$ex_flat" "$(csv_all emissivity)" 1e-6

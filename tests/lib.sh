@@ -122,17 +122,23 @@ check_error() {
 
 # csv_header: first line of the last output.
 csv_header() {
-    printf '%s\n' "$SB_OUT" | head -n 1
+    printf '%s\n' "$SB_OUT" | grep -v '^#' | head -n 1
 }
 
 # csv_rows: number of data rows (lines after the header) of the last output.
 csv_rows() {
-    printf '%s\n' "$SB_OUT" | tail -n +2 | grep -c ''
+    printf '%s\n' "$SB_OUT" | grep -v '^#' | tail -n +2 | grep -c ''
+}
+
+# csv_data: $SB_OUT without its comment lines (a leading "#": the model
+# the emissivity subcommand names).
+csv_data() {
+    printf '%s\n' "$SB_OUT" | grep -v '^#'
 }
 
 # csv_col NAME ROW: the value of column NAME in data row ROW (1-based).
 csv_col() {
-    printf '%s\n' "$SB_OUT" | awk -F, -v name="$1" -v row="$2" '
+    csv_data | awk -F, -v name="$1" -v row="$2" '
         NR == 1 { for (i = 1; i <= NF; i++) if ($i == name) c = i; next }
         NR == row + 1 && c { print $c; found = 1 }
         END { if (!found) exit 1 }'
@@ -140,7 +146,7 @@ csv_col() {
 
 # csv_all NAME: every value of column NAME, one per line.
 csv_all() {
-    printf '%s\n' "$SB_OUT" | awk -F, -v name="$1" '
+    csv_data | awk -F, -v name="$1" '
         NR == 1 { for (i = 1; i <= NF; i++) if ($i == name) c = i; if (!c) exit 1; next }
         { print $c }'
 }
@@ -149,7 +155,7 @@ csv_all() {
 # every data field is a finite number (no empty field, nan or inf).
 check_csv_shape() {
     local bad
-    bad=$(printf '%s\n' "$SB_OUT" | awk -F, '
+    bad=$(csv_data | awk -F, '
         NR == 1 { n = NF; next }
         NF != n { print "row " NR - 1 ": " NF " fields, header has " n; exit }
         {

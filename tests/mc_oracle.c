@@ -89,6 +89,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "mc_oracle: %s\n", err.msg);
         return 1;
     }
+    sea_optics_set_shadowing(P, SEA_SHADOW_SMITH); /* the paper's */
     for (int l = 0; l < nl; l++)
         if (sea_water_index(water, wls[l] * 1e-6, &N[l], &err) != SEA_OK) {
             fprintf(stderr, "mc_oracle: %s\n", err.msg);

@@ -116,6 +116,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "mc_sea_oracle: %s\n", err.msg);
         return 1;
     }
+    sea_optics_set_shadowing(P, SEA_SHADOW_SMITH); /* the paper's */
     sea_optics_set_shadowing(PC, SEA_SHADOW_CORRELATED);
     double *h = malloc(sizeof(double) * (size_t)n * n);
     const int ndir = nt * np;

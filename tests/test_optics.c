@@ -20,6 +20,7 @@ static int setup(void)
         sea_water_index(w, 10e-6, &N10, NULL) != SEA_OK)
         return 1;
     sea_water_free(w);
+    sea_optics_set_shadowing(P, SEA_SHADOW_SMITH); /* the paper's */
     return 0;
 }
 

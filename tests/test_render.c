@@ -399,6 +399,7 @@ static void test_multi_reflection_image(void)
     sc.look_zenith = 50.0 * DEG;
     sc.hfov = 100.0 * DEG;
     sea_image a, b;
+    sc.reflections = 1;
     render(&sc, 0.0, &a);
     sc.reflections = 2;
     render(&sc, 0.0, &b);

@@ -168,7 +168,8 @@ static void test_defaults(void)
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_AUTO && sc.earth == SEA_EARTH_FLAT);
     CU_ASSERT(sc.windows == SEA_WINDOWS_VIEW);
     CU_ASSERT(sc.tolerance == 1e-3);
-    CU_ASSERT(sc.reflections == 1);
+    CU_ASSERT(sc.reflections == SEA_REFLECTIONS_AUTO);
+    CU_ASSERT(sc.reference == 0);
     /* Every optional field of the loaded scene is the default's. */
     def.wind_speed = sc.wind_speed;
     def.altitude = sc.altitude;
@@ -329,9 +330,8 @@ static const error_case CASES[] = {
       "[sun] angular_radius: conflicts with solid_angle", "each gives the other" },
     { BASE "[sun]\nangular_radius = 6\n", SEA_ERR_DOMAIN, 10, "[sun] angular_radius",
       "[0, 5] deg" },
-    { BASE "[model]\nreflections = 4\n", SEA_ERR_DOMAIN, 10, "[model] reflections: 4 is out of range",
-      "(allowed: an integer in [1, 3])" },
-    { BASE "[model]\nreflections = 2.5\n", SEA_ERR_PARSE, 10, "[model] reflections", "[1, 3]" },
+    { BASE "[model]\nreflections = 4\n", SEA_ERR_PARSE, 10, "[model] reflections", "auto, 1, 2, 3" },
+    { BASE "[model]\nreflections = 2.5\n", SEA_ERR_PARSE, 10, "[model] reflections", "auto, 1, 2, 3" },
     { BASE "[model]\nfinest = 1001\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
     /* a denormal underflows strtod: refused as no number, with the range */
     { BASE "[model]\nfinest = 4.9e-324\n", SEA_ERR_PARSE, 10, "[model] finest", "[0.001, 1000] m" },

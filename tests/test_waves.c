@@ -473,6 +473,7 @@ static void test_convergence_to_low_resolution(void)
     sea_optics *op = NULL;
     CU_ASSERT_EQUAL_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 0.0, &water, &err), SEA_OK);
     CU_ASSERT_EQUAL_FATAL(sea_optics_alloc(&op, &err), SEA_OK);
+    sea_optics_set_shadowing(op, SEA_SHADOW_SMITH); /* the paper's Fig. 5-6 */
     double complex N;
     CU_ASSERT_EQUAL_FATAL(sea_water_index(water, 4e-6, &N, &err), SEA_OK);
     const double winds[] = { 5.0, 20.0 }, paper[] = { 64.0, 512.0 };

@@ -54,9 +54,11 @@ static bool is_help(const char *tok)
 }
 
 /* Reads the option at argv[*i] and advances *i past it and its value.
- * *opt is the index in the option table, or -1 for --help. */
+ * *opt is the index in the option table, or -1 for --help.  *bare counts
+ * the bare arguments read so far: the n-th is the value of the table's
+ * n-th positional option. */
 static sea_status scan_one(const sea_cli_args *a, int *i, long *opt, const char **value,
-                           sea_error *err)
+                           int *bare, sea_error *err)
 {
     const char *tok = a->argv[*i];
     if (is_help(tok)) {
@@ -70,14 +72,23 @@ static sea_status scan_one(const sea_cli_args *a, int *i, long *opt, const char 
     if (!single && (strncmp(tok, "--", 2) != 0 || tok[2] == '\0')) {
         if (tok[0] == '-' && tok[1] != '\0')
             return sea_fail(err, SEA_ERR_PARSE, "unknown option '%s'", tok);
-        /* A bare argument is the value of the positional option, if any. */
+        /* A bare argument is the value of the next positional option, if
+         * any; beyond the last, the last's again (refused by the parse). */
+        long last = -1;
+        int seen = 0;
         for (size_t k = 0; k < a->n_options; ++k) {
-            if (a->options[k].flags & SEA_CLI_OPT_POSITIONAL) {
-                *opt = (long)k;
-                *value = tok;
-                ++*i;
-                return SEA_OK;
-            }
+            if (!(a->options[k].flags & SEA_CLI_OPT_POSITIONAL))
+                continue;
+            last = (long)k;
+            if (seen++ == *bare)
+                break;
+        }
+        if (last >= 0) {
+            *opt = last;
+            *value = tok;
+            ++*i;
+            ++*bare;
+            return SEA_OK;
         }
         return sea_fail(err, SEA_ERR_PARSE,
                         "unexpected argument '%s' (every value follows its --option)", tok);
@@ -119,21 +130,27 @@ sea_status sea_cli_args_parse(sea_cli_args *args, const sea_cli_option *options,
                               int argc, char **argv, sea_error *err)
 {
     *args = (sea_cli_args){options, n_options, argc, argv, false};
-    const char *positional = NULL;
+    const char *positional[SEA_CLI_POSITIONAL_MAX] = { NULL };
+    int bare = 0;
     for (int i = 0; i < argc;) {
         long opt;
         const char *value;
-        sea_status st = scan_one(args, &i, &opt, &value, err);
+        sea_status st = scan_one(args, &i, &opt, &value, &bare, err);
         if (st != SEA_OK)
             return st;
         if (opt < 0) {
             args->help = true;
         } else if (options[opt].flags & SEA_CLI_OPT_POSITIONAL) {
-            if (positional)
+            /* which positional this is: a second value for the last one is
+             * one argument too many */
+            int k = 0;
+            for (long o = 0; o < opt; o++)
+                k += (options[o].flags & SEA_CLI_OPT_POSITIONAL) != 0;
+            if (k >= SEA_CLI_POSITIONAL_MAX || positional[k])
                 return sea_fail(err, SEA_ERR_PARSE,
                                 "unexpected argument '%s' ('%s' was given first; one is taken)",
-                                value, positional);
-            positional = value;
+                                value, k < SEA_CLI_POSITIONAL_MAX ? positional[k] : "");
+            positional[k] = value;
         }
     }
     return SEA_OK;
@@ -146,10 +163,11 @@ static const char *find_value(const sea_cli_args *args, const char *name, size_t
 {
     const char *found = NULL;
     size_t seen = 0;
+    int bare = 0;
     for (int i = 0; i < args->argc;) {
         long opt;
         const char *value;
-        if (scan_one(args, &i, &opt, &value, NULL) != SEA_OK)
+        if (scan_one(args, &i, &opt, &value, &bare, NULL) != SEA_OK)
             break; /* cannot happen after a successful sea_cli_args_parse */
         if (opt < 0 || strcmp(args->options[opt].name, name) != 0)
             continue;
@@ -438,8 +456,8 @@ sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_e
     sea_status st =
         sea_cli_opt_number(args, "tolerance", &SEA_CLI_RANGE_SCENE_TOL, NAN, &out->tolerance, err);
     if (st == SEA_OK)
-        st = sea_cli_opt_integer(args, "reflections", 1, SEA_REFLECTIONS_MAX, 0,
-                                 &out->reflections, err);
+        st = sea_cli_opt_reflections(args, -1, &out->reflections, err);
+    out->reference = sea_cli_given(args, "reference");
     out->shadowing = -1;
     if (st == SEA_OK && sea_cli_args_get(args, "shadowing") != NULL) {
         sea_shadowing s;
@@ -449,6 +467,22 @@ sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_e
     if (st == SEA_OK)
         st = sea_cli_opt_integer(args, "scales", 1, 2, 0, &out->scales, err);
     return st;
+}
+
+sea_status sea_cli_opt_reflections(const sea_cli_args *args, long def, long *out, sea_error *err)
+{
+    const char *text = sea_cli_args_get(args, "reflections");
+    *out = def;
+    if (text == NULL)
+        return SEA_OK;
+    const int r = sea_reflections_from_name(text);
+    if (r < 0)
+        return sea_fail(err, SEA_ERR_PARSE,
+                        "--reflections: '%s' is not a number of surface hits (allowed: auto, 1, "
+                        "2, 3)",
+                        text);
+    *out = r;
+    return SEA_OK;
 }
 
 sea_status sea_cli_scene_arg(const sea_cli_args *args, const char **path, sea_error *err)
@@ -466,8 +500,10 @@ void sea_cli_apply_model(const sea_cli_model *m, sea_scene *sc)
 {
     if (!isnan(m->tolerance))
         sc->tolerance = m->tolerance;
-    if (m->reflections > 0)
+    if (m->reflections >= 0)
         sc->reflections = (int)m->reflections;
+    if (m->reference)
+        sc->reference = 1;
     if (m->shadowing >= 0)
         sc->shadowing = m->shadowing;
     if (m->scales > 0)

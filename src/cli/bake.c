@@ -190,8 +190,9 @@ static const char BAKE_HELP[] =
     "                      (frames as image sequences; --render-frames OUT_####.exr)\n"
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance, as in seabake render\n"
-    "  --reflections N     surface hits, 1 to 3: overrides the scene's [model]\n"
+    "  --reflections R     auto (default), 1, 2 or 3: overrides the scene's [model]\n"
     "                      reflections, as in seabake render\n"
+    "  --reference         every approximation exact, as in seabake render\n"
     "  --shadowing S       correlated or smith: overrides the scene's [model]\n"
     "                      shadowing, as in seabake render\n"
     "  --scales N          2 or 1: overrides the scene's [model] scales, as in\n"
@@ -624,7 +625,11 @@ static cJSON *scene_json(const bake_setup *s)
     cJSON_AddStringToObject(mod, "windows",
                             sc->windows == SEA_WINDOWS_CLIPMAP ? "clipmap" : "view");
     cJSON_AddNumberToObject(mod, "tolerance", sc->tolerance);
-    cJSON_AddNumberToObject(mod, "reflections", sc->reflections);
+    if (sc->reflections == SEA_REFLECTIONS_AUTO)
+        cJSON_AddStringToObject(mod, "reflections", "auto");
+    else
+        cJSON_AddNumberToObject(mod, "reflections", sc->reflections);
+    cJSON_AddBoolToObject(mod, "reference", sc->reference != 0);
     cJSON_AddStringToObject(mod, "shadowing", sea_shadowing_name((sea_shadowing)sc->shadowing));
     cJSON_AddNumberToObject(mod, "scales", sc->scales);
     return o;
@@ -2357,6 +2362,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"explain", SEA_CLI_OPT_FLAG},
     {"tolerance", 0},
     {"reflections", 0},
+    {"reference", SEA_CLI_OPT_FLAG},
     {"shadowing", 0},
     {"scales", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},

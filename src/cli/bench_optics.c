@@ -170,8 +170,10 @@ sea_status sea_cli_bench_optics(bool quick, sea_cli_bench_row **rows_out, size_t
     sea_status st = rows == NULL ? sea_fail(err, SEA_ERR_NOMEM, "out of memory") : SEA_OK;
     if (st == SEA_OK)
         st = sea_optics_alloc(&p, err);
-    if (st == SEA_OK)
+    if (st == SEA_OK) {
+        sea_optics_set_shadowing(p, SEA_SHADOW_SMITH); /* the paper's */
         st = sea_optics_alloc(&pc, err);
+    }
     if (st == SEA_OK)
         sea_optics_set_shadowing(pc, SEA_SHADOW_CORRELATED);
     if (st == SEA_OK)

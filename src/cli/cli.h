@@ -43,9 +43,12 @@ sea_cli_exit sea_cli_exit_code(sea_status status);
  * ("-o FILE", "-o=FILE") and only so.  A repeated option replaces the
  * earlier value, unless it is SEA_CLI_OPT_ACCUMULATE, whose values are all
  * kept in order.  "--help" and "-h" are understood by every subcommand.
- * A SEA_CLI_OPT_POSITIONAL option has no dashed form: its value is the one
- * argument that is not an option ("seabake render SCENE.ini"); a table
- * holds at most one, and a second bare argument is an error. */
+ * A SEA_CLI_OPT_POSITIONAL option has no dashed form: its value is a bare
+ * argument, the n-th bare argument going to the table's n-th positional
+ * option ("seabake render SCENE.ini", "seabake compare A.exr B.exr"); a
+ * table holds at most SEA_CLI_POSITIONAL_MAX, and a bare argument beyond
+ * them is an error. */
+enum { SEA_CLI_POSITIONAL_MAX = 2 };
 enum {
     SEA_CLI_OPT_ACCUMULATE = 1u,
     SEA_CLI_OPT_FLAG = 2u,
@@ -141,6 +144,7 @@ extern const sea_cli_command sea_cli_cmd_convergence;  /* convergence.c */
 extern const sea_cli_command sea_cli_cmd_bench;        /* bench.c */
 extern const sea_cli_command sea_cli_cmd_render;       /* render.c */
 extern const sea_cli_command sea_cli_cmd_bake;         /* bake.c */
+extern const sea_cli_command sea_cli_cmd_compare;      /* compare.c */
 
 /* Number of elements of an array (option tables). */
 #define SEA_CLI_COUNT(a) (sizeof(a) / sizeof((a)[0]))
@@ -153,16 +157,19 @@ bool sea_cli_given(const sea_cli_args *args, const char *name);
 sea_status sea_cli_require(const sea_cli_args *args, const char *name, const char *why,
                            sea_error *err);
 /* The [model] keys that render and bake take on the command line:
- * --tolerance T, range (0, 0.1] (NAN when absent), and --reflections N,
- * 1 to SEA_REFLECTIONS_MAX (0 when absent).  Parsed before the scene (a
- * typing mistake is reported first), applied after it by
- * sea_cli_apply_model. */
+ * --tolerance T, range (0, 0.1] (NAN when absent), --reflections auto or N,
+ * 1 to SEA_REFLECTIONS_MAX (-1 when absent), and --reference.  Parsed
+ * before the scene (a typing mistake is reported first), applied after it
+ * by sea_cli_apply_model. */
 typedef struct {
     double tolerance;
-    long reflections;
+    long reflections; /* SEA_REFLECTIONS_AUTO, 1 .. 3, or -1: the scene's */
     int shadowing; /* a sea_shadowing, or -1: the scene's */
     long scales;   /* 1 or 2, or 0: the scene's */
+    bool reference;
 } sea_cli_model;
+/* --reflections auto|N (def when absent). */
+sea_status sea_cli_opt_reflections(const sea_cli_args *args, long def, long *out, sea_error *err);
 sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_error *err);
 /* The positional SCENE.ini of render and bake: present and not empty. */
 sea_status sea_cli_scene_arg(const sea_cli_args *args, const char **path, sea_error *err);

@@ -69,7 +69,7 @@ static const char SEA_CLI_HELP_ENERGY[] =
 
 static const sea_cli_option SEA_CLI_EMISSIVITY_OPTIONS[] = {
     SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"reflections", 0},
-    {"shadowing", 0}, {"scales", 0}};
+    {"shadowing", 0}, {"scales", 0}, {"tolerance", 0}, {"reference", SEA_CLI_OPT_FLAG}};
 static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
     SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"shadowing", 0}};
 
@@ -77,47 +77,77 @@ static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
  * with the quadrature plan differ only in the call and the last columns. */
 typedef enum { SEA_CLI_EMISSIVITY, SEA_CLI_ENERGY } sea_cli_quantity;
 
-/* --scales 2: the two bands of the sea's slopes (sea_spectrum_split_half
- * of the waves the --facet leaves below it). */
+/* The model of the emissivity subcommand: the library's default
+ * (sea_model_params_default) with the options' changes.  The sea around and
+ * two scales need the sea spectrum (--wind); with --cov the given
+ * statistics are the whole sea, one scale by default.  *spectral, *lr and
+ * *fine: what sea_model_alloc takes. */
 typedef struct {
-    int on;
-    sea_slope_stats sub;
-    sea_cov2 res;
-} two_scale;
+    sea_model_params mp;
+    int has_spectrum;
+    sea_spectrum spectrum;
+    sea_slope_stats lr;
+    sea_cov2 fine;
+} emis_model;
 
-static sea_status two_scale_inputs(const sea_cli_args *args, const sea_cli_sea *sea, long scales,
-                                   long reflections, two_scale *ts, sea_error *err)
+static sea_status model_inputs(const sea_cli_args *args, const sea_cli_sea *sea,
+                               emis_model *em, sea_error *err)
 {
-    ts->on = scales == 2;
-    if (!ts->on)
-        return SEA_OK;
-    if (sea_cli_args_get(args, "cov") != NULL || sea_cli_args_get(args, "wind") == NULL)
-        return sea_fail(err, SEA_ERR_DOMAIN,
-                        "--scales 2 splits the sea spectrum's slopes: give --wind, not --cov");
-    if (reflections != 1)
-        return sea_fail(err, SEA_ERR_DOMAIN,
-                        "--scales 2 with --reflections %ld: two scales are single-bounce "
-                        "(allowed: --reflections 1)",
-                        reflections);
-    sea_spectrum spec;
-    double wind, fetch, facet, kc, kh;
-    sea_cov2 all;
-    sea_status st = sea_cli_sea_state(args, &spec, &wind, &fetch, err);
+    sea_model_params_default(&em->mp);
+    sea_status st = sea_cli_opt_emissivity(args, &em->mp.method, err);
+    long reflections = SEA_REFLECTIONS_AUTO, scales = 0;
     if (st == SEA_OK)
-        st = sea_cli_opt_number(args, "facet", &SEA_CLI_RANGE_FACET, 0.0, &facet, err);
+        st = sea_cli_opt_reflections(args, SEA_REFLECTIONS_AUTO, &reflections, err);
     if (st == SEA_OK)
-        st = sea_cli_facet_cov(&spec, facet, &kc, &all, err);
+        st = sea_cli_opt_shadowing(args, SEA_SHADOW_CORRELATED, &em->mp.shadowing, err);
+    if (st == SEA_OK)
+        st = sea_cli_opt_integer(args, "scales", 1, 2, 0, &scales, err);
+    static const sea_cli_range tol = {0.0, 0.1, true, false, ""};
+    if (st == SEA_OK)
+        st = sea_cli_opt_number(args, "tolerance", &tol, 1e-3, &em->mp.tolerance, err);
     if (st != SEA_OK)
         return st;
-    sea_error lib = {{0}};
-    if ((st = sea_spectrum_split_half(&spec, kc, &kh, &ts->res, &ts->sub.cov, &lib)) != SEA_OK)
-        return sea_fail(err, st, "--scales 2: %s", lib.msg);
-    ts->sub.mean = sea->stats.mean;
+    em->mp.reflections = (int)reflections;
+    em->mp.reference = sea_cli_given(args, "reference");
+    em->has_spectrum = sea_cli_args_get(args, "cov") == NULL && sea_cli_args_get(args, "wind") != NULL;
+    if (scales == 2 && !em->has_spectrum)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--scales 2 splits the sea spectrum's slopes: give --wind, not --cov");
+    em->mp.scales = scales > 0 ? (int)scales : em->has_spectrum ? 2 : 1;
+    em->lr = (sea_slope_stats){ { 0.0, 0.0 }, sea->stats.cov };
+    em->fine = sea->stats.cov;
+    if (em->has_spectrum) {
+        double wind, fetch;
+        if ((st = sea_cli_sea_state(args, &em->spectrum, &wind, &fetch, err)) != SEA_OK)
+            return st;
+        sea_error lib = {{0}};
+        if ((st = sea_spectrum_slope_cov(&em->spectrum, 0.0, &em->lr.cov, &lib)) != SEA_OK)
+            return sea_fail(err, st, "the sea's slopes: %s", lib.msg);
+    }
     return SEA_OK;
 }
 
+/* The CSV's first line: the model, as a comment. */
+static void model_comment(FILE *out, const emis_model *em)
+{
+    char refl[32];
+    if (em->mp.reflections == SEA_REFLECTIONS_AUTO)
+        snprintf(refl, sizeof refl, "auto");
+    else
+        snprintf(refl, sizeof refl, "%d", em->mp.reflections);
+    fprintf(out,
+            "# seabake emissivity: %s shadowing, %d scale%s, reflections %s, tolerance %g, "
+            "rule %s%s%s\n",
+            sea_shadowing_name(em->mp.shadowing), em->mp.scales, em->mp.scales == 1 ? "" : "s",
+            refl, em->mp.tolerance, sea_emis_method_name(em->mp.method),
+            em->mp.reference ? ", reference (every approximation exact)" : "",
+            em->mp.shadowing == SEA_SHADOW_SMITH && em->mp.scales == 1 && em->mp.reflections == 1
+                ? " (the paper's model)"
+                : "");
+}
+
 static sea_status direction_row(FILE *out, sea_cli_quantity what, const sea_optics *optics,
-                                sea_emis_method method, int reflections, const two_scale *ts,
+                                sea_emis_method method, const sea_model *model,
                                 const sea_cli_sea *sea, double t, double f, sea_error *err)
 {
     sea_dir v = sea_dir_fold(sea_cli_radians(t), sea_cli_radians(f));
@@ -128,10 +158,7 @@ static sea_status direction_row(FILE *out, sea_cli_quantity what, const sea_opti
     switch (what) {
     case SEA_CLI_EMISSIVITY:
         name = "emissivity";
-        st = ts->on ? sea_emissivity_two_scale(optics, sea->N, &ts->sub, ts->res, v,
-                                               &e.emissivity, &lib)
-                    : sea_emissivity_multi_n(optics, method, NULL, &sea->N, 1, &sea->stats, v,
-                                             reflections, &e.emissivity, &lib);
+        st = sea_model_emissivity(model, &sea->stats, v, &e.emissivity, NULL, &lib);
         break;
     case SEA_CLI_ENERGY:
     default:
@@ -157,40 +184,44 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
 {
     sea_cli_list theta = {NULL, 0}, phi = {NULL, 0};
     sea_optics *optics = NULL;
+    sea_model *model = NULL;
     sea_emis_method method = SEA_EMIS_AUTO;
-    long reflections = 1, scales = 1;
-    two_scale ts = { 0 };
+    emis_model em;
     sea_cli_sea sea;
     sea_status st = sea_cli_direction_grid(args, &theta, &phi, err);
     if (st == SEA_OK)
         st = sea_cli_opt_emissivity(args, &method, err);
-    if (st == SEA_OK)
-        st = sea_cli_opt_integer(args, "reflections", 1, SEA_REFLECTIONS_MAX, 1, &reflections, err);
     sea_shadowing shadowing = SEA_SHADOW_CORRELATED;
     if (st == SEA_OK)
         st = sea_cli_opt_shadowing(args, SEA_SHADOW_CORRELATED, &shadowing, err);
-    if (st == SEA_OK && what == SEA_CLI_EMISSIVITY)
-        st = sea_cli_opt_integer(args, "scales", 1, 2, 1, &scales, err);
     if (st == SEA_OK)
         st = sea_cli_sea_inputs(args, &sea, err);
-    if (st == SEA_OK)
-        st = two_scale_inputs(args, &sea, scales, reflections, &ts, err);
+    if (st == SEA_OK && what == SEA_CLI_EMISSIVITY) {
+        st = model_inputs(args, &sea, &em, err);
+        sea_error lib = {{0}};
+        if (st == SEA_OK &&
+            (st = sea_model_alloc(&em.mp, em.has_spectrum ? &em.spectrum : NULL, &em.lr, &em.fine,
+                                  &sea.N, 1, NULL, &model, &lib)) != SEA_OK)
+            st = sea_fail(err, st, "the model: %s", lib.msg);
+    }
     if (st == SEA_OK)
         st = sea_optics_alloc(&optics, err);
     if (st != SEA_OK)
         goto done;
     sea_optics_set_shadowing(optics, shadowing);
 
+    if (what == SEA_CLI_EMISSIVITY)
+        model_comment(out, &em);
     fputs(what == SEA_CLI_EMISSIVITY
               ? "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity\n"
               : "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity,reflectance,total\n",
           out);
     for (size_t i = 0; i < theta.n && st == SEA_OK; ++i)
         for (size_t j = 0; j < phi.n && st == SEA_OK; ++j)
-            st =
-                direction_row(out, what, optics, method, (int)reflections, &ts, &sea,
-                              theta.values[i], phi.values[j], err);
+            st = direction_row(out, what, optics, method, model, &sea, theta.values[i],
+                               phi.values[j], err);
 done:
+    sea_model_free(model);
     sea_optics_free(optics);
     sea_cli_list_free(&theta);
     sea_cli_list_free(&phi);

@@ -21,6 +21,7 @@ static const sea_cli_command *const SEA_CLI_COMMANDS[] = {
     &sea_cli_cmd_spectrum, &sea_cli_cmd_emissivity, &sea_cli_cmd_reflectivity,
     &sea_cli_cmd_energy,   &sea_cli_cmd_slopes,     &sea_cli_cmd_convergence,
     &sea_cli_cmd_bench,    &sea_cli_cmd_render,     &sea_cli_cmd_bake,
+    &sea_cli_cmd_compare,
 };
 
 /* The subcommand called name, or NULL. */

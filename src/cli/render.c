@@ -95,9 +95,16 @@ static const char RENDER_HELP[] =
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance (low-resolution levels, spectral samples,\n"
     "                      emissivity orders, wave directions, sub-facets skipped)\n"
-    "  --reflections N     surface hits, 1 to 3: overrides the scene's [model]\n"
-    "                      reflections (1, the paper: a mirror ray brings the\n"
-    "                      sky; 2, 3: it may meet the sea again first)\n"
+    "  --reflections R     auto (default), 1, 2 or 3: overrides the scene's [model]\n"
+    "                      reflections (auto: a second hit where it can move a\n"
+    "                      pixel by a hundredth of the tolerance; 1, the paper:\n"
+    "                      a mirror ray brings the sky, examples/mast.ini up to\n"
+    "                      12 % off the reference; 2, 3: every mirror ray may\n"
+    "                      meet the sea again first)\n"
+    "  --reference         every approximation the tolerance allows replaced by\n"
+    "                      its exact form, at least two hits: the yardstick the\n"
+    "                      default keeps within the tolerance of (10-40 times\n"
+    "                      its time; seabake(1), REFERENCE)\n"
     "  --shadowing S       overrides the scene's [model] shadowing: correlated\n"
     "                      (default; within 1.1e-3 of ray tracing to 85 deg) or\n"
     "                      smith (the paper's, up to 12e-3 low at 75-85 deg)\n"
@@ -972,6 +979,7 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"threads", 0},
     {"tolerance", 0},
     {"reflections", 0},
+    {"reference", SEA_CLI_OPT_FLAG},
     {"shadowing", 0},
     {"scales", 0},
     {"quiet", SEA_CLI_OPT_FLAG},

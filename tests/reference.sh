@@ -1,0 +1,45 @@
+#!/bin/sh
+# reference.sh - the tolerance's promise (seabake(1), REFERENCE): every sea
+# pixel of a default render within the scene's tolerance T of the same
+# render with --reference, on the four kinds of scene the promise names:
+# the mast view, an oblique view (fig8.ini), a band (midwave.ini) and a
+# horizon under a clear sky with air (horizon.ini), each shrunk so that the
+# reference takes seconds.  seabake compare measures it (the largest
+# relative difference of the radiance over the pixels); the paper's model
+# on the mast view is checked to fail the same comparison, so the check can
+# fail.  Under a memory checker the images are smaller still.
+TEST_NAME=reference
+# shellcheck source=tests/lib.sh
+. "${top_srcdir:-.}/tests/lib.sh"
+
+EX="$top_srcdir/examples"
+scale=1
+[ -n "$SEABAKE_WRAPPER" ] && scale=4
+# name scene width height
+for case in "mast mast.ini 160 90" "fig8 fig8.ini 100 100" "midwave midwave.ini 80 64" \
+    "horizon horizon.ini 160 90"; do
+    set -- $case
+    name=$1 scene=$EX/$2 w=$(($3 / scale)) h=$(($4 / scale))
+    size="--set sensor.width=$w --set sensor.height=$h"
+    # shellcheck disable=SC2086
+    sb_run render "$scene" -o "$SB_TMP/$name.exr" $size --png none --quiet
+    check_rc "$name.default" 0
+    # shellcheck disable=SC2086
+    sb_run render "$scene" -o "$SB_TMP/${name}_ref.exr" $size --png none --quiet --reference
+    check_rc "$name.reference" 0
+    sb_run compare "$SB_TMP/$name.exr" "$SB_TMP/${name}_ref.exr" --tolerance 1e-3
+    check_rc "$name.within_tolerance" 0
+    printf 'measured: %s %sx%s: %s\n' "$name" "$w" "$h" "$(printf '%s\n' "$SB_OUT" | tail -n 1)"
+done
+# The paper's model (one hit, one scale, Smith's shadowing) is far from the
+# reference at grazing angles: the comparison fails, naming the pixels.
+# shellcheck disable=SC2086
+sb_run render "$EX/mast.ini" -o "$SB_TMP/mast_paper.exr" --set sensor.width=$((160 / scale)) \
+    --set sensor.height=$((90 / scale)) --png none --quiet --reflections 1 --scales 1 \
+    --shadowing smith
+check_rc paper.rc 0
+sb_run compare "$SB_TMP/mast_paper.exr" "$SB_TMP/mast_ref.exr" --tolerance 1e-3
+check_rc paper.beyond_tolerance 1
+check_match paper.message "$SB_ERR" "^seabake: error: [0-9]+ of [0-9]+ pixels of '.*mast_paper.exr' differ from '.*mast_ref.exr' by more than 0.001 \(the largest"
+check_match paper.row "$(printf '%s\n' "$SB_OUT" | tail -n 1)" "^[0-9]+,0\.[0-9]+,[0-9]+,[0-9]+,"
+finish
