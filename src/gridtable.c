@@ -189,9 +189,12 @@ static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **
                 goto fail;
             }
             if (!(v >= c->lo && v <= c->hi)) {
-                st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is out of range (allowed: "
-                              "[%g, %g]%s%s)", path, lineno, c->name, v, c->lo, c->hi,
-                              c->unit[0] ? " " : "", c->unit);
+                /* as many digits as tell the value from the bound it passed */
+                char v_txt[SEA_TEXT_REAL_CHARS], lo[SEA_TEXT_REAL_CHARS], hi[SEA_TEXT_REAL_CHARS];
+                st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is out of range (allowed: "
+                              "[%s, %s]%s%s)", path, lineno, c->name,
+                              sea_text_format_real(v, v_txt), sea_text_format_real(c->lo, lo),
+                              sea_text_format_real(c->hi, hi), c->unit[0] ? " " : "", c->unit);
                 goto fail;
             }
             rows[n * nc + (size_t)order[f]] = v * c->scale;

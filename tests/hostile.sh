@@ -396,6 +396,65 @@ failing "--water wavelength 2e-307 um" 2 emissivity --wavelength 4 --wind 8 --th
     --water "$FIX/tiny_wl.csv"
 rm -rf "${OK:?}"/*
 
+# ------------------------------------------------- issue 40: the fault sweep
+
+# failing_with NAME WANT_RC REGEX ARGS...: the failure contract, and the
+# one error line matching REGEX.
+failing_with() {
+    local name=$1 want=$2 re=$3
+    shift 3
+    failing "$name" "$want" "$@"
+    check_match "$name (message)" "$ERR" "$re"
+}
+# scene_with NAME LINES...: $FIX/NAME.ini, tiny.ini with LINES added after
+# its [sensor] line (a later section header starts a section of its own).
+scene_with() {
+    local name=$1
+    shift
+    { sed -n '1,/^\[sensor\]/p' "$FIX/tiny.ini"
+      printf '%s\n' "$@"
+      sed -n '/^\[sensor\]/,$p' "$FIX/tiny.ini" | tail -n +2; } >"$FIX/$name.ini"
+}
+# The tables of the sky and the air at 4 um, written with a UTF-8 byte
+# order mark first (issue 40, item 9), as the scene file may be.
+BOM=$'\xEF\xBB\xBF'
+printf '%szenith_deg,wavelength_um,radiance\n0,3.9,1\n90,3.9,2\n0,4.1,1\n90,4.1,2\n' "$BOM" \
+    >"$FIX/sky_bom.csv"
+printf '%srange_m,wavelength_um,transmittance,path_radiance\n' "$BOM" >"$FIX/atm_bom.csv"
+printf '0,3.9,1,0\n0,4.1,1,0\n1e7,3.9,0.5,0.1\n1e7,4.1,0.5,0.1\n' >>"$FIX/atm_bom.csv"
+printf '%swavelength_um,response\n3.5,1\n4.5,1\n' "$BOM" >"$FIX/resp_bom.csv"
+printf '%swavelength_um,n,k\n2,1.3,0.01\n16,1.2,0.4\n' "$BOM" >"$FIX/water_bom.csv"
+run emissivity --wavelength 4 --wind 8 --theta 0 --water "$FIX/water_bom.csv"
+check_eq "--water with a byte order mark" "$RC" 0
+sed -e 's/^wavelength = 4/band = 3.6:4.4\nresponse = resp_bom.csv/' "$FIX/tiny.ini" \
+    >"$FIX/resp_bom.ini"
+run render "$FIX/resp_bom.ini" -o "$OK/r.exr" --quiet
+check_eq "response with a byte order mark" "$RC:$ERR" "0:"
+printf '[sky]\nmodel = table\ntable = sky_bom.csv\n[atmosphere]\ntable = atm_bom.csv\n' \
+    >>"$FIX/tables_bom.ini"
+cat "$FIX/tiny.ini" "$FIX/tables_bom.ini" >"$FIX/tables.ini"
+run render "$FIX/tables.ini" -o "$OK/t.exr" --quiet
+check_eq "sky and atmosphere tables with a byte order mark" "$RC:$ERR" "0:"
+# Out-of-range values are printed to as many digits as show why (not
+# "1000 is out of range (allowed: [0, 1000])").
+sed 's/^90,3.9,2$/90,3.9,1000.0000001/' "$FIX/sky_bom.csv" >"$FIX/sky_big.csv"
+sed 's/sky_bom.csv/sky_big.csv/' "$FIX/tables.ini" >"$FIX/sky_big.ini"
+failing_with "sky table radiance 1000.0000001" 2 \
+    "radiance: 1000.0000001 is out of range \(allowed: \[0, 1000\] W" \
+    render "$FIX/sky_big.ini" -o "$OK/t.exr" --quiet
+printf 'wavelength_um,n,k\n2,1.3,0.01\n16,3.0000001,0.4\n' >"$FIX/water_big.csv"
+failing_with "--water n 3.0000001" 2 "n: 3.0000001 is outside \[1, 3\]" \
+    emissivity --wavelength 4 --wind 8 --theta 0 --water "$FIX/water_big.csv"
+printf 'wavelength_um,response\n3.5,1\n4.5,1000000.1\n' >"$FIX/resp_big.csv"
+sed 's/resp_bom.csv/resp_big.csv/' "$FIX/resp_bom.ini" >"$FIX/resp_big.ini"
+failing_with "response 1000000.1" 2 "response: 1000000.1 is outside \[0, 1000000\]" \
+    render "$FIX/resp_big.ini" -o "$OK/r.exr" --quiet
+sed 's/^band = .*/band = 3.6:15.5000001/' "$FIX/resp_bom.ini" >"$FIX/band_big.ini"
+failing_with "band past the water table by 1e-7 um" 2 \
+    "band: 3.6:15.50000010*[0-9]* um is outside the water table \(allowed: 2.4-15.5 um" \
+    render "$FIX/band_big.ini" -o "$OK/r.exr" --quiet
+rm -rf "${OK:?}"/*
+
 listing
 check_eq "scratch directory empty at the end" "$LISTING" "$W/"
 echo "hostile: $CASES cases" >&2

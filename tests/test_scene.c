@@ -385,7 +385,7 @@ static const error_case CASES[] = {
     { "[sea]\nwind_speed = 10\nwater = segelstein\nsalinity = 0\n[sensor]\naltitude = 500\n"
       "hfov = 30\nwidth = 64\nheight = 48\nband = 3:16\n",
       SEA_ERR_DOMAIN, 10, "[sensor] band: 3:16 um is outside the water table",
-      "(allowed: 2.40991-15.5955 um, Segelstein" },
+      "(allowed: 2.4099054-15.595525 um, Segelstein" },
     /* unreadable files named in the scene: SEA_ERR_IO, the resolved path */
     { BASE "[sea]\nwater = nowhere.csv\n", SEA_ERR_IO, 10, "[sea] water: ",
       "/nowhere.csv: cannot open" },
@@ -552,9 +552,9 @@ static void test_response_load(void)
         { "wavelength_um,response\n3,1\nx,1\n", SEA_ERR_PARSE, ":3: ", "wavelength_um: 'x'" },
         { "wavelength_um,response\n3,1\n-4,1\n", SEA_ERR_PARSE, ":3: ", "positive" },
         { "wavelength_um,response\n3,1\n4,inf\n", SEA_ERR_PARSE, ":3: ", "response: 'inf'" },
-        { "wavelength_um,response\n3,1\n4,-0.1\n", SEA_ERR_DOMAIN, ":3: ", "-0.1 is outside [0, 1e+06]" },
-        { "wavelength_um,response\n3,1\n4,1e300\n", SEA_ERR_DOMAIN, ":3: ", "1e+300 is outside [0, 1e+06]" },
-        { "wavelength_um,response\n3,1\n4e7,1\n", SEA_ERR_DOMAIN, ":3: ", "4e+07 is outside (0, 1000]" },
+        { "wavelength_um,response\n3,1\n4,-0.1\n", SEA_ERR_DOMAIN, ":3: ", "-0.1 is outside [0, 1000000]" },
+        { "wavelength_um,response\n3,1\n4,1e300\n", SEA_ERR_DOMAIN, ":3: ", "1e+300 is outside [0, 1000000]" },
+        { "wavelength_um,response\n3,1\n4e7,1\n", SEA_ERR_DOMAIN, ":3: ", "40000000 is outside (0, 1000]" },
         { "wavelength_um,response\n3,1\n4,1\n4,1\n", SEA_ERR_PARSE, ":4: ", "does not increase" },
         { "wavelength_um,response\n3,1\n", SEA_ERR_PARSE, ": ", "at least two rows (found 1)" },
         { "# only comments\n", SEA_ERR_PARSE, ": ", "no header" },
