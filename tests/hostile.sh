@@ -418,10 +418,12 @@ scene_with() {
 # The tables of the sky and the air at 4 um, written with a UTF-8 byte
 # order mark first (issue 40, item 9), as the scene file may be.
 BOM=$'\xEF\xBB\xBF'
-printf '%szenith_deg,wavelength_um,radiance\n0,3.9,1\n90,3.9,2\n0,4.1,1\n90,4.1,2\n' "$BOM" \
-    >"$FIX/sky_bom.csv"
-printf '%srange_m,wavelength_um,transmittance,path_radiance\n' "$BOM" >"$FIX/atm_bom.csv"
-printf '0,3.9,1,0\n0,4.1,1,0\n1e7,3.9,0.5,0.1\n1e7,4.1,0.5,0.1\n' >>"$FIX/atm_bom.csv"
+printf 'zenith_deg,wavelength_um,radiance\n0,3.9,1\n90,3.9,2\n0,4.1,1\n90,4.1,2\n' >"$FIX/sky.csv"
+printf 'range_m,wavelength_um,transmittance,path_radiance\n' >"$FIX/atm.csv"
+printf '0,3.9,1,0\n0,4.1,1,0\n1e7,3.9,0.5,0.1\n1e7,4.1,0.5,0.1\n' >>"$FIX/atm.csv"
+for t in sky atm; do
+    { printf '%s' "$BOM"; cat "$FIX/$t.csv"; } >"$FIX/${t}_bom.csv"
+done
 printf '%swavelength_um,response\n3.5,1\n4.5,1\n' "$BOM" >"$FIX/resp_bom.csv"
 printf '%swavelength_um,n,k\n2,1.3,0.01\n16,1.2,0.4\n' "$BOM" >"$FIX/water_bom.csv"
 run emissivity --wavelength 4 --wind 8 --theta 0 --water "$FIX/water_bom.csv"
@@ -430,15 +432,16 @@ sed -e 's/^wavelength = 4/band = 3.6:4.4\nresponse = resp_bom.csv/' "$FIX/tiny.i
     >"$FIX/resp_bom.ini"
 run render "$FIX/resp_bom.ini" -o "$OK/r.exr" --quiet
 check_eq "response with a byte order mark" "$RC:$ERR" "0:"
-printf '[sky]\nmodel = table\ntable = sky_bom.csv\n[atmosphere]\ntable = atm_bom.csv\n' \
-    >>"$FIX/tables_bom.ini"
-cat "$FIX/tiny.ini" "$FIX/tables_bom.ini" >"$FIX/tables.ini"
-run render "$FIX/tables.ini" -o "$OK/t.exr" --quiet
+{ cat "$FIX/tiny.ini"
+  printf '[sky]\nmodel = table\ntable = sky.csv\n[atmosphere]\ntable = atm.csv\n'; } \
+    >"$FIX/tables.ini"
+sed 's/\(sky\|atm\)\.csv/\1_bom.csv/' "$FIX/tables.ini" >"$FIX/tables_bom.ini"
+run render "$FIX/tables_bom.ini" -o "$OK/t.exr" --quiet
 check_eq "sky and atmosphere tables with a byte order mark" "$RC:$ERR" "0:"
 # Out-of-range values are printed to as many digits as show why (not
 # "1000 is out of range (allowed: [0, 1000])").
-sed 's/^90,3.9,2$/90,3.9,1000.0000001/' "$FIX/sky_bom.csv" >"$FIX/sky_big.csv"
-sed 's/sky_bom.csv/sky_big.csv/' "$FIX/tables.ini" >"$FIX/sky_big.ini"
+sed 's/^90,3.9,2$/90,3.9,1000.0000001/' "$FIX/sky.csv" >"$FIX/sky_big.csv"
+sed 's/sky\.csv/sky_big.csv/' "$FIX/tables.ini" >"$FIX/sky_big.ini"
 failing_with "sky table radiance 1000.0000001" 2 \
     "radiance: 1000.0000001 is out of range \(allowed: \[0, 1000\] W" \
     render "$FIX/sky_big.ini" -o "$OK/t.exr" --quiet
@@ -453,6 +456,19 @@ sed 's/^band = .*/band = 3.6:15.5000001/' "$FIX/resp_bom.ini" >"$FIX/band_big.in
 failing_with "band past the water table by 1e-7 um" 2 \
     "band: 3.6:15.50000010*[0-9]* um is outside the water table \(allowed: 2.4-15.5 um" \
     render "$FIX/band_big.ini" -o "$OK/r.exr" --quiet
+# The bake's manifest records the sky and the air that were used (a table
+# sky and an atmosphere table were "radiance": null and no atmosphere).
+run bake "$FIX/tables.ini" -o "$OK/tables" --quiet
+check_eq "bake with tables" "$RC:$ERR" "0:"
+manifest=$(tr -d ' \n\t' <"$OK/tables/manifest.json" 2>/dev/null)
+check_match "manifest: the table sky" "$manifest" \
+    '"sky":\{"model":"table","table":"[^"]*/fix/sky.csv"\}'
+check_match "manifest: the atmosphere table" "$manifest" \
+    '"atmosphere":\{"air_temperature_K":null,"table":"[^"]*/fix/atm.csv"\}'
+run bake "$FIX/tiny.ini" -o "$OK/plain" --quiet
+manifest=$(tr -d ' \n\t' <"$OK/plain/manifest.json" 2>/dev/null)
+check_match "manifest: an isotropic sky, no atmosphere" "$manifest" \
+    '"sky":\{"model":"isotropic","radiance_W_m2_sr_um":null,"temperature_K":250\},"atmosphere":null,'
 rm -rf "${OK:?}"/*
 
 listing

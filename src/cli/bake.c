@@ -588,11 +588,36 @@ static cJSON *scene_json(const bake_setup *s)
     cJSON_AddNumberToObject(sun, "temperature_K", sc->sun_temperature);
     cJSON_AddNumberToObject(sun, "solid_angle_sr", sc->sun_solid_angle);
     cJSON_AddNumberToObject(sun, "transmittance", sc->sun_transmittance);
+    /* The sky and the air that were used: an isotropic sky's radiance (null:
+     * from its temperature), a clear sky's zenith emissivity, a table's
+     * file; the keys of a model that was not used are left out, so that
+     * no default reads as part of the scene. */
     cJSON *sky = cJSON_AddObjectToObject(o, "sky");
-    cJSON_AddItemToObject(sky, "radiance_W_m2_sr_um",
-                          sc->sky_radiance >= 0.0 ? cJSON_CreateNumber(sc->sky_radiance * 1e-6)
-                                                  : cJSON_CreateNull());
-    cJSON_AddNumberToObject(sky, "temperature_K", sc->sky_temperature);
+    cJSON_AddStringToObject(sky, "model", sc->sky_model == SEA_SKY_CLEAR   ? "clear"
+                                          : sc->sky_model == SEA_SKY_TABLE ? "table"
+                                                                           : "isotropic");
+    if (sc->sky_model == SEA_SKY_ISOTROPIC) {
+        cJSON_AddItemToObject(sky, "radiance_W_m2_sr_um",
+                              sc->sky_radiance >= 0.0
+                                  ? cJSON_CreateNumber(sc->sky_radiance * 1e-6)
+                                  : cJSON_CreateNull());
+        cJSON_AddNumberToObject(sky, "temperature_K", sc->sky_temperature);
+    } else if (sc->sky_model == SEA_SKY_CLEAR) {
+        cJSON_AddNumberToObject(sky, "zenith_emissivity", sc->sky_zenith_emissivity);
+    } else {
+        cJSON_AddStringToObject(sky, "table", sc->sky_table_file);
+    }
+    /* null: no [atmosphere] (the paper's vacuum) */
+    if (isnan(sc->air_temperature) && sc->atmosphere_table_file[0] == '\0') {
+        cJSON_AddNullToObject(o, "atmosphere");
+    } else {
+        cJSON *air = cJSON_AddObjectToObject(o, "atmosphere");
+        cJSON_AddItemToObject(air, "air_temperature_K", number_or_null(sc->air_temperature));
+        if (sc->atmosphere_table_file[0] != '\0')
+            cJSON_AddStringToObject(air, "table", sc->atmosphere_table_file);
+        else
+            cJSON_AddNumberToObject(air, "extinction_per_km", sc->extinction * 1e3);
+    }
     cJSON *sen = cJSON_AddObjectToObject(o, "sensor");
     cJSON_AddNumberToObject(sen, "x_m", sc->sensor_x);
     cJSON_AddNumberToObject(sen, "y_m", sc->sensor_y);
