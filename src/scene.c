@@ -307,8 +307,8 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                                air_temperature),
     [K_EXTINCTION] = REAL(SEC_ATMOSPHERE, "extinction", 0.0, 1e3, 0, 1e-3, "1/km", extinction),
 
-    [K_X] = REAL(SEC_SENSOR, "x", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_x),
-    [K_Y] = REAL(SEC_SENSOR, "y", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_y),
+    [K_X] = REAL(SEC_SENSOR, "x", -SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX, 0, 1.0, "m", sensor_x),
+    [K_Y] = REAL(SEC_SENSOR, "y", -SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX, 0, 1.0, "m", sensor_y),
     [K_ALTITUDE] = REAL(SEC_SENSOR, "altitude", 0.0, 1e6, LO_OPEN | REQUIRED, 1.0, "m",
                         altitude),
     [K_LOOK_ZENITH] = REAL(SEC_SENSOR, "look_zenith", 0.0, 90.0, HI_OPEN, SEA_DEG, "deg",

@@ -761,6 +761,12 @@ typedef enum { SEA_EARTH_FLAT = 0, SEA_EARTH_SPHERICAL } sea_earth;
 
 /* Earth radius for spherical scenes, m. */
 #define SEA_EARTH_RADIUS 6371000.0
+/* The sensor's map position x, y lies in [-SEA_SENSOR_XY_MAX,
+ * SEA_SENSOR_XY_MAX] m: a quarter of the Earth's circumference, beyond
+ * which a flat map means nothing.  There the waves' phases (k x up to 1e10
+ * rad at 1 mm facets) keep 1e-6 rad, and the clipmap's cell indices stay
+ * far inside a long (1e20 m overflowed them). */
+#define SEA_SENSOR_XY_MAX 1e7
 
 /* A pinhole sensor above the sea.  World frame: x east, y north, z up, the
  * mean sea surface at z = 0 (flat) or a sphere of SEA_EARTH_RADIUS through
@@ -779,9 +785,9 @@ typedef struct {
  * the image's right axis is horizontal, 90 deg clockwise (seen from above)
  * from the look azimuth, and its up axis is right x axis; at nadir the top
  * of the image points toward look_azimuth.  roll turns the image axes about
- * the camera axis: right' = right cos(roll) + up sin(roll).  Ranges:
- * altitude (0, 1e6] m, look_zenith [0, 90) deg, hfov (0, 170] deg, width and
- * height [1, 16384].  Fills c, a plain struct (nothing to free); the calls
+ * the camera axis: right' = right cos(roll) + up sin(roll).  Ranges: x and
+ * y [-SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX] m, altitude (0, 1e6] m,
+ * look_zenith [0, 90) deg, hfov (0, 170] deg, width and height [1, 16384].  Fills c, a plain struct (nothing to free); the calls
  * below only read it and are pure. */
 sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
                            double look_zenith, double look_azimuth, double roll, double hfov,
@@ -882,7 +888,7 @@ typedef struct {
     char atmosphere_table_file[SEA_SCENE_PATH_MAX]; /* table = CSV (range_m,wavelength_um,
                                   transmittance,path_radiance), not with extinction; "" */
     /* [sensor] */
-    double sensor_x, sensor_y; /* x, y, m, finite; 0 */
+    double sensor_x, sensor_y; /* x, y, m, [-SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX]; 0 */
     double altitude;           /* altitude, m, (0, 1e6], required */
     double look_zenith;        /* look_zenith, deg [0, 90) -> rad: camera axis from
                                   nadir; 0 */

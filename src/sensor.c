@@ -39,8 +39,9 @@ sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
                            double look_zenith, double look_azimuth, double roll, double hfov,
                            int width, int height, sea_earth earth, sea_error *err)
 {
-    if (!isfinite(x) || !isfinite(y))
-        return sea_fail(err, SEA_ERR_DOMAIN, "sensor position must be finite");
+    if (!(fabs(x) <= SEA_SENSOR_XY_MAX && fabs(y) <= SEA_SENSOR_XY_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN, "sensor position (%g, %g) m outside [%g, %g] m", x,
+                        y, -SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX);
     if (!(altitude > 0.0 && altitude <= 1e6))
         return sea_fail(err, SEA_ERR_DOMAIN, "sensor altitude %g m outside (0, 1e6]", altitude);
     if (!(look_zenith >= 0.0 && look_zenith < M_PI / 2.0))

@@ -469,6 +469,19 @@ run bake "$FIX/tiny.ini" -o "$OK/plain" --quiet
 manifest=$(tr -d ' \n\t' <"$OK/plain/manifest.json" 2>/dev/null)
 check_match "manifest: an isotropic sky, no atmosphere" "$manifest" \
     '"sky":\{"model":"isotropic","radiance_W_m2_sr_um":null,"temperature_K":250\},"atmosphere":null,'
+# Item 4: the sensor's x and y are bounded where the cell indices still
+# hold (1e20 overflowed a long in multires.c); the message names the key.
+for xy in x=1e20 x=1e308 x=-1e308 y=1e308 y=-1e308; do
+    failing_with "render sensor.$xy" 2 \
+        "--set sensor.$xy: \[sensor\] ${xy%%=*}: ${xy#*=} is out of range \(allowed: \[-10000000, 10000000\] m\)" \
+        render "$FIX/tiny.ini" -o "$OK/x.exr" --quiet --set "sensor.$xy"
+done
+run render "$FIX/tiny.ini" -o "$OK/x.exr" --quiet --set sensor.x=-1e7 --set sensor.y=1e7
+check_eq "render at the sensor's bound" "$RC:$ERR" "0:"
+# ... and a look point beyond a long's cells is an error, not undefined.
+failing_with "clipmap look point 1e17 m away" 2 "level 0: the sea it shows reaches" \
+    render "$FIX/tiny.ini" -o "$OK/x.exr" --quiet --set sensor.look_zenith=89.99999999999999 \
+    --set model.windows=clipmap --set model.finest=1e-3
 rm -rf "${OK:?}"/*
 
 listing
