@@ -115,6 +115,10 @@ SEA_INTERNAL double sea_shadow_g_table_drift(void);
  * once, from one G (identical values). */
 SEA_INTERNAL void sea_shadow_split(double mu, double m, double s, double *visible,
                                    double *hidden);
+/* shadow.c: ln sea_shadow_visible(mu, m, s), finite where the moment itself
+ * underflows (facets turned away by 38 standard deviations and more: the
+ * few that face mu); -inf where no facet faces it (s = 0, m >= mu). */
+SEA_INTERNAL double sea_shadow_log_visible(double mu, double m, double s);
 /* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
  * the same values (to rounding: the interpolation's rows in z are combined
  * once), in AVX2 when avx2 is non-zero and the CPU has it (the same bits

@@ -482,6 +482,15 @@ check_eq "render at the sensor's bound" "$RC:$ERR" "0:"
 failing_with "clipmap look point 1e17 m away" 2 "level 0: the sea it shows reaches" \
     render "$FIX/tiny.ini" -o "$OK/x.exr" --quiet --set sensor.look_zenith=89.99999999999999 \
     --set model.windows=clipmap --set model.finest=1e-3
+# Item 8: edge cases inside the documented ranges compute, or are refused
+# before anything is printed or written.
+# A mean slope of (-5, 5) seen 60 deg off: 1/D overflowed where the mirror
+# facet's density underflowed (NaN after 103 rows); both are now formed in
+# logs in that far tail.
+run reflectivity --wavelength 4 --wind 10 --mean -5,5 --inc 60,0 --theta 60 --phi 0:360:1
+check_eq "reflectivity --mean -5,5 --phi 0:360:1" "$RC:$ERR" "0:"
+check_eq "reflectivity --mean -5,5: every row" "$(printf '%s' "$OUT" | grep -c '')" 362
+check_no_match "reflectivity --mean -5,5: finite" "${OUT,,}" '(nan|inf)'
 rm -rf "${OK:?}"/*
 
 listing
