@@ -360,8 +360,8 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
                              sea_bake_level_fn each, void *each_ctx, sea_error *err)
 {
     memset(out, 0, sizeof *out);
-    if (!isfinite(t))
-        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if (sea_time_check(t, err) != SEA_OK)
+        return SEA_ERR_DOMAIN;
     if (view_k < 1 || view_k > SEA_BAKE_VIEW_K_MAX)
         return sea_fail(err, SEA_ERR_DOMAIN, "view texels per facet %d (allowed: 1 to %d)", view_k,
                         SEA_BAKE_VIEW_K_MAX);

@@ -107,6 +107,10 @@ static inline void sea_catmull_rom(double f, double w[4])
     w[3] = 0.5 * (f3 - f2);
 }
 
+/* waves.c: SEA_ERR_DOMAIN "time T s is outside [-1000000000, 1000000000] s" unless
+ * |t| <= SEA_TIME_MAX (NaN included). */
+SEA_INTERNAL sea_status sea_time_check(double t, sea_error *err);
+
 /* shadow.c, for the tests: the largest difference between G's polynomials
  * compiled in (src/shadow_g_table.h) and those the code computes now (0
  * where the table was made; INFINITY when out of memory). */

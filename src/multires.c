@@ -1925,8 +1925,8 @@ static sea_status frame_alloc(const sea_multires *mr, double t, sea_progress_fn 
                               void *ctx, int lazy, sea_multires_frame **out, sea_error *err)
 {
     *out = NULL;
-    if (!isfinite(t))
-        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if (sea_time_check(t, err) != SEA_OK)
+        return SEA_ERR_DOMAIN;
     sea_multires_frame *f = calloc(1, sizeof *f);
     if (f == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");

@@ -704,8 +704,8 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
     sea_status st = sea_render_check_image(r, img, err);
     if (st != SEA_OK)
         return st;
-    if (!isfinite(t))
-        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if (sea_time_check(t, err) != SEA_OK)
+        return SEA_ERR_DOMAIN;
     if (row0 < 0 || step < 1)
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "row blocks from %d every %d (allowed: first block >= 0, step >= 1)", row0,

@@ -273,7 +273,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_SALINITY] = REAL(SEC_SEA, "salinity", 0.0, SEA_SALINITY_MAX, 0, 1.0, "g/kg", salinity),
     [K_WATER] = { SEC_SEA, "water", KIND_WATER, 0, 0, 0, 1.0, "", AT(water_table), NULL, NULL },
     [K_SEED] = { SEC_SEA, "seed", KIND_SEED, 0, 4294967295.0, 0, 1.0, "", AT(seed), NULL, NULL },
-    [K_TIME] = REAL(SEC_SEA, "time", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "s", time),
+    [K_TIME] = REAL(SEC_SEA, "time", -SEA_TIME_MAX, SEA_TIME_MAX, 0, 1.0, "s", time),
     [K_LOOP_PERIOD] = REAL(SEC_SEA, "loop_period", 0.0, INF, HI_OPEN, 1.0, "s", loop_period),
 
     [K_SUN_ZENITH] = REAL(SEC_SUN, "zenith", 0.0, 180.0, 0, SEA_DEG, "deg", sun_zenith),

@@ -704,8 +704,14 @@ typedef struct {
     size_t nx, ny;
 } sea_rect;
 
+/* The times at which waves are synthesised lie in [-SEA_TIME_MAX,
+ * SEA_TIME_MAX] s (32 years): there the phases omega t of the shortest
+ * waves (1500 rad/s at 1 mm) keep 2.4e-4 rad; beyond 1e305 s they
+ * overflowed into NaN slopes.  A time outside is SEA_ERR_DOMAIN. */
+#define SEA_TIME_MAX 1e9
+
 /* Height and slopes of the waves with |k| <= pi/step at the cell centres,
- * time t.  Any of h, sx, sy may be NULL.  FFT plans need step = L0 2^m and a
+ * time t (within SEA_TIME_MAX).  Any of h, sx, sy may be NULL.  FFT plans need step = L0 2^m and a
  * rectangle no wider than the period (so no tile repeats in the output).
  * Reads w, fills the caller's h, sx, sy (nx ny values each).  OpenMP; FFT
  * plans plan an FFTW transform (see Threads). */
@@ -859,7 +865,7 @@ typedef struct {
                                             a '.' in the value (resolved against the
                                             scene file's directory); "" if a table */
     unsigned long seed;       /* seed, integer [0, 2^32 - 1]; 1 */
-    double time;              /* time, s, finite; 0 */
+    double time;              /* time, s, [-SEA_TIME_MAX, SEA_TIME_MAX]; 0 */
     double loop_period;       /* loop_period, s, >= 0; 0 = none */
     /* [sun] */
     double sun_zenith;        /* zenith, deg [0, 180] -> rad; > 90 deg: below the
@@ -1085,7 +1091,7 @@ const sea_waves *sea_multires_waves(const sea_multires *mr);
 sea_moments sea_multires_lr_moments(const sea_multires *mr);
 const sea_camera *sea_multires_camera(const sea_multires *mr);
 
-/* One realisation at time t (finite): every high-resolution level's facet
+/* One realisation at time t (|t| <= SEA_TIME_MAX): every high-resolution level's facet
  * moments (sea_waves_facets with the level's sub-facets) and resolved
  * surface.  progress (may be NULL) gets the share of facets synthesised
  * after each level and may stop the work (SEA_ERR_CANCELLED).  The frame
@@ -1171,7 +1177,7 @@ typedef struct {
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err);
 void sea_image_free(sea_image *img);
 
-/* Renders the frame at time t (s; the scene's own time is sc->time) into
+/* Renders the frame at time t (s, |t| <= SEA_TIME_MAX; the scene's own time is sc->time) into
  * img, allocated for the scene's size.  Reads r, fills img: any number of
  * threads may render from one r at once, each into its own image.  Runs on
  * OpenMP threads itself (see Threads), calling progress (may be NULL) as
@@ -1296,7 +1302,7 @@ typedef struct {
     sea_bake_times seconds; /* of the call that made it */
 } sea_bake;
 
-/* Bakes every level of r at time t (finite).  The optics of a texel are
+/* Bakes every level of r at time t (|t| <= SEA_TIME_MAX).  The optics of a texel are
  * those of its facet seen from the sensor: the direction from the texel
  * centre (x, y) on the sea (flat: (x, y, 0); spherical: the azimuthal
  * equidistant map point of sensor.c placed on the sphere) to the sensor, in

@@ -491,6 +491,21 @@ run reflectivity --wavelength 4 --wind 10 --mean -5,5 --inc 60,0 --theta 60 --ph
 check_eq "reflectivity --mean -5,5 --phi 0:360:1" "$RC:$ERR" "0:"
 check_eq "reflectivity --mean -5,5: every row" "$(printf '%s' "$OUT" | grep -c '')" 362
 check_no_match "reflectivity --mean -5,5: finite" "${OUT,,}" '(nan|inf)'
+# The sea's time is bounded (1e308 gave "mean slope (-nan, -nan)"), and so
+# is every frame's time: a rate of 4.9e-324 Hz put frame 1 at an infinite
+# time once frame 0 was written, without naming the option.
+failing_with "render sea.time=1e308" 2 \
+    "\[sea\] time: 1e308 is out of range \(allowed: \[-1000000000, 1000000000\] s\)" \
+    render "$FIX/tiny.ini" -o "$W/t.exr" --quiet --set sea.time=1e308
+failing_with "slopes --time 1e308" 2 "--time: 1e308 is outside \[-1000000000, 1000000000\] s" \
+    slopes --wind 8 --facet 1 --size 2,2 --quiet --time 1e308
+for cmd in render bake; do
+    out="$W/f.exr"
+    [ $cmd = bake ] && out="$W/f"
+    failing_with "$cmd --frame-rate 4.9e-324" 2 \
+        "--frames 0:1 at --frame-rate [0-9.e+-]+ Hz: frame 1 falls at inf s, outside" \
+        $cmd "$FIX/tiny.ini" -o "$out" --quiet --frames 0:1 --frame-rate 4.9e-324
+done
 rm -rf "${OK:?}"/*
 
 listing

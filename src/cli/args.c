@@ -550,6 +550,25 @@ sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, l
     return sea_cli_parse_number("--frame-rate", text, &RATE, rate, err);
 }
 
+sea_status sea_cli_check_frame_times(double time, bool framed, long a, long b, double rate,
+                                     sea_error *err)
+{
+    if (!framed)
+        return SEA_OK;
+    /* time + f / rate runs monotonically from frame a to frame b */
+    const long ends[2] = {a, b};
+    for (int i = 0; i < 2; ++i) {
+        const double t = time + (double)ends[i] / rate;
+        if (!(fabs(t) <= SEA_TIME_MAX))
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "--frames %ld:%ld at --frame-rate %g Hz: frame %ld falls at %g s, "
+                            "outside [%.10g, %.10g] s (allowed: a rate and frames that keep every "
+                            "frame's time, [sea] time + frame / rate, in that range)",
+                            a, b, rate, ends[i], t, -SEA_TIME_MAX, SEA_TIME_MAX);
+    }
+    return SEA_OK;
+}
+
 /* ------------------------------------------------- shared ranges, helpers */
 
 const sea_cli_range SEA_CLI_RANGE_WIND = {SEA_WIND_MIN, SEA_WIND_MAX, false, false, "m/s"};

@@ -173,7 +173,9 @@ static const char BAKE_HELP[] =
     "  --frames A:B        frames A to B, integers, 0 <= A <= B <= 999999; frame f\n"
     "                      at time + f / HZ, names get _FFFF; default: one frame\n"
     "                      at the scene's time, no number\n"
-    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
+    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames);\n"
+    "                      every frame's time, [sea] time + frame / HZ, within\n"
+    "                      +-1e9 s\n"
     "  --emission-texels K emission texels per facet side, odd, 1 to 7 (default 3)\n"
     "  --emission-space S  what the exported sea shows where the sensor sees it:\n"
     "                      sensor (default: the sensor's image, DIR/sensor.exr,\n"
@@ -269,6 +271,9 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
     sea_cli_apply_model(&model, &s->sc);
+    if ((st = sea_cli_check_frame_times(s->sc.time, s->framed, s->frame_a, s->frame_b, s->rate,
+                                        err)) != SEA_OK)
+        return st;
     /* The exports' sky is one radiance (POV-Ray's background, Blender's
      * world): a sky that changes with the zenith angle, or an atmosphere
      * along the camera's rays, would show wrong there. */

@@ -197,6 +197,13 @@ sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *e
 #define SEA_CLI_PNG_RANGE_MAX 10000.0
 sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, long *b,
                               double *rate, sea_error *err);
+/* SEA_ERR_DOMAIN naming --frames and --frame-rate unless every frame's
+ * time, time + f / rate for f in [a, b], lies within SEA_TIME_MAX (a rate
+ * of 4.9e-324 Hz put frame 1 at an infinite time after frame 0 was
+ * written); SEA_OK without --frames.  Checked once the scene's time is
+ * known, before any work. */
+sea_status sea_cli_check_frame_times(double time, bool framed, long a, long b, double rate,
+                                     sea_error *err);
 
 /* The ranges of options that several subcommands take. */
 extern const sea_cli_range SEA_CLI_RANGE_WIND;         /* --wind, m/s */

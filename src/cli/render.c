@@ -84,7 +84,9 @@ static const char RENDER_HELP[] =
     "                      100000; frame f at time + f / HZ; each file name gets\n"
     "                      the frame number: OUT_0001.exr, OUT_0001.level.exr,\n"
     "                      OUT_0001.png.  Default: one frame at the scene's time\n"
-    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
+    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames);\n"
+    "                      every frame's time, [sea] time + frame / HZ, within\n"
+    "                      +-1e9 s\n"
     "\n"
     "Scene:\n"
     "  --set SECTION.KEY=VALUE\n"
@@ -262,6 +264,9 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
     if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
     sea_cli_apply_model(&model, &s->sc);
+    if ((st = sea_cli_check_frame_times(s->sc.time, s->framed, s->frame_a, s->frame_b, s->rate,
+                                        err)) != SEA_OK)
+        return st;
 
     if (out != NULL) {
         s->out_stem = strndup(out, strlen(out) - strlen(".exr"));
