@@ -316,7 +316,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_LOOK_AZIMUTH] = REAL(SEC_SENSOR, "look_azimuth", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG,
                             "deg", look_azimuth),
     [K_ROLL] = REAL(SEC_SENSOR, "roll", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG, "deg", roll),
-    [K_HFOV] = REAL(SEC_SENSOR, "hfov", 0.0, 170.0, LO_OPEN | REQUIRED, SEA_DEG, "deg", hfov),
+    [K_HFOV] = REAL(SEC_SENSOR, "hfov", SEA_HFOV_MIN_DEG, 170.0, REQUIRED, SEA_DEG, "deg", hfov),
     [K_WIDTH] = INT(SEC_SENSOR, "width", 1, 16384, REQUIRED, "pixels", width),
     [K_HEIGHT] = INT(SEC_SENSOR, "height", 1, 16384, REQUIRED, "pixels", height),
     [K_WAVELENGTH] = REAL(SEC_SENSOR, "wavelength", 0.0, INF, LO_OPEN | HI_OPEN, SEA_UM, "um",

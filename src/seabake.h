@@ -773,6 +773,11 @@ typedef enum { SEA_EARTH_FLAT = 0, SEA_EARTH_SPHERICAL } sea_earth;
  * rad at 1 mm facets) keep 1e-6 rad, and the clipmap's cell indices stay
  * far inside a long (1e20 m overflowed them). */
 #define SEA_SENSOR_XY_MAX 1e7
+/* The narrowest field of view, degrees: 0.0036 arcsec, 1.7 cm seen from
+ * the highest sensor (1000 km), narrower than any telescope's.  Below
+ * 1e-154 deg the focal length squared overflowed and every ray missed the
+ * sea. */
+#define SEA_HFOV_MIN_DEG 1e-6
 
 /* A pinhole sensor above the sea.  World frame: x east, y north, z up, the
  * mean sea surface at z = 0 (flat) or a sphere of SEA_EARTH_RADIUS through
@@ -793,7 +798,8 @@ typedef struct {
  * of the image points toward look_azimuth.  roll turns the image axes about
  * the camera axis: right' = right cos(roll) + up sin(roll).  Ranges: x and
  * y [-SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX] m, altitude (0, 1e6] m,
- * look_zenith [0, 90) deg, hfov (0, 170] deg, width and height [1, 16384].  Fills c, a plain struct (nothing to free); the calls
+ * look_zenith [0, 90) deg, hfov [SEA_HFOV_MIN_DEG, 170] deg, width and
+ * height [1, 16384].  Fills c, a plain struct (nothing to free); the calls
  * below only read it and are pure. */
 sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
                            double look_zenith, double look_azimuth, double roll, double hfov,
@@ -901,7 +907,8 @@ typedef struct {
     double look_azimuth;       /* look_azimuth, deg -> rad: where the camera points,
                                   finite; 180 (the paper's phi_obs = 0) */
     double roll;               /* roll, deg -> rad, finite; 0 */
-    double hfov;               /* hfov, deg (0, 170] -> rad, full horizontal field of view */
+    double hfov;               /* hfov, deg [SEA_HFOV_MIN_DEG, 170] -> rad, full horizontal
+                                  field of view */
     int width, height;         /* width, height, pixels [1, 16384], required */
     double wavelength;         /* wavelength, um -> m, within the water table; single
                                   wavelength; < 0 with a band */

@@ -506,6 +506,13 @@ for cmd in render bake; do
         "--frames 0:1 at --frame-rate [0-9.e+-]+ Hz: frame 1 falls at inf s, outside" \
         $cmd "$FIX/tiny.ini" -o "$out" --quiet --frames 0:1 --frame-rate 4.9e-324
 done
+# hfov at or below 1e-154 deg rendered an all-sky image (the focal length
+# squared overflowed); the field of view is bounded at 1e-6 deg.
+failing_with "render hfov 1e-154" 2 \
+    "\[sensor\] hfov: 1e-154 is out of range \(allowed: \[1e-06, 170\] deg\)" \
+    render "$FIX/tiny.ini" -o "$W/h.exr" --quiet --set sensor.hfov=1e-154
+run render "$FIX/tiny.ini" -o "$OK/h.exr" --set sensor.hfov=1e-6
+check_match "render at hfov 1e-6 sees the sea" "$ERR" "levels [0-9.]+,[0-9.,]+\(LR\) m, 1 frame"
 rm -rf "${OK:?}"/*
 
 listing

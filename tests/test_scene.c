@@ -289,7 +289,7 @@ static const error_case CASES[] = {
     { BASE "look_zenith = 90\n", SEA_ERR_DOMAIN, 9, "[sensor] look_zenith: 90 is out",
       "(allowed: [0, 90) deg)" },
     { "[sensor]\nhfov = 0\n", SEA_ERR_DOMAIN, 2, "[sensor] hfov: 0 is out of range",
-      "(allowed: (0, 170] deg)" },
+      "(allowed: [1e-06, 170] deg)" },
     { "[sensor]\nwidth = 0\n", SEA_ERR_DOMAIN, 2, "[sensor] width: 0 is out of range",
       "(allowed: an integer in [1, 16384] pixels)" },
     { "[sensor]\nwavelength = -4\n", SEA_ERR_DOMAIN, 2, "[sensor] wavelength",
@@ -349,7 +349,7 @@ static const error_case CASES[] = {
       "(allowed: (0, 1000000] m)" },
     { "[sea]\nwind_speed = 10\n[sensor]\naltitude = 500\nwidth = 64\nheight = 48\n"
       "wavelength = 4\n",
-      SEA_ERR_DOMAIN, 3, "[sensor] hfov: missing required key", "(allowed: (0, 170] deg)" },
+      SEA_ERR_DOMAIN, 3, "[sensor] hfov: missing required key", "(allowed: [1e-06, 170] deg)" },
     { "[sea]\nwind_speed = 10\n[sensor]\naltitude = 500\nhfov = 30\nheight = 48\n"
       "wavelength = 4\n",
       SEA_ERR_DOMAIN, 3, "[sensor] width: missing required key", "[1, 16384] pixels" },
