@@ -513,6 +513,14 @@ failing_with "render hfov 1e-154" 2 \
     render "$FIX/tiny.ini" -o "$W/h.exr" --quiet --set sensor.hfov=1e-154
 run render "$FIX/tiny.ini" -o "$OK/h.exr" --set sensor.hfov=1e-6
 check_match "render at hfov 1e-6 sees the sea" "$ERR" "levels [0-9.]+,[0-9.,]+\(LR\) m, 1 frame"
+# A bake whose far texels are at or past the sensor's horizon (altitude
+# 1e-20 m, or a round Earth's horizon inside a clipmap window at 1 m) failed
+# "view zenith 90 deg" while render worked: they take the grazing view.
+run bake "$FIX/tiny.ini" -o "$OK/low" --quiet --set sensor.altitude=1e-20
+check_eq "bake at altitude 1e-20 m" "$RC:$ERR" "0:"
+run bake "$FIX/tiny.ini" -o "$OK/round" --quiet --set sensor.altitude=1 \
+    --set model.earth=spherical --set model.windows=clipmap
+check_eq "bake past a round Earth's horizon" "$RC:$ERR" "0:"
 rm -rf "${OK:?}"/*
 
 listing
