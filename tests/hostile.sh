@@ -521,6 +521,13 @@ check_eq "bake at altitude 1e-20 m" "$RC:$ERR" "0:"
 run bake "$FIX/tiny.ini" -o "$OK/round" --quiet --set sensor.altitude=1 \
     --set model.earth=spherical --set model.windows=clipmap
 check_eq "bake past a round Earth's horizon" "$RC:$ERR" "0:"
+# A look zenith 1e-7 deg short of 90 (the farthest sea 1e17 m away) made
+# horizon arcs that did not increase: bake --pov refused them ("horizon arc
+# 9 ... increasing") while --blender took them.
+for ex in pov blender; do
+    run bake "$FIX/tiny.ini" -o "$OK/grazing_$ex" --quiet --"$ex" --set sensor.look_zenith=89.9999999
+    check_eq "bake --$ex at look_zenith 89.9999999" "$RC:$ERR" "0:"
+done
 rm -rf "${OK:?}"/*
 
 listing
