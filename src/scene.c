@@ -586,7 +586,11 @@ static int set_value(loader *ld, key_id id, const char *value)
     switch (k->kind) {
     case KIND_REAL: {
         double v;
-        if (sea_text_real(value, &v) != 0)
+        const int r = sea_text_real(value, &v);
+        if (r > 0)
+            return fail_key(ld, SEA_ERR_DOMAIN, line, id, "%.*s is out of range",
+                            SEA_QUOTE_MAX, value);
+        if (r != 0)
             return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not a number",
                             SEA_QUOTE_MAX, value);
         if (!in_range(k, v))

@@ -101,8 +101,12 @@ int sea_text_real(const char *s, double *out)
     char *end;
     errno = 0;
     double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || isnan(v))
+    /* ERANGE with a finite result is an underflow (a subnormal or zero),
+     * still the nearest double; with an infinite one, an overflow. */
+    if (end == s || *end != '\0' || isnan(v))
         return -1;
+    if (errno == ERANGE && isinf(v))
+        return 1;
     *out = v;
     return 0;
 }

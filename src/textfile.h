@@ -27,8 +27,10 @@ SEA_INTERNAL size_t sea_text_bom(const char *s);
 /* Trims blanks (and a CR) at both ends, in place. */
 SEA_INTERNAL char *sea_text_trim(char *s);
 /* strtod over the whole string into *out: 0; -1 for no number, trailing
- * text, NaN or a value beyond double range (infinities are numbers: the
- * range checks decide about them). */
+ * text or NaN, 1 for a value beyond double range (1e400; infinities
+ * written as such are numbers: the range checks decide about them).  A value below the normal range
+ * (4.9e-324, 1e-400) is a number: strtod's subnormal or zero, as the
+ * command line reads it. */
 SEA_INTERNAL int sea_text_real(const char *s, double *out);
 /* The shortest "%.*g" text of v (1 to 17 significant digits) that reads
  * back as v, into buf (at least SEA_TEXT_REAL_CHARS bytes): a message

@@ -98,7 +98,8 @@ static int split_fields(char *line, char **field, int max)
     return n;
 }
 
-/* A finite number (as sea_text_real reads it). */
+/* A finite number (sea_text_real, which also reads an underflow as the
+ * subnormal or zero it is). */
 static int parse_double(const char *s, double *out)
 {
     double v;

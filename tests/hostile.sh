@@ -528,6 +528,14 @@ for ex in pov blender; do
     run bake "$FIX/tiny.ini" -o "$OK/grazing_$ex" --quiet --"$ex" --set sensor.look_zenith=89.9999999
     check_eq "bake --$ex at look_zenith 89.9999999" "$RC:$ERR" "0:"
 done
+# A subnormal value is a number (it was "is not a number"), as on the
+# command line; one beyond double range is out of range.
+for v in 4.9e-324 -1e-400; do
+    run render "$FIX/tiny.ini" -o "$OK/d.exr" --quiet --set sea.wind_direction=$v
+    check_eq "render wind_direction $v" "$RC:$ERR" "0:"
+done
+failing_with "render wind_direction 1e400" 2 "\[sea\] wind_direction: 1e400 is out of range" \
+    render "$FIX/tiny.ini" -o "$W/d.exr" --quiet --set sea.wind_direction=1e400
 rm -rf "${OK:?}"/*
 
 listing

@@ -335,9 +335,12 @@ static const error_case CASES[] = {
       "(allowed: an integer in [1, 3])" },
     { BASE "[model]\nreflections = 2.5\n", SEA_ERR_PARSE, 10, "[model] reflections", "[1, 3]" },
     { BASE "[model]\nfinest = 1001\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
-    /* a denormal underflows strtod: refused as no number, with the range */
-    { BASE "[model]\nfinest = 4.9e-324\n", SEA_ERR_PARSE, 10, "[model] finest", "[0.001, 1000] m" },
+    /* a denormal is a number (strtod's underflow), refused by the range;
+     * one beyond double range is out of range too */
+    { BASE "[model]\nfinest = 4.9e-324\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
     { BASE "[model]\nfinest = 1e-4\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
+    { BASE "[model]\nfinest = 1e400\n", SEA_ERR_DOMAIN, 10, "[model] finest: 1e400 is out of range",
+      "[0.001, 1000] m" },
     /* missing keys: the section's line, or no line without the section */
     { "[sea]\n[sensor]\naltitude = 500\nhfov = 30\nwidth = 64\nheight = 48\nwavelength = 4\n",
       SEA_ERR_DOMAIN, 1, "[sea] wind_speed: missing required key", "(allowed: [0.5, 40] m/s)" },
