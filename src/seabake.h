@@ -519,7 +519,8 @@ sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
  * once.  Sky: zenith_deg (from 0 to 90), wavelength_um, radiance
  * (W m^-2 sr^-1 um^-1).  Atmosphere: range_m (from 0), wavelength_um,
  * transmittance ([0, 1]), path_radiance (W m^-2 sr^-1 um^-1), as MODTRAN or
- * libRadtran give them.  Errors name the file, line, column and range. */
+ * libRadtran give them, not both 0 in a row (an opaque path radiates).
+ * Errors name the file, line, column and range. */
 typedef struct sea_grid sea_grid;
 sea_status sea_sky_table_load(const char *path, sea_grid **out, sea_error *err);
 sea_status sea_atmosphere_table_load(const char *path, sea_grid **out, sea_error *err);

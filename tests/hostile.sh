@@ -536,6 +536,15 @@ for v in 4.9e-324 -1e-400; do
 done
 failing_with "render wind_direction 1e400" 2 "\[sea\] wind_direction: 1e400 is out of range" \
     render "$FIX/tiny.ini" -o "$W/d.exr" --quiet --set sea.wind_direction=1e400
+# An opaque atmosphere table (transmittance 0 and path radiance 0) failed
+# "radiance 0 at pixel (0, 15)" mid-render: it is refused when the scene is
+# read, naming the key, the file and the line.
+printf 'range_m,wavelength_um,transmittance,path_radiance\n0,3.9,0,0\n0,4.1,0,0\n' >"$FIX/opaque.csv"
+printf '1e7,3.9,0,0\n1e7,4.1,0,0\n' >>"$FIX/opaque.csv"
+sed 's/atm\.csv/opaque.csv/' "$FIX/tables.ini" >"$FIX/opaque.ini"
+failing_with "render an opaque atmosphere table" 2 \
+    "\[atmosphere\] table: .*opaque.csv:2: transmittance 0 and path_radiance 0: a path that neither transmits nor radiates" \
+    render "$FIX/opaque.ini" -o "$W/o.exr" --quiet
 rm -rf "${OK:?}"/*
 
 listing
