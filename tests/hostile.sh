@@ -545,6 +545,29 @@ sed 's/atm\.csv/opaque.csv/' "$FIX/tables.ini" >"$FIX/opaque.ini"
 failing_with "render an opaque atmosphere table" 2 \
     "\[atmosphere\] table: .*opaque.csv:2: transmittance 0 and path_radiance 0: a path that neither transmits nor radiates" \
     render "$FIX/opaque.ini" -o "$W/o.exr" --quiet
+# Item 5: the tables' profiles (rows x spectral samples) are checked
+# against the memory this process may use before they are allocated, naming
+# the key: 1e5 ranges at 4096 samples need 6.1 GiB, here under a 2 GiB
+# limit.  (Not under a wrapper such as valgrind, nor with AddressSanitizer,
+# whose shadow memory cannot start under a small address-space limit.)
+if [ -z "$SEABAKE_WRAPPER" ] && ! grep -q __asan_init "$SEABAKE" 2>/dev/null; then
+    awk 'BEGIN { print "range_m,wavelength_um,transmittance,path_radiance"
+        for (i = 0; i < 100000; i++)
+            for (w = 3.9; w < 4.2; w += 0.2)
+                printf "%d,%.1f,%.6g,0.01\n", 100 * i, w, exp(-1e-4 * i) }' >"$FIX/atm_rows.csv"
+    { sed 's/^wavelength = 4/band = 3.9:4.1\nsamples = 4096/' "$FIX/tiny.ini"
+      printf '[atmosphere]\ntable = atm_rows.csv\n'; } >"$FIX/atm_rows.ini"
+    listing
+    before=$LISTING
+    SB_CMD="seabake render atm_rows.ini (ulimit -v 2097152)"
+    (ulimit -v 2097152 && exec "$SEABAKE" render "$FIX/atm_rows.ini" -o "$W/rows.exr" --quiet) \
+        >"$SB_TMP/out" 2>"$SB_TMP/err"
+    RC=$? SB_RC=$RC ERR=$(cat "$SB_TMP/err") SB_ERR=$ERR
+    listing
+    check_eq "atmosphere rows x samples: exit 1, nothing written" "$RC:$LISTING" "1:$before"
+    check_match "atmosphere rows x samples: the key and the need" "$ERR" \
+        "^seabake: error: \[atmosphere\] table .*atm_rows.csv \(100000 ranges, two columns\): at 4096 spectral samples its rows need 6.1 GiB .*this process may use 2 GiB \(allowed: fewer rows or \[sensor\] samples\)$"
+fi
 rm -rf "${OK:?}"/*
 
 listing
