@@ -2315,6 +2315,8 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     /* under MPI rank 0 alone owns the directory (see bake_send_frames) */
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_status st = bake_parse(args, &s, err);
+    if (st == SEA_OK)
+        st = sea_cli_threads_start(err);
     /* Signals are caught before the temporary directory exists, so that one
      * during the preparation (seconds for a large scene) still removes it:
      * the bake then stops at its first check. */

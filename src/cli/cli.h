@@ -231,6 +231,14 @@ sea_status sea_cli_opt_sea_state(const sea_cli_args *args, double *wind, double 
 #define SEA_CLI_THREADS_LIMIT 1024
 long sea_cli_threads_max(void);
 sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err);
+/* The OpenMP team of this process, started before any work: the threads
+ * libgomp will start (omp_get_max_threads, after --threads) are first
+ * created and joined as a probe, so that a failure (a low ulimit -v, which
+ * libgomp would report by printing "Thread creation failed" and exiting
+ * mid-work) is seabake's own SEA_ERR_NOMEM naming the count and the
+ * remedy; then the team is made by an empty parallel region, before any
+ * file or directory is created. */
+sea_status sea_cli_threads_start(sea_error *err);
 /* --format float|half (default float) and --compression none|zip|piz
  * (default zip) of render and bake. */
 sea_status sea_cli_opt_exr(const sea_cli_args *args, sea_exr_options *out, sea_error *err);

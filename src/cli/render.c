@@ -934,6 +934,8 @@ static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err
     if (st == SEA_OK)
         st = check_outputs(&s, err);
     if (st == SEA_OK)
+        st = sea_cli_threads_start(err);
+    if (st == SEA_OK)
         st = sea_render_prepare(&s.sc, &r, err);
     /* Under MPI every rank has read the same arguments and files; a rank
      * that could not (a file system one node does not see) stops them all. */
