@@ -268,11 +268,13 @@ sea_status sea_cli_check_written(FILE *out, sea_error *err);
  * gets 0666 or 0777 less it. */
 mode_t sea_cli_umask(void);
 
-/* A file written under "<path>.tmp.XXXXXX" next to its destination (as the
- * EXR writer does) and renamed over it only when complete. */
+/* A file written into seabake's marked temporary "<path>.tmp.XXXXXX/"
+ * next to its destination (as the EXR writer does; src/tempfile.c) and
+ * renamed over it only when complete. */
+struct sea_temp_file;
 typedef struct {
     const char *path;
-    char *tmp;
+    struct sea_temp_file *tmp;
     FILE *f;
 } sea_cli_atomic_file;
 /* Creates the temporary file (mode 0666 less the umask); opt names the
@@ -285,6 +287,13 @@ sea_status sea_cli_atomic_open(sea_cli_atomic_file *af, const char *opt, const c
 void sea_cli_atomic_abort(sea_cli_atomic_file *af);
 /* Flushes, syncs and renames the file to its destination. */
 sea_status sea_cli_atomic_commit(sea_cli_atomic_file *af, const char *opt, sea_error *err);
+/* Removes the file temporaries (above) that runs killed before their
+ * commit left beside the outputs STEM* (STEM itself, or STEM then '.' or
+ * '_': frame numbers, AOVs, extensions), each only with seabake's marker
+ * inside and its maker's flock gone (src/tempfile.c), never on a name
+ * alone; notes each on standard error as "WHO: removed 'PATH', left by a
+ * WHO that was killed".  Returns how many. */
+size_t sea_cli_clean_stale_files(const char *who, const char *stem);
 /* Creates dir unless it exists (its parent must: nothing is created on
  * the way), then checks that it is a writable directory; *created tells
  * whether this call made it (the caller removes it on failure). */

@@ -382,6 +382,9 @@ static sea_status run_slopes(const sea_cli_args *args, FILE *out, sea_error *err
     if (s.output != SLOPES_STDOUT &&
         (st = sea_cli_check_parent_writable("-o", s.path, err)) != SEA_OK)
         return st;
+    /* what a killed run left beside the output (marked, its maker gone) */
+    if (s.output != SLOPES_STDOUT)
+        sea_cli_clean_stale_files("slopes", s.path);
     if ((st = sea_spectrum_init(&spec, s.wind, s.fetch, sea_cli_radians(s.wind_dir_deg), err)) !=
         SEA_OK)
         return st;
