@@ -3,13 +3,14 @@
  *
  * Writing.  Everything the caller passes is checked before the file system
  * is touched, so invalid input leaves nothing behind.  The file is then
- * encoded into "<path>.tmp.XXXXXX", created with O_EXCL next to the
- * destination (rename() is atomic only within one file system), through a
- * custom write callback on our own descriptor: the library's own temporary
- * file mode uses one fixed name per destination, which two writers of the
- * same path would share.  Only when exr_finish() has written the chunk
- * offset table and fsync() and close() succeeded is the file renamed over
- * the destination; any failure removes the temporary file.
+ * encoded into seabake's marked temporary beside the destination
+ * ("<path>.tmp.XXXXXX/<name>", tempfile.c: a later run can prove it stale
+ * and remove it), through a custom write callback on our own descriptor:
+ * the library's own temporary file mode uses one fixed name per
+ * destination, which two writers of the same path would share.  Only when
+ * exr_finish() has written the chunk offset table and fsync() and close()
+ * succeeded is the file renamed over the destination; any failure removes
+ * the temporary.
  *
  * The library prints its errors to stderr unless given a handler; library
  * code must not print, so a silent handler is installed and messages are
@@ -39,13 +40,13 @@
 #include <openexr.h>
 
 #include "exr.h"
+#include "internal.h"
 
 enum {
     SEA_EXR_SIZE_MAX = 65536,     /* pixels per side */
     SEA_EXR_CHANNELS_MAX = 64,
     SEA_EXR_CHANNEL_NAME_MAX = 31, /* the EXR short-name limit */
-    SEA_EXR_ATTR_NAME_MAX = 63,
-    SEA_EXR_TMP_ATTEMPTS = 64      /* O_EXCL collisions tolerated */
+    SEA_EXR_ATTR_NAME_MAX = 63
 };
 
 /* Largest finite half float; larger values would be stored as infinity. */
@@ -119,43 +120,14 @@ static int64_t sink_write(exr_const_context_t ctxt, void *userdata, const void *
     return (int64_t)done;
 }
 
-/* A new file "<path>.tmp.XXXXXX" opened with O_EXCL and mode 0666 so that
- * the umask applies as for any new file (mkstemp would force 0600). */
-static sea_status open_temp(const char *path, char **tmp_out, int *fd_out, sea_error *err)
+/* The marked temporary of path (tempfile.c), its data open for writing. */
+static sea_status open_temp(const char *path, sea_temp_file *tmp, int *fd_out, sea_error *err)
 {
-    size_t len = strlen(path) + sizeof ".tmp.123456";
-    char *tmp = malloc(len);
-    if (tmp == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    /* Any varying seed will do: O_EXCL, not the name, guarantees uniqueness. */
-    uint64_t x = (uint64_t)getpid() * 0x9e3779b97f4a7c15u ^ (uint64_t)ts.tv_nsec ^
-                 ((uint64_t)ts.tv_sec << 30) ^ (uint64_t)(uintptr_t)&ts;
-    for (int attempt = 0; attempt < SEA_EXR_TMP_ATTEMPTS; attempt++) {
-        /* splitmix64 step */
-        x += 0x9e3779b97f4a7c15u;
-        uint64_t z = x;
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
-        z ^= z >> 31;
-        snprintf(tmp, len, "%s.tmp.%06x", path, (unsigned)(z & 0xffffffu));
-        int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) {
-            *tmp_out = tmp;
-            *fd_out = fd;
-            return SEA_OK;
-        }
-        if (errno != EEXIST) {
-            int e = errno;
-            free(tmp);
-            return sea_fail(err, SEA_ERR_IO, "cannot create a temporary file next to %s: %s",
-                            path, strerror(e));
-        }
-    }
-    free(tmp);
-    return sea_fail(err, SEA_ERR_IO, "cannot create a temporary file next to %s: %s", path,
-                    strerror(EEXIST));
+    const int e = sea_temp_open(tmp, path, fd_out);
+    if (e != 0)
+        return sea_fail(err, e == ENOMEM ? SEA_ERR_NOMEM : SEA_ERR_IO,
+                        "cannot create a temporary file next to %s: %s", path, strerror(e));
+    return SEA_OK;
 }
 
 static sea_status check_write_args(const char *path, int width, int height,
@@ -441,7 +413,7 @@ sea_status sea_exr_write(const char *path, int width, int height, const sea_exr_
     if (st != SEA_OK)
         return st;
 
-    char *tmp = NULL;
+    sea_temp_file tmp;
     write_sink sink = { -1, 0 };
     if ((st = open_temp(path, &tmp, &sink.fd, err)) != SEA_OK)
         return st;
@@ -481,11 +453,9 @@ sea_status sea_exr_write(const char *path, int width, int height, const sea_exr_
         goto fail;
     }
     sink.fd = -1;
-    if (rename(tmp, path) != 0) {
-        st = sea_fail(err, SEA_ERR_IO, "cannot write %s: %s", path, strerror(errno));
-        goto fail;
-    }
-    free(tmp);
+    const int e = sea_temp_commit(&tmp, path);
+    if (e != 0)
+        return sea_fail(err, SEA_ERR_IO, "cannot write %s: %s", path, strerror(e));
     return SEA_OK;
 
 fail:
@@ -493,8 +463,7 @@ fail:
         exr_finish(&ctx); /* the file is discarded: its status does not matter */
     if (sink.fd >= 0)
         close(sink.fd);
-    unlink(tmp);
-    free(tmp);
+    sea_temp_abort(&tmp);
     return st;
 }
 

@@ -6,9 +6,11 @@
  * one part, scanline, lossless compression, FLOAT or HALF channels.
  * Row 0 of every buffer is the top row of the image.
  *
- * Writing goes to a temporary file in the destination's directory, which is
+ * Writing goes to a temporary in the destination's directory, a directory
+ * "<path>.tmp.XXXXXX" holding the data and a marker that names its writer
+ * (so that a later run can prove it stale if the writer dies); the data is
  * renamed over the destination only when the whole file is written; on any
- * failure the temporary file is removed and the destination is untouched. */
+ * failure the temporary is removed and the destination is untouched. */
 #ifndef SEABAKE_EXR_H
 #define SEABAKE_EXR_H
 

@@ -16,9 +16,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "internal.h"
 #include "povray.h"
 
-enum { POV_FILES = 4, POV_TMP_ATTEMPTS = 100 };
+enum { POV_FILES = 4 };
 
 /* Each coarser level sits this many finest facets below the next finer one,
  * so that where two windows overlap (clipmap windows need not be nested)
@@ -26,9 +27,11 @@ enum { POV_FILES = 4, POV_TMP_ATTEMPTS = 100 };
  * SEA_POV_LAYER / tan(elevation) facets: 0.1 facet at half a degree. */
 static const double SEA_POV_LAYER = 1e-3;
 
-/* A file being written: the temporary name, its stream, the final name. */
+/* A file being written: seabake's marked temporary (tempfile.c), its
+ * stream, the final name. */
 typedef struct {
-    char *path, *tmp;
+    char *path;
+    sea_temp_file tmp;
     FILE *f;
 } pov_file;
 
@@ -41,45 +44,23 @@ static char *join_path(const char *dir, const char *name)
     return p;
 }
 
-/* Opens "<path>.tmp.XXXXXX" with O_EXCL and mode 0666 (the umask applies, as
- * for any new file). */
+/* Opens the temporary of dir/name (mode 0666 less the umask, as for any new
+ * file). */
 static sea_status pov_open(pov_file *pf, const char *dir, const char *name, sea_error *err)
 {
-    pf->path = join_path(dir, name);
-    size_t len = pf->path ? strlen(pf->path) + sizeof ".tmp.123456" : 0;
-    pf->tmp = pf->path ? malloc(len) : NULL;
-    if (pf->tmp == NULL)
+    if ((pf->path = join_path(dir, name)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    /* Any varying seed will do: O_EXCL, not the name, guarantees uniqueness. */
-    uint64_t x = (uint64_t)getpid() * 0x9e3779b97f4a7c15u ^ (uint64_t)ts.tv_nsec ^
-                 (uint64_t)(uintptr_t)pf;
-    for (int attempt = 0; attempt < POV_TMP_ATTEMPTS; attempt++) {
-        x += 0x9e3779b97f4a7c15u;
-        uint64_t z = (x ^ (x >> 31)) * 0xbf58476d1ce4e5b9u;
-        z ^= z >> 29;
-        snprintf(pf->tmp, len, "%s.tmp.%06x", pf->path, (unsigned)(z & 0xffffffu));
-        int fd = open(pf->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno == EEXIST)
-            continue;
-        if (fd < 0)
-            break;
-        pf->f = fdopen(fd, "w");
-        if (pf->f == NULL) {
-            int e = errno;
-            close(fd);
-            unlink(pf->tmp);
-            errno = e;
-            break;
-        }
-        return SEA_OK;
+    int fd;
+    int e = sea_temp_open(&pf->tmp, pf->path, &fd);
+    if (e == 0 && (pf->f = fdopen(fd, "w")) == NULL) {
+        e = errno;
+        close(fd);
+        sea_temp_abort(&pf->tmp);
     }
-    sea_status st = sea_fail(err, SEA_ERR_IO, "cannot create a temporary file next to %s: %s",
-                             pf->path, strerror(errno));
-    free(pf->tmp);
-    pf->tmp = NULL;
-    return st;
+    if (e != 0)
+        return sea_fail(err, e == ENOMEM ? SEA_ERR_NOMEM : SEA_ERR_IO,
+                        "cannot create a temporary file next to %s: %s", pf->path, strerror(e));
+    return SEA_OK;
 }
 
 /* Flushes, syncs and closes the temporary file; 0 or an errno. */
@@ -106,11 +87,9 @@ static void pov_discard(pov_file *pf)
         fclose(pf->f);
         pf->f = NULL;
     }
-    if (pf->tmp != NULL)
-        unlink(pf->tmp);
-    free(pf->tmp);
+    sea_temp_abort(&pf->tmp);
     free(pf->path);
-    pf->tmp = pf->path = NULL;
+    pf->path = NULL;
 }
 
 static int finite_in(double v, double lo, double hi)
@@ -799,7 +778,8 @@ sea_status sea_pov_write(const char *dir, const sea_camera *cam, const sea_pov_l
     static const char *const names[POV_FILES] = { "seabake.inc", "sea.inc", "scene.pov",
                                                   "scene.ini" };
     pov_file pf[POV_FILES];
-    memset(pf, 0, sizeof pf);
+    for (int i = 0; i < POV_FILES; i++)
+        pf[i] = (pov_file){ NULL, { NULL, NULL, -1 }, NULL };
     for (int i = 0; i < POV_FILES; i++)
         if ((st = pov_open(&pf[i], dir, names[i], err)) != SEA_OK)
             goto fail;
@@ -818,13 +798,12 @@ sea_status sea_pov_write(const char *dir, const sea_camera *cam, const sea_pov_l
      * directory fails only for reasons (a directory in the way, a full
      * inode table) that the temporary files would have met already. */
     for (int i = 0; i < POV_FILES; i++) {
-        if (rename(pf[i].tmp, pf[i].path) != 0) {
+        const int e = sea_temp_commit(&pf[i].tmp, pf[i].path);
+        if (e != 0) {
             st = sea_fail(err, SEA_ERR_IO, "%s: cannot rename into place: %s", pf[i].path,
-                          strerror(errno));
+                          strerror(e));
             goto fail;
         }
-        free(pf[i].tmp);
-        pf[i].tmp = NULL;
     }
     for (int i = 0; i < POV_FILES; i++)
         pov_discard(&pf[i]);

@@ -149,36 +149,19 @@ static sea_status write_job(const char *path, const png_job *job, sea_error *err
         if (isnan(job->data[i]))
             return sea_fail(err, SEA_ERR_NUMERIC, "%s: pixel (%zu, %zu) is NaN", path,
                             i / spp % (size_t)width, i / spp / (size_t)width);
-    const size_t len = strlen(path);
-    char *tmp = malloc(len + 16);
-    if (tmp == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    /* O_EXCL with a fresh suffix rather than mkstemp, whose 0600 mode would
-     * reach the renamed file: the preview gets the umask's permissions. */
-    static unsigned counter;
-    int fd = -1;
-    for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
-        unsigned tag;
-#pragma omp atomic capture
-        tag = ++counter;
-        snprintf(tmp, len + 16, "%s.tmp.%06x", path,
-                 (unsigned)(((unsigned)getpid() * 2654435761u) ^ (tag * 40503u)) & 0xffffffu);
-        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST)
-            break;
-    }
-    if (fd < 0) {
-        sea_status st = sea_fail(err, SEA_ERR_IO, "%s: cannot create a temporary file: %s", path,
-                                 strerror(errno));
-        free(tmp);
-        return st;
-    }
+    /* seabake's marked temporary beside path (tempfile.c): mode 0666 less
+     * the umask, and a later run can prove it stale if this one dies */
+    sea_temp_file tmp;
+    int fd;
+    const int te = sea_temp_open(&tmp, path, &fd);
+    if (te != 0)
+        return sea_fail(err, te == ENOMEM ? SEA_ERR_NOMEM : SEA_ERR_IO,
+                        "%s: cannot create a temporary file: %s", path, strerror(te));
     FILE *f = fdopen(fd, "wb");
     if (f == NULL) {
         sea_status st = sea_fail(err, SEA_ERR_IO, "%s: %s", path, strerror(errno));
         close(fd);
-        unlink(tmp);
-        free(tmp);
+        sea_temp_abort(&tmp);
         return st;
     }
     png_err_ctx ctx = { { 0 } };
@@ -191,16 +174,14 @@ static sea_status write_job(const char *path, const png_job *job, sea_error *err
         snprintf(ctx.msg, sizeof ctx.msg, "%s", strerror(errno));
         rc = -1;
     }
-    if (rc == 0 && rename(tmp, path) != 0) {
-        snprintf(ctx.msg, sizeof ctx.msg, "cannot rename into place: %s", strerror(errno));
-        rc = -1;
-    }
     if (rc != 0) {
-        unlink(tmp);
-        free(tmp);
+        sea_temp_abort(&tmp);
         return sea_fail(err, SEA_ERR_IO, "%s: %s", path, ctx.msg);
     }
-    free(tmp);
+    const int ce = sea_temp_commit(&tmp, path);
+    if (ce != 0)
+        return sea_fail(err, SEA_ERR_IO, "%s: cannot rename into place: %s", path,
+                        strerror(ce));
     return SEA_OK;
 }
 

@@ -52,6 +52,13 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
     for (int i = 0; i < 3; i++)
         d[i] /= len;
     *obs = sea_camera_local_dir(&g, d);
+    /* A texel at or beyond the sensor's horizon (a sensor a hair above
+     * the sea, where the window's far texels round to 90 deg, or a round
+     * Earth's horizon inside a clipmap window) is given the optics of the
+     * grazing view, their limit, as the horizon mesh is: render never
+     * sees it, and 90 deg itself is outside the optics' domain. */
+    if (!(obs->theta < M_PI_2))
+        obs->theta = nextafter(M_PI_2, 0.0);
     *sun = sea_camera_local_dir(&g, sun_vec);
 }
 
@@ -360,8 +367,8 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
                              sea_bake_level_fn each, void *each_ctx, sea_error *err)
 {
     memset(out, 0, sizeof *out);
-    if (!isfinite(t))
-        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if (sea_time_check(t, err) != SEA_OK)
+        return SEA_ERR_DOMAIN;
     if (view_k < 1 || view_k > SEA_BAKE_VIEW_K_MAX)
         return sea_fail(err, SEA_ERR_DOMAIN, "view texels per facet %d (allowed: 1 to %d)", view_k,
                         SEA_BAKE_VIEW_K_MAX);

@@ -31,6 +31,7 @@ typedef struct {
 typedef struct {
     size_t ncols;     /* 2 axes + values */
     grid_col col[SEA_GRID_COLS_MAX];
+    int lit;          /* the two values of a row may not both be 0 */
 } grid_spec;
 
 struct sea_grid {
@@ -45,16 +46,20 @@ static const grid_spec SKY_SPEC = {
     3,
     { { "zenith_deg", 0.0, 90.0, "deg", M_PI / 180.0 },
       { "wavelength_um", 1e-3, 1e3, "um", 1e-6 },
-      { "radiance", 0.0, 1e3, "W m^-2 sr^-1 um^-1", 1e6 } }
+      { "radiance", 0.0, 1e3, "W m^-2 sr^-1 um^-1", 1e6 } },
+    0
 };
 /* The atmosphere: range_m in [0, 1e7], wavelength, transmittance in [0, 1],
- * path radiance. */
+ * path radiance.  A path that neither transmits nor radiates (both 0) is an
+ * air at 0 K, which no table describes: the sea behind it would show
+ * radiance 0, which has no brightness temperature. */
 static const grid_spec ATM_SPEC = {
     4,
     { { "range_m", 0.0, 1e7, "m", 1.0 },
       { "wavelength_um", 1e-3, 1e3, "um", 1e-6 },
       { "transmittance", 0.0, 1.0, "", 1.0 },
-      { "path_radiance", 0.0, 1e3, "W m^-2 sr^-1 um^-1", 1e6 } }
+      { "path_radiance", 0.0, 1e3, "W m^-2 sr^-1 um^-1", 1e6 } },
+    1
 };
 
 void sea_grid_free(sea_grid *g)
@@ -189,12 +194,24 @@ static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **
                 goto fail;
             }
             if (!(v >= c->lo && v <= c->hi)) {
-                st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is out of range (allowed: "
-                              "[%g, %g]%s%s)", path, lineno, c->name, v, c->lo, c->hi,
-                              c->unit[0] ? " " : "", c->unit);
+                /* as many digits as tell the value from the bound it passed */
+                char v_txt[SEA_TEXT_REAL_CHARS], lo[SEA_TEXT_REAL_CHARS], hi[SEA_TEXT_REAL_CHARS];
+                st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is out of range (allowed: "
+                              "[%s, %s]%s%s)", path, lineno, c->name,
+                              sea_text_format_real(v, v_txt), sea_text_format_real(c->lo, lo),
+                              sea_text_format_real(c->hi, hi), c->unit[0] ? " " : "", c->unit);
                 goto fail;
             }
             rows[n * nc + (size_t)order[f]] = v * c->scale;
+        }
+        if (spec->lit && rows[n * nc + 2] == 0.0 && rows[n * nc + 3] == 0.0) {
+            st = sea_fail(err, SEA_ERR_DOMAIN,
+                          "%s:%ld: %s 0 and %s 0: a path that neither transmits nor radiates "
+                          "(allowed: %s > 0 where %s is 0, as the air radiates (1 - %s) "
+                          "B(T_air))",
+                          path, lineno, spec->col[2].name, spec->col[3].name, spec->col[3].name,
+                          spec->col[2].name, spec->col[2].name);
+            goto fail;
         }
         lines[n++] = lineno;
     }

@@ -66,12 +66,17 @@ static double view_angle(const sea_camera *cam, double arc)
     return atan2(R * sin(a), R * (1.0 - cos(a)) + cam->pos[2]);
 }
 
-/* The map distance whose view angle is t (bisection: monotonic up to the
- * horizon). */
+/* The map distance whose view angle is t, at most arc_max: on a flat sea
+ * h tan t; on a sphere by bisection (monotonic up to the horizon) to a
+ * tolerance relative to the result.  (One relative to arc_max left the
+ * near rings all alike where arc_max was 1e17 m, a look zenith 1e-7 deg
+ * short of 90: their arcs were not increasing.) */
 static double arc_of_angle(const sea_camera *cam, double t, double arc_max)
 {
+    if (cam->earth == SEA_EARTH_FLAT)
+        return fmin(cam->pos[2] * tan(t), arc_max);
     double lo = 0.0, hi = arc_max;
-    for (int it = 0; it < 200 && hi - lo > 1e-9 * arc_max; it++) {
+    for (int it = 0; it < 200 && hi - lo > 1e-12 * hi; it++) {
         const double mid = 0.5 * (lo + hi);
         if (view_angle(cam, mid) < t)
             lo = mid;
@@ -209,6 +214,14 @@ sea_status sea_bake_horizon_make(const sea_render *r, double tol, sea_bake_horiz
                     : i + 1 == na
                         ? arc_max
                         : arc_of_angle(c.cam, t_max * (double)i / (double)(na - 1), arc_max);
+    /* The exports need increasing arcs: a ring that rounds onto its
+     * neighbour (or onto arc_max) is dropped. */
+    size_t kept = 1;
+    for (size_t i = 1; i + 1 < na; i++)
+        if (h->arc[i] > h->arc[kept - 1] && h->arc[i] < arc_max)
+            h->arc[kept++] = h->arc[i];
+    h->arc[kept++] = arc_max;
+    na = kept;
     for (size_t j = 0; j < nz; j++)
         h->az[j] = az0 + (az1 - az0) * (double)j / (double)(nz - 1);
 
@@ -276,7 +289,9 @@ sea_status sea_bake_horizon_make(const sea_render *r, double tol, sea_bake_horiz
                             ch[k] = 0.5 * (qa[k] + qb[k]);
                         geo = seen_angle(c.cam, ch, qm) / (0.25 * px);
                     }
-                    split[i] = (bad > tol || geo > 1.0) && na < cap;
+                    /* (a midpoint that rounds onto an end splits nothing) */
+                    split[i] = (bad > tol || geo > 1.0) && na < cap && am > h->arc[i] &&
+                               am < h->arc[i + 1];
                     if (!split[i] || !ok_r[i])
                         break; /* nothing left to fill */
                 }
@@ -331,7 +346,7 @@ sea_status sea_bake_horizon_make(const sea_render *r, double tol, sea_bake_horiz
                     bad = fmax(bad, fabs(L - lin) / fmax(L, 1e-300));
                 }
                 if (fill == 0) {
-                    split[j] = bad > tol && nz < cap;
+                    split[j] = bad > tol && nz < cap && zm > h->az[j] && zm < h->az[j + 1];
                     if (!split[j] || !ok_c[j])
                         break;
                 }

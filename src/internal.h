@@ -107,6 +107,49 @@ static inline void sea_catmull_rom(double f, double w[4])
     w[3] = 0.5 * (f3 - f2);
 }
 
+/* tempfile.c: seabake's temporaries and the marker that proves them its
+ * own (see there).  SEA_TEMP_MARKER is the marker's file name inside a
+ * temporary directory. */
+#define SEA_TEMP_MARKER ".seabake-temporary"
+/* Writes the marker (kind, target: tlen bytes, this pid and host) into dir,
+ * O_EXCL and O_NOFOLLOW; 0 or an errno. */
+SEA_INTERNAL int sea_temp_marker_write(const char *dir, const char *kind, const char *target,
+                                       size_t tlen);
+/* 1 if dir holds a marker of this kind and target that this user wrote. */
+SEA_INTERNAL int sea_temp_marker_is(const char *dir, const char *kind, const char *target,
+                                    size_t tlen);
+/* Removes dir's marker, if any. */
+SEA_INTERNAL void sea_temp_marker_remove(const char *dir);
+/* A file written atomically: PATH.tmp.XXXXXX (dir, flock'ed through
+ * dir_fd while it lives) holding the marker (kind "file", target PATH's
+ * name) and the data, dir/NAME (data). */
+typedef struct sea_temp_file {
+    char *dir, *data;
+    int dir_fd;
+} sea_temp_file;
+/* Creates the temporary for path and opens its data for writing (O_EXCL,
+ * mode 0666 less the umask) into *fd, which the caller owns and closes,
+ * its data synced, before the commit.  0 or an errno (t then holds
+ * nothing). */
+SEA_INTERNAL int sea_temp_open(sea_temp_file *t, const char *path, int *fd);
+/* Renames the data onto path and removes the temporary, whatever the
+ * rename did; 0 or rename's errno. */
+SEA_INTERNAL int sea_temp_commit(sea_temp_file *t, const char *path);
+/* Removes the temporary (nothing reaches path); safe on one committed,
+ * aborted or never opened. */
+SEA_INTERNAL void sea_temp_abort(sea_temp_file *t);
+/* Removes, in dir, the file temporaries of dead processes (marker of kind
+ * "file" by this user, flock free) whose target is prefix, or prefix then
+ * '.' or '_' (an empty prefix: every one), calling removed (may be NULL)
+ * with each one's path; returns how many.  Nothing else is touched: a
+ * temporary that holds more than its data and marker stays. */
+SEA_INTERNAL size_t sea_temp_clean(const char *dir, const char *prefix,
+                                   void (*removed)(void *ctx, const char *path), void *ctx);
+
+/* waves.c: SEA_ERR_DOMAIN "time T s is outside [-1000000000, 1000000000] s" unless
+ * |t| <= SEA_TIME_MAX (NaN included). */
+SEA_INTERNAL sea_status sea_time_check(double t, sea_error *err);
+
 /* shadow.c, for the tests: the largest difference between G's polynomials
  * compiled in (src/shadow_g_table.h) and those the code computes now (0
  * where the table was made; INFINITY when out of memory). */
@@ -115,6 +158,10 @@ SEA_INTERNAL double sea_shadow_g_table_drift(void);
  * once, from one G (identical values). */
 SEA_INTERNAL void sea_shadow_split(double mu, double m, double s, double *visible,
                                    double *hidden);
+/* shadow.c: ln sea_shadow_visible(mu, m, s), finite where the moment itself
+ * underflows (facets turned away by 38 standard deviations and more: the
+ * few that face mu); -inf where no facet faces it (s = 0, m >= mu). */
+SEA_INTERNAL double sea_shadow_log_visible(double mu, double m, double s);
 /* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
  * the same values (to rounding: the interpolation's rows in z are combined
  * once), in AVX2 when avx2 is non-zero and the CPU has it (the same bits

@@ -1604,6 +1604,23 @@ static sea_status median_point(const sea_multires *mr, int l, double *mx, double
     return SEA_OK;
 }
 
+/* The cell indices floor(v / L) of a level's ground points must fit a long,
+ * and stay exact in a double as the wave sampler checks them: beyond this
+ * (a look point 1e16 m away at a look zenith 1e-13 deg short of 90) the
+ * conversion would be undefined. */
+static const double SEA_CELL_INDEX_MAX = 9.0e15;
+
+static sea_status check_cells(int level, double L, double x, double y, sea_error *err)
+{
+    if (fabs(x / L) < SEA_CELL_INDEX_MAX && fabs(y / L) < SEA_CELL_INDEX_MAX)
+        return SEA_OK;
+    return sea_fail(err, SEA_ERR_DOMAIN,
+                    "level %d: the sea it shows reaches (%.6g, %.6g) m, beyond the %.3g cells of "
+                    "%g m its indices hold (allowed: a view whose sea, [sensor] x and y "
+                    "included, lies within %.3g m of the map's origin)",
+                    level, x, y, SEA_CELL_INDEX_MAX, L, SEA_CELL_INDEX_MAX * L);
+}
+
 /* The memory a view of npix pixels holds at once, checked as a whole
  * before anything is allocated (each array alone may fit while together
  * they do not: 16384^2 pixels need 22 GiB of geometry and 5 GiB of image).
@@ -1791,6 +1808,8 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         const size_t grid = (size_t)sc->grid;
         long i_lo, i_hi, j_lo, j_hi;
         if (xmin <= xmax) {
+            TRY(check_cells(l, L, fmax(fabs(xmin), fabs(xmax)), fmax(fabs(ymin), fabs(ymax)),
+                            err));
             /* margin: the fading edge (see edge_weight) plus one facet, so
              * that a window that is not capped holds its pixels at full
              * weight */
@@ -1805,6 +1824,7 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         }
         if (clipmap) {
             /* concentric: grid x grid facets around the look point */
+            TRY(check_cells(l, L, look_x, look_y, err));
             i_lo = (long)floor(look_x / L) - (long)grid / 2;
             j_lo = (long)floor(look_y / L) - (long)grid / 2;
             i_hi = i_lo + (long)grid - 1;
@@ -1815,6 +1835,7 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
              * pixels pushed up from finer windows) */
             double cxm = 0.0, cym = 0.0;
             TRY(median_point(mr, l, &cxm, &cym, err));
+            TRY(check_cells(l, L, cxm, cym, err));
             if ((size_t)(i_hi - i_lo + 1) > grid) {
                 i_lo = (long)floor(cxm / L) - (long)grid / 2;
                 i_hi = i_lo + (long)grid - 1;
@@ -1904,8 +1925,8 @@ static sea_status frame_alloc(const sea_multires *mr, double t, sea_progress_fn 
                               void *ctx, int lazy, sea_multires_frame **out, sea_error *err)
 {
     *out = NULL;
-    if (!isfinite(t))
-        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if (sea_time_check(t, err) != SEA_OK)
+        return SEA_ERR_DOMAIN;
     sea_multires_frame *f = calloc(1, sizeof *f);
     if (f == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");

@@ -1660,7 +1660,18 @@ static void dir_vec(sea_dir d, double u[3])
     u[2] = cos(d.theta);
 }
 
-/* Bivariate normal density, covariance regularised by SEA_COV_REG. */
+/* Bivariate normal density, covariance regularised by SEA_COV_REG: its
+ * logarithm, and itself. */
+static double slope_log_pdf(const sea_slope_stats *st, double gx, double gy)
+{
+    const double xx = st->cov.xx + SEA_COV_REG, yy = st->cov.yy + SEA_COV_REG;
+    const double xy = st->cov.xy;
+    const double det = sea_fmax(xx * yy - xy * xy, SEA_COV_REG * SEA_COV_REG);
+    const double dx = gx - st->mean.x, dy = gy - st->mean.y;
+    const double q = (yy * dx * dx - 2.0 * xy * dx * dy + xx * dy * dy) / det;
+    return -0.5 * q - log(2.0 * M_PI * sqrt(det));
+}
+
 static double slope_pdf(const sea_slope_stats *st, double gx, double gy)
 {
     const double xx = st->cov.xx + SEA_COV_REG, yy = st->cov.yy + SEA_COV_REG;
@@ -1670,6 +1681,15 @@ static double slope_pdf(const sea_slope_stats *st, double gx, double gy)
     const double q = (yy * dx * dx - 2.0 * xy * dx * dy + xx * dy * dy) / det;
     return exp(-0.5 * q) / (2.0 * M_PI * sqrt(det));
 }
+
+/* Below this D's numerator E[(cot - gamma_X)+] (a far tail of the slopes),
+ * g/D (its reciprocal) and the density of the mirror facet are formed in
+ * logs: directly, 1/D overflows while the density underflows, and their
+ * product, a density of the visible facets and so of moderate size, came
+ * out NaN (a mean slope of (-5, 5) seen 60 deg off at azimuth 119 deg).
+ * Above it the product stays below 1e218 (the density is at most
+ * 1 / (2 pi SEA_COV_REG)). */
+static const double SEA_VISIBLE_DIRECT_MIN = 1e-200;
 
 /* Shadowing terms along one direction: Lambda, and the ratio g/D of Eq 13
  * for a facet of slope gX along that azimuth (0 if the facet is hidden). */
@@ -1686,6 +1706,7 @@ static double lambda_along(const sea_slope_stats *st, sea_dir d)
  * the index); zero when there is no mirror facet seen from obs. */
 typedef struct {
     int zero;
+    int tail; /* pdf holds pdf g/D, formed in logs, and g_over_D is 1 */
     double cos_psi0, pdf, g_over_D, S, J;
     double ui[3], uo[3]; /* inc and obs as unit vectors (dir_vec's values) */
     double ci, si, cpi, spi; /* cos and sin of inc's zenith and azimuth */
@@ -1695,6 +1716,7 @@ static void mirror_geom_of(const sea_slope_stats *st, sea_dir inc, sea_dir obs, 
 {
     double *ui = m->ui, *uo = m->uo;
     m->zero = 1;
+    m->tail = 0;
     m->ci = cos(inc.theta), m->si = sin(inc.theta), m->cpi = cos(inc.phi), m->spi = sin(inc.phi);
     ui[0] = m->si * m->cpi;
     ui[1] = m->si * m->spi;
@@ -1720,7 +1742,7 @@ static void mirror_geom_of(const sea_slope_stats *st, sea_dir inc, sea_dir obs, 
      * always faces obs: cot th_o - gX = |h|^2 / (2 sin th_o cos_sum) > 0,
      * used in this form because cot - gX, a difference of two terms, is
      * round-off (and may come out negative) when both directions graze. */
-    double m_o, s_o, L_o = 0.0;
+    double m_o, s_o, L_o = 0.0, log_g_over_D = 0.0;
     m->g_over_D = 1.0;
     sea_slope_project(st, obs.phi, &m_o, &s_o);
     if (obs.theta >= SEA_NADIR_THETA) {
@@ -1728,14 +1750,22 @@ static void mirror_geom_of(const sea_slope_stats *st, sea_dir inc, sea_dir obs, 
         const double mu_minus_gX = 0.5 * h2 / (sin(obs.theta) * cos_sum);
         double vis, hid;
         sea_shadow_split(mu, m_o, s_o, &vis, &hid);
-        if (!(vis > 0.0))
-            return; /* D underflows: no facet seen from obs */
-        L_o = tn * hid; /* sea_shadow_lambda(obs.theta, m_o, s_o) */
-        m->g_over_D = mu_minus_gX * (1.0 + L_o) / vis;
+        if (vis >= SEA_VISIBLE_DIRECT_MIN) {
+            L_o = tn * hid; /* sea_shadow_lambda(obs.theta, m_o, s_o) */
+            m->g_over_D = mu_minus_gX * (1.0 + L_o) / vis;
+        } else {
+            const double log_vis = sea_shadow_log_visible(mu, m_o, s_o);
+            if (!(log_vis > -INFINITY))
+                return; /* no facet seen from obs */
+            L_o = tn * hid;
+            log_g_over_D = log(mu_minus_gX * (1.0 + L_o)) - log_vis;
+            m->tail = 1;
+        }
     }
     const double L_i = lambda_along(st, inc);
     m->S = 1.0 / (1.0 + L_o + L_i); /* Eq 14c */
-    m->pdf = slope_pdf(st, gx0, gy0);
+    m->pdf = m->tail ? exp(slope_log_pdf(st, gx0, gy0) + log_g_over_D)
+                     : slope_pdf(st, gx0, gy0);
     m->zero = 0;
 }
 
@@ -2952,7 +2982,9 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
         out[i] = m.zero ? 0.0
                         : fresnel_at(p, N[i], m.cos_psi0, &slot) * m.pdf * m.g_over_D * m.S *
                               m.J;
-    if (!(radius > 0.0))
+    /* In the slopes' far tail (m.tail) the disc's Gaussian mass underflows
+     * as the point density does: the point sun's value stands. */
+    if (!(radius > 0.0) || m.tail)
         return;
     const double *ui = m.ui, *uo = m.uo;
     double g0[2];

@@ -145,10 +145,46 @@ static double response_at(const sea_response *resp, double wl)
     return (1.0 - a) * resp->value[lo] + a * resp->value[hi];
 }
 
+/* The tables' profiles at k spectral samples (sky: one column, atmosphere:
+ * two, k x rows doubles each) are checked against the memory the process
+ * may use before any is allocated, as the plan is (check_plan in
+ * multires.c): they grow with rows x samples, and 5e5 ranges at 512
+ * samples took 4.1 GB for a 64 x 48 image.  The message names the keys. */
+static sea_status check_tables(const sea_render *r, size_t k, sea_error *err)
+{
+    const double GiB = 1073741824.0, per = (double)k * (double)sizeof(double);
+    const double sky = r->sky_grid != NULL ? per * (double)r->sky_nx : 0.0;
+    const double atm = r->atm_grid != NULL ? 2.0 * per * (double)r->atm_nx : 0.0;
+    const double avail = (double)sea_memory_available();
+    if (sky + atm <= avail)
+        return SEA_OK;
+    const sea_scene *sc = &r->sc;
+    char what[2 * SEA_SCENE_PATH_MAX + 200];
+    if (sky > 0.0 && atm > 0.0)
+        snprintf(what, sizeof what,
+                 "[sky] table %s (%zu zenith angles) and [atmosphere] table %s (%zu ranges, two "
+                 "columns)",
+                 sc->sky_table_file, r->sky_nx, sc->atmosphere_table_file, r->atm_nx);
+    else if (sky > 0.0)
+        snprintf(what, sizeof what, "[sky] table %s (%zu zenith angles)", sc->sky_table_file,
+                 r->sky_nx);
+    else
+        snprintf(what, sizeof what, "[atmosphere] table %s (%zu ranges, two columns)",
+                 sc->atmosphere_table_file, r->atm_nx);
+    return sea_fail(err, SEA_ERR_NOMEM,
+                    "%s: at %zu spectral samples its rows need %.3g GiB (rows x samples x 8 "
+                    "bytes a column); this process may use %.3g GiB (allowed: fewer rows or "
+                    "[sensor] samples)",
+                    what, k, (sky + atm) / GiB, avail / GiB);
+}
+
 /* Spectral samples: one wavelength, or a Gauss-Legendre rule of k nodes on
  * the band weighted by the response. */
 static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp, sea_error *err)
 {
+    sea_status tst = check_tables(r, k, err);
+    if (tst != SEA_OK)
+        return tst;
     free(r->wl);
     free(r->wt);
     free(r->esun);
@@ -705,8 +741,8 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
     sea_status st = sea_render_check_image(r, img, err);
     if (st != SEA_OK)
         return st;
-    if (!isfinite(t))
-        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if (sea_time_check(t, err) != SEA_OK)
+        return SEA_ERR_DOMAIN;
     if (row0 < 0 || step < 1)
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "row blocks from %d every %d (allowed: first block >= 0, step >= 1)", row0,

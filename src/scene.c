@@ -110,21 +110,27 @@ sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
                           lineno, SEA_QUOTE_MAX, field[1 - i_wl]);
             goto fail;
         }
+        /* values as read, to as many digits as tell them from the bound */
+        char v_txt[SEA_TEXT_REAL_CHARS], max_txt[SEA_TEXT_REAL_CHARS];
         if (!(value >= 0.0 && value <= SEA_RESPONSE_MAX)) {
-            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: response: %g is outside [0, %g]", path,
-                          lineno, value, SEA_RESPONSE_MAX);
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: response: %s is outside [0, %s]", path,
+                          lineno, sea_text_format_real(value, v_txt),
+                          sea_text_format_real(SEA_RESPONSE_MAX, max_txt));
             goto fail;
         }
         if (!(wl_um <= SEA_RESPONSE_WAVELENGTH_MAX_UM)) {
-            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: wavelength_um: %g is outside (0, %g]",
-                          path, lineno, wl_um, SEA_RESPONSE_WAVELENGTH_MAX_UM);
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: wavelength_um: %s is outside (0, %s]",
+                          path, lineno, sea_text_format_real(wl_um, v_txt),
+                          sea_text_format_real(SEA_RESPONSE_WAVELENGTH_MAX_UM, max_txt));
             goto fail;
         }
         double wl = wl_um * SEA_UM;
         if (r->n > 0 && !(wl > r->wavelength[r->n - 1])) {
+            char prev_txt[SEA_TEXT_REAL_CHARS];
             st = sea_fail(err, SEA_ERR_PARSE,
-                          "%s:%ld: wavelength_um: %g does not increase (previous row %g)", path,
-                          lineno, wl_um, r->wavelength[r->n - 1] / SEA_UM);
+                          "%s:%ld: wavelength_um: %s does not increase (previous row %s)", path,
+                          lineno, sea_text_format_real(wl_um, v_txt),
+                          sea_text_format_real(r->wavelength[r->n - 1] / SEA_UM, prev_txt));
             goto fail;
         }
         if ((st = response_push(r, &cap, wl, value)) != SEA_OK) {
@@ -267,7 +273,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_SALINITY] = REAL(SEC_SEA, "salinity", 0.0, SEA_SALINITY_MAX, 0, 1.0, "g/kg", salinity),
     [K_WATER] = { SEC_SEA, "water", KIND_WATER, 0, 0, 0, 1.0, "", AT(water_table), NULL, NULL },
     [K_SEED] = { SEC_SEA, "seed", KIND_SEED, 0, 4294967295.0, 0, 1.0, "", AT(seed), NULL, NULL },
-    [K_TIME] = REAL(SEC_SEA, "time", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "s", time),
+    [K_TIME] = REAL(SEC_SEA, "time", -SEA_TIME_MAX, SEA_TIME_MAX, 0, 1.0, "s", time),
     [K_LOOP_PERIOD] = REAL(SEC_SEA, "loop_period", 0.0, INF, HI_OPEN, 1.0, "s", loop_period),
 
     [K_SUN_ZENITH] = REAL(SEC_SUN, "zenith", 0.0, 180.0, 0, SEA_DEG, "deg", sun_zenith),
@@ -301,8 +307,8 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                                air_temperature),
     [K_EXTINCTION] = REAL(SEC_ATMOSPHERE, "extinction", 0.0, 1e3, 0, 1e-3, "1/km", extinction),
 
-    [K_X] = REAL(SEC_SENSOR, "x", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_x),
-    [K_Y] = REAL(SEC_SENSOR, "y", -INF, INF, LO_OPEN | HI_OPEN, 1.0, "m", sensor_y),
+    [K_X] = REAL(SEC_SENSOR, "x", -SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX, 0, 1.0, "m", sensor_x),
+    [K_Y] = REAL(SEC_SENSOR, "y", -SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX, 0, 1.0, "m", sensor_y),
     [K_ALTITUDE] = REAL(SEC_SENSOR, "altitude", 0.0, 1e6, LO_OPEN | REQUIRED, 1.0, "m",
                         altitude),
     [K_LOOK_ZENITH] = REAL(SEC_SENSOR, "look_zenith", 0.0, 90.0, HI_OPEN, SEA_DEG, "deg",
@@ -310,7 +316,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_LOOK_AZIMUTH] = REAL(SEC_SENSOR, "look_azimuth", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG,
                             "deg", look_azimuth),
     [K_ROLL] = REAL(SEC_SENSOR, "roll", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG, "deg", roll),
-    [K_HFOV] = REAL(SEC_SENSOR, "hfov", 0.0, 170.0, LO_OPEN | REQUIRED, SEA_DEG, "deg", hfov),
+    [K_HFOV] = REAL(SEC_SENSOR, "hfov", SEA_HFOV_MIN_DEG, 170.0, REQUIRED, SEA_DEG, "deg", hfov),
     [K_WIDTH] = INT(SEC_SENSOR, "width", 1, 16384, REQUIRED, "pixels", width),
     [K_HEIGHT] = INT(SEC_SENSOR, "height", 1, 16384, REQUIRED, "pixels", height),
     [K_WAVELENGTH] = REAL(SEC_SENSOR, "wavelength", 0.0, INF, LO_OPEN | HI_OPEN, SEA_UM, "um",
@@ -581,7 +587,11 @@ static int set_value(loader *ld, key_id id, const char *value)
     switch (k->kind) {
     case KIND_REAL: {
         double v;
-        if (sea_text_real(value, &v) != 0)
+        const int r = sea_text_real(value, &v);
+        if (r > 0)
+            return fail_key(ld, SEA_ERR_DOMAIN, line, id, "%.*s is out of range",
+                            SEA_QUOTE_MAX, value);
+        if (r != 0)
             return fail_key(ld, SEA_ERR_PARSE, line, id, "'%.*s' is not a number",
                             SEA_QUOTE_MAX, value);
         if (!in_range(k, v))
@@ -823,6 +833,14 @@ static void check_scene(loader *ld)
     }
 }
 
+/* A computed bound (a table's end in um), to 15 digits: the rounding of
+ * its conversion is not part of it. */
+static const char *bound_text(double v, char *buf)
+{
+    snprintf(buf, SEA_TEXT_REAL_CHARS, "%.15g", v);
+    return buf;
+}
+
 /* The wavelength or band against the water table, and the response curve. */
 static void check_files(loader *ld)
 {
@@ -846,16 +864,22 @@ static void check_files(loader *ld)
     key_id id = ld->key_line[K_BAND] != 0 ? K_BAND : K_WAVELENGTH;
     double lo = id == K_BAND ? sc->band_min : sc->wavelength;
     double hi = id == K_BAND ? sc->band_max : sc->wavelength;
+    /* Values to as many digits as tell them from the bounds (a band
+     * ending 1e-7 um past the table must not read as its end); the bounds,
+     * converted from wavenumbers, to 15 digits, below their rounding. */
+    char t_lo[SEA_TEXT_REAL_CHARS], t_hi[SEA_TEXT_REAL_CHARS];
+    char w_lo[SEA_TEXT_REAL_CHARS], w_hi[SEA_TEXT_REAL_CHARS];
     if (lo < wl_min || hi > wl_max) {
-        char given[64];
+        char given[2 * SEA_TEXT_REAL_CHARS + 1];
         if (id == K_BAND)
-            snprintf(given, sizeof given, "%.6g:%.6g", lo / SEA_UM, hi / SEA_UM);
+            snprintf(given, sizeof given, "%s:%s", sea_text_format_real(lo / SEA_UM, t_lo),
+                     sea_text_format_real(hi / SEA_UM, t_hi));
         else
-            snprintf(given, sizeof given, "%.6g", lo / SEA_UM);
+            snprintf(given, sizeof given, "%s", sea_text_format_real(lo / SEA_UM, t_lo));
         fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[id],
-                  "[sensor] %s: %s um is outside the water table (allowed: %.6g-%.6g um, %s)",
-                  SEA_KEYS[id].name, given, wl_min / SEA_UM, wl_max / SEA_UM,
-                  sea_water_describe(w));
+                  "[sensor] %s: %s um is outside the water table (allowed: %s-%s um, %s)",
+                  SEA_KEYS[id].name, given, bound_text(wl_min / SEA_UM, w_lo),
+                  bound_text(wl_max / SEA_UM, w_hi), sea_water_describe(w));
     }
     sea_water_free(w);
     if (ld->status != SEA_OK)
@@ -883,10 +907,12 @@ static void check_files(loader *ld)
         sea_grid_free(g);
         if (lo < w_min || hi > w_max)
             fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[tid],
-                      "[%s] table: %s covers %.6g-%.6g um, not the sensor's %.6g-%.6g um "
+                      "[%s] table: %s covers %s-%s um, not the sensor's %s-%s um "
                       "(allowed: a table over the wavelength or band)",
-                      sec, tables[t].file, w_min / SEA_UM, w_max / SEA_UM, lo / SEA_UM,
-                      hi / SEA_UM);
+                      sec, tables[t].file, bound_text(w_min / SEA_UM, w_lo),
+                      bound_text(w_max / SEA_UM, w_hi),
+                      sea_text_format_real(lo / SEA_UM, t_lo),
+                      sea_text_format_real(hi / SEA_UM, t_hi));
     }
     if (ld->status != SEA_OK || sc->response_file[0] == '\0')
         return;

@@ -616,7 +616,8 @@ double sea_model_emis_scale(double tolerance);
  * once.  Sky: zenith_deg (from 0 to 90), wavelength_um, radiance
  * (W m^-2 sr^-1 um^-1).  Atmosphere: range_m (from 0), wavelength_um,
  * transmittance ([0, 1]), path_radiance (W m^-2 sr^-1 um^-1), as MODTRAN or
- * libRadtran give them.  Errors name the file, line, column and range. */
+ * libRadtran give them, not both 0 in a row (an opaque path radiates).
+ * Errors name the file, line, column and range. */
 typedef struct sea_grid sea_grid;
 sea_status sea_sky_table_load(const char *path, sea_grid **out, sea_error *err);
 sea_status sea_atmosphere_table_load(const char *path, sea_grid **out, sea_error *err);
@@ -801,8 +802,14 @@ typedef struct {
     size_t nx, ny;
 } sea_rect;
 
+/* The times at which waves are synthesised lie in [-SEA_TIME_MAX,
+ * SEA_TIME_MAX] s (32 years): there the phases omega t of the shortest
+ * waves (1500 rad/s at 1 mm) keep 2.4e-4 rad; beyond 1e305 s they
+ * overflowed into NaN slopes.  A time outside is SEA_ERR_DOMAIN. */
+#define SEA_TIME_MAX 1e9
+
 /* Height and slopes of the waves with |k| <= pi/step at the cell centres,
- * time t.  Any of h, sx, sy may be NULL.  FFT plans need step = L0 2^m and a
+ * time t (within SEA_TIME_MAX).  Any of h, sx, sy may be NULL.  FFT plans need step = L0 2^m and a
  * rectangle no wider than the period (so no tile repeats in the output).
  * Reads w, fills the caller's h, sx, sy (nx ny values each).  OpenMP; FFT
  * plans plan an FFTW transform (see Threads). */
@@ -858,6 +865,17 @@ typedef enum { SEA_EARTH_FLAT = 0, SEA_EARTH_SPHERICAL } sea_earth;
 
 /* Earth radius for spherical scenes, m. */
 #define SEA_EARTH_RADIUS 6371000.0
+/* The sensor's map position x, y lies in [-SEA_SENSOR_XY_MAX,
+ * SEA_SENSOR_XY_MAX] m: a quarter of the Earth's circumference, beyond
+ * which a flat map means nothing.  There the waves' phases (k x up to 1e10
+ * rad at 1 mm facets) keep 1e-6 rad, and the clipmap's cell indices stay
+ * far inside a long (1e20 m overflowed them). */
+#define SEA_SENSOR_XY_MAX 1e7
+/* The narrowest field of view, degrees: 0.0036 arcsec, 1.7 cm seen from
+ * the highest sensor (1000 km), narrower than any telescope's.  Below
+ * 1e-154 deg the focal length squared overflowed and every ray missed the
+ * sea. */
+#define SEA_HFOV_MIN_DEG 1e-6
 
 /* A pinhole sensor above the sea.  World frame: x east, y north, z up, the
  * mean sea surface at z = 0 (flat) or a sphere of SEA_EARTH_RADIUS through
@@ -876,8 +894,9 @@ typedef struct {
  * the image's right axis is horizontal, 90 deg clockwise (seen from above)
  * from the look azimuth, and its up axis is right x axis; at nadir the top
  * of the image points toward look_azimuth.  roll turns the image axes about
- * the camera axis: right' = right cos(roll) + up sin(roll).  Ranges:
- * altitude (0, 1e6] m, look_zenith [0, 90) deg, hfov (0, 170] deg, width and
+ * the camera axis: right' = right cos(roll) + up sin(roll).  Ranges: x and
+ * y [-SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX] m, altitude (0, 1e6] m,
+ * look_zenith [0, 90) deg, hfov [SEA_HFOV_MIN_DEG, 170] deg, width and
  * height [1, 16384].  Fills c, a plain struct (nothing to free); the calls
  * below only read it and are pure. */
 sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
@@ -950,7 +969,7 @@ typedef struct {
                                             a '.' in the value (resolved against the
                                             scene file's directory); "" if a table */
     unsigned long seed;       /* seed, integer [0, 2^32 - 1]; 1 */
-    double time;              /* time, s, finite; 0 */
+    double time;              /* time, s, [-SEA_TIME_MAX, SEA_TIME_MAX]; 0 */
     double loop_period;       /* loop_period, s, >= 0; 0 = none */
     /* [sun] */
     double sun_zenith;        /* zenith, deg [0, 180] -> rad; > 90 deg: below the
@@ -979,14 +998,15 @@ typedef struct {
     char atmosphere_table_file[SEA_SCENE_PATH_MAX]; /* table = CSV (range_m,wavelength_um,
                                   transmittance,path_radiance), not with extinction; "" */
     /* [sensor] */
-    double sensor_x, sensor_y; /* x, y, m, finite; 0 */
+    double sensor_x, sensor_y; /* x, y, m, [-SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX]; 0 */
     double altitude;           /* altitude, m, (0, 1e6], required */
     double look_zenith;        /* look_zenith, deg [0, 90) -> rad: camera axis from
                                   nadir; 0 */
     double look_azimuth;       /* look_azimuth, deg -> rad: where the camera points,
                                   finite; 180 (the paper's phi_obs = 0) */
     double roll;               /* roll, deg -> rad, finite; 0 */
-    double hfov;               /* hfov, deg (0, 170] -> rad, full horizontal field of view */
+    double hfov;               /* hfov, deg [SEA_HFOV_MIN_DEG, 170] -> rad, full horizontal
+                                  field of view */
     int width, height;         /* width, height, pixels [1, 16384], required */
     double wavelength;         /* wavelength, um -> m, within the water table; single
                                   wavelength; < 0 with a band */
@@ -1182,7 +1202,7 @@ const sea_waves *sea_multires_waves(const sea_multires *mr);
 sea_moments sea_multires_lr_moments(const sea_multires *mr);
 const sea_camera *sea_multires_camera(const sea_multires *mr);
 
-/* One realisation at time t (finite): every high-resolution level's facet
+/* One realisation at time t (|t| <= SEA_TIME_MAX): every high-resolution level's facet
  * moments (sea_waves_facets with the level's sub-facets) and resolved
  * surface.  progress (may be NULL) gets the share of facets synthesised
  * after each level and may stop the work (SEA_ERR_CANCELLED).  The frame
@@ -1268,7 +1288,7 @@ typedef struct {
 sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err);
 void sea_image_free(sea_image *img);
 
-/* Renders the frame at time t (s; the scene's own time is sc->time) into
+/* Renders the frame at time t (s, |t| <= SEA_TIME_MAX; the scene's own time is sc->time) into
  * img, allocated for the scene's size.  Reads r, fills img: any number of
  * threads may render from one r at once, each into its own image.  Runs on
  * OpenMP threads itself (see Threads), calling progress (may be NULL) as
@@ -1393,7 +1413,7 @@ typedef struct {
     sea_bake_times seconds; /* of the call that made it */
 } sea_bake;
 
-/* Bakes every level of r at time t (finite).  The optics of a texel are
+/* Bakes every level of r at time t (|t| <= SEA_TIME_MAX).  The optics of a texel are
  * those of its facet seen from the sensor: the direction from the texel
  * centre (x, y) on the sea (flat: (x, y, 0); spherical: the azimuthal
  * equidistant map point of sensor.c placed on the sphere) to the sensor, in

@@ -39,8 +39,9 @@ sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
                            double look_zenith, double look_azimuth, double roll, double hfov,
                            int width, int height, sea_earth earth, sea_error *err)
 {
-    if (!isfinite(x) || !isfinite(y))
-        return sea_fail(err, SEA_ERR_DOMAIN, "sensor position must be finite");
+    if (!(fabs(x) <= SEA_SENSOR_XY_MAX && fabs(y) <= SEA_SENSOR_XY_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN, "sensor position (%g, %g) m outside [%g, %g] m", x,
+                        y, -SEA_SENSOR_XY_MAX, SEA_SENSOR_XY_MAX);
     if (!(altitude > 0.0 && altitude <= 1e6))
         return sea_fail(err, SEA_ERR_DOMAIN, "sensor altitude %g m outside (0, 1e6]", altitude);
     if (!(look_zenith >= 0.0 && look_zenith < M_PI / 2.0))
@@ -48,9 +49,10 @@ sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
                         look_zenith * 180.0 / M_PI);
     if (!isfinite(look_azimuth) || !isfinite(roll))
         return sea_fail(err, SEA_ERR_DOMAIN, "look azimuth and roll must be finite");
-    if (!(hfov > 0.0 && hfov <= 170.0 * M_PI / 180.0))
-        return sea_fail(err, SEA_ERR_DOMAIN, "horizontal field of view %g deg outside (0, 170]",
-                        hfov * 180.0 / M_PI);
+    /* (the scene's conversion of the bound, so that it is accepted) */
+    if (!(hfov >= SEA_HFOV_MIN_DEG * (M_PI / 180.0) && hfov <= 170.0 * M_PI / 180.0))
+        return sea_fail(err, SEA_ERR_DOMAIN, "horizontal field of view %g deg outside [%g, 170]",
+                        hfov * 180.0 / M_PI, SEA_HFOV_MIN_DEG);
     if (width < 1 || width > 16384 || height < 1 || height > 16384)
         return sea_fail(err, SEA_ERR_DOMAIN, "image size %d x %d outside [1, 16384]", width,
                         height);

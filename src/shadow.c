@@ -114,11 +114,10 @@ double sea_shadow_g_table_drift(void)
  * nothing representable to Lambda or D. */
 static const double SEA_NADIR_THETA = 1e-12;
 
-double sea_shadow_G(double t)
+/* f(x) of G(at) = phi(at) x^2 f(x), x = 1 / (1 + at), at >= 0 (the table
+ * holds x in (0, 1], so any at). */
+static double g_poly(double at, double *x_out)
 {
-    const double at = fabs(t);
-    if (!(at < 40.0)) /* phi underflows: G(t) = max(-t, 0) (NaN stays NaN) */
-        return t > 0.0 ? 0.0 : t < 0.0 ? -t : t;
     const double x = 1.0 / (1.0 + at);
     const double s = x * SEA_G_PIECES;
     int i = (int)s;
@@ -129,8 +128,32 @@ double sea_shadow_G(double t)
     double p = c[SEA_G_DEGREE];
     for (int k = SEA_G_DEGREE - 1; k >= 0; k--)
         p = p * u + c[k];
+    *x_out = x;
+    return p;
+}
+
+double sea_shadow_G(double t)
+{
+    const double at = fabs(t);
+    if (!(at < 40.0)) /* phi underflows: G(t) = max(-t, 0) (NaN stays NaN) */
+        return t > 0.0 ? 0.0 : t < 0.0 ? -t : t;
+    double x;
+    const double p = g_poly(at, &x);
     const double g = 0.39894228040143267794 * exp(-0.5 * at * at) * p * x * x;
     return t < 0.0 ? g + at : g;
+}
+
+double sea_shadow_log_visible(double mu, double m, double s)
+{
+    if (s <= 0.0)
+        return log(fmax(mu - m, 0.0));
+    const double z = (mu - m) / s;
+    if (z > 0.0)
+        return log((mu - m) + s * sea_shadow_G(z));
+    /* s G(t), t = -z >= 0, in logs: ln phi(t) = -ln sqrt(2 pi) - t^2 / 2 */
+    double x;
+    const double p = g_poly(-z, &x);
+    return log(s) - 0.91893853320467274178 - 0.5 * z * z + log(p) + 2.0 * log(x);
 }
 
 /* E[(gamma - mu)+]; s = 0 is the limit max(m - mu, 0). */

@@ -62,6 +62,11 @@ done:
     return st;
 }
 
+size_t sea_text_bom(const char *s)
+{
+    return strncmp(s, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;
+}
+
 char *sea_text_next_line(char **cursor, long *lineno)
 {
     while (*cursor != NULL) {
@@ -70,7 +75,10 @@ char *sea_text_next_line(char **cursor, long *lineno)
         if (next != NULL)
             *next++ = '\0';
         *cursor = next;
-        ++*lineno;
+        /* Editors on Windows start UTF-8 files with a byte order mark,
+         * which would otherwise become part of the first header name. */
+        if (++*lineno == 1)
+            line += sea_text_bom(line);
         char *p = sea_text_trim(line);
         if (*p != '\0' && *p != '#')
             return p;
@@ -93,8 +101,26 @@ int sea_text_real(const char *s, double *out)
     char *end;
     errno = 0;
     double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || isnan(v))
+    /* ERANGE with a finite result is an underflow (a subnormal or zero),
+     * still the nearest double; with an infinite one, an overflow. */
+    if (end == s || *end != '\0' || isnan(v))
         return -1;
+    if (errno == ERANGE && isinf(v))
+        return 1;
     *out = v;
     return 0;
+}
+
+const char *sea_text_format_real(double v, char *buf)
+{
+    /* At least the digits before the point below 1e15, so that a bound
+     * reads 1000000, not 1e+06. */
+    const double mag = fabs(v);
+    int digits = mag >= 1.0 && mag < 1e15 ? (int)floor(log10(mag)) + 1 : 1;
+    for (; digits <= 17; digits++) {
+        snprintf(buf, SEA_TEXT_REAL_CHARS, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v || !isfinite(v))
+            break;
+    }
+    return buf;
 }

@@ -98,12 +98,12 @@ static int split_fields(char *line, char **field, int max)
     return n;
 }
 
+/* A finite number (sea_text_real, which also reads an underflow as the
+ * subnormal or zero it is). */
 static int parse_double(const char *s, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
+    double v;
+    if (sea_text_real(s, &v) != 0 || !isfinite(v))
         return -1;
     *out = v;
     return 0;
@@ -145,8 +145,8 @@ static sea_status table_parse(const char *text, const char *source, const char *
         next = strchr(line, '\n');
         if (next != NULL)
             *next++ = '\0';
-        lineno++;
-        char *p = line;
+        /* a UTF-8 byte order mark, as sea_text_next_line skips it */
+        char *p = ++lineno == 1 ? line + sea_text_bom(line) : line;
         while (*p == ' ' || *p == '\t' || *p == '\r')
             p++;
         if (*p == '\0' || *p == '#')
@@ -199,14 +199,20 @@ static sea_status table_parse(const char *text, const char *source, const char *
                           lineno, col_b, field[ib]);
             goto fail;
         }
+        /* the value as read, to as many digits as tell it from the bound */
+        char v_txt[SEA_TEXT_REAL_CHARS], lo_txt[SEA_TEXT_REAL_CHARS], hi_txt[SEA_TEXT_REAL_CHARS];
         if (!(a >= bounds->a_min && a <= bounds->a_max)) {
-            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is outside [%g, %g]", source,
-                          lineno, col_a, a, bounds->a_min, bounds->a_max);
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is outside [%s, %s]", source,
+                          lineno, col_a, sea_text_format_real(a, v_txt),
+                          sea_text_format_real(bounds->a_min, lo_txt),
+                          sea_text_format_real(bounds->a_max, hi_txt));
             goto fail;
         }
         if (!(b >= bounds->b_min && b <= bounds->b_max)) {
-            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is outside [%g, %g]", source,
-                          lineno, col_b, b, bounds->b_min, bounds->b_max);
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is outside [%s, %s]", source,
+                          lineno, col_b, sea_text_format_real(b, v_txt),
+                          sea_text_format_real(bounds->b_min, lo_txt),
+                          sea_text_format_real(bounds->b_max, hi_txt));
             goto fail;
         }
         double nu = x_is_wavenumber ? x * 100.0 : 1e6 / x; /* 1/m */

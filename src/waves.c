@@ -44,6 +44,7 @@
 #include <gsl/gsl_rng.h>
 
 #include "seabake.h"
+#include "internal.h"
 
 /* The lowest bin edge lies at or below k_p/4: there L_PM = exp(-20), so the
  * waves left out hold less than 1e-8 of the height and slope variance. */
@@ -108,6 +109,14 @@ size_t sea_memory_available(void)
             avail = (size_t)rl.rlim_cur;
     }
     return avail;
+}
+
+sea_status sea_time_check(double t, sea_error *err)
+{
+    if (fabs(t) <= SEA_TIME_MAX)
+        return SEA_OK;
+    return sea_fail(err, SEA_ERR_DOMAIN, "time %g s is outside [%.10g, %.10g] s", t, -SEA_TIME_MAX,
+                    SEA_TIME_MAX);
 }
 
 sea_status sea_check_size(size_t count, size_t size, const char *what, sea_error *err)
@@ -743,8 +752,8 @@ sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, dou
     sea_status st = check_rect(w, r, err);
     if (st != SEA_OK)
         return st;
-    if (!isfinite(t))
-        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if ((st = sea_time_check(t, err)) != SEA_OK)
+        return st;
     const size_t nx = r->nx, ny = r->ny;
     if ((st = sea_check_size(nx, ny * sizeof(double) * 3, "sampled fields", err)) != SEA_OK)
         return st;
@@ -902,8 +911,8 @@ sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double
         return st;
     if (n < 0 || n > SEA_N_MAX)
         return sea_fail(err, SEA_ERR_DOMAIN, "n = %d outside [0, %d]", n, SEA_N_MAX);
-    if (!isfinite(t))
-        return sea_fail(err, SEA_ERR_DOMAIN, "time %g s must be finite", t);
+    if ((st = sea_time_check(t, err)) != SEA_OK)
+        return st;
     const size_t sub = (size_t)1 << n;
     const double delta = r->step / (double)sub;
     if (delta < w->p.finest * (1.0 - 1e-12))

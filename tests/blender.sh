@@ -165,6 +165,23 @@ for f in sensor.exr height_0.exr; do
     mv "$dir/moved.exr" "$dir/$f"
 done
 
+# A map outside the manifest's directory (issue 40, item 7): a name with
+# ../, an absolute path elsewhere and a link inside the directory that
+# points out of it are refused, though the file exists and is a good map.
+cp "$dir/normal_0.exr" "$SB_TMP/outside.exr"
+ln -s "$SB_TMP/outside.exr" "$dir/link.exr"
+n=0
+for name in ../outside.exr "$SB_TMP/outside.exr" link.exr; do
+    n=$((n + 1))
+    sed "s#\"normal_0.exr\"#\"$name\"#" "$dir/manifest.json" >"$dir/outside_$n.json"
+    run_blender "outside_$n" "$dir/seabake_import.py" -- "$dir/outside_$n.json"
+    check_rc "import.outside_$n.rc" 1
+    check_match "import.outside_$n.msg" "$(cat "$SB_TMP/outside_$n.out")" \
+        "seabake_import: error: .*outside_$n.json: map '.*$(basename "$name")' lies outside the manifest's directory"
+    rm -f "$dir/outside_$n.json"
+done
+rm -f "$dir/link.exr" "$SB_TMP/outside.exr"
+
 # The import's one-line summary.
 check_match import.summary "$(cat "$SB_TMP/import.out")" \
     '^seabake_import: 1 ring \(1 with waves\) and the horizon mesh \([0-9]+ x [0-9]+ nodes\) of 2 levels, the sensor.s image projected where it sees, frame 0, material emission, emission scale [0-9.e+-]+$'

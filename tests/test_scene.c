@@ -236,7 +236,9 @@ static const error_case CASES[] = {
     { BASE "[model]\nfinest = 1m\n", SEA_ERR_PARSE, 10, "[model] finest: '1m' is not a number",
       "(allowed: [0.001, 1000] m)" },
     { BASE "x = nan\n", SEA_ERR_PARSE, 9, "[sensor] x: 'nan' is not a number",
-      "(allowed: any finite value in m)" },
+      "(allowed: [-10000000, 10000000] m)" },
+    { BASE "y = -1e20\n", SEA_ERR_DOMAIN, 9, "[sensor] y: -1e20 is out of range",
+      "(allowed: [-10000000, 10000000] m)" },
     { BASE "roll =\n", SEA_ERR_PARSE, 9, "[sensor] roll: empty value",
       "(allowed: any finite value in deg)" },
     { BASE "samples = 12.5\n", SEA_ERR_PARSE, 9, "[sensor] samples: '12.5' is not an integer",
@@ -288,7 +290,7 @@ static const error_case CASES[] = {
     { BASE "look_zenith = 90\n", SEA_ERR_DOMAIN, 9, "[sensor] look_zenith: 90 is out",
       "(allowed: [0, 90) deg)" },
     { "[sensor]\nhfov = 0\n", SEA_ERR_DOMAIN, 2, "[sensor] hfov: 0 is out of range",
-      "(allowed: (0, 170] deg)" },
+      "(allowed: [1e-06, 170] deg)" },
     { "[sensor]\nwidth = 0\n", SEA_ERR_DOMAIN, 2, "[sensor] width: 0 is out of range",
       "(allowed: an integer in [1, 16384] pixels)" },
     { "[sensor]\nwavelength = -4\n", SEA_ERR_DOMAIN, 2, "[sensor] wavelength",
@@ -333,9 +335,12 @@ static const error_case CASES[] = {
     { BASE "[model]\nreflections = 4\n", SEA_ERR_PARSE, 10, "[model] reflections", "auto, 1, 2, 3" },
     { BASE "[model]\nreflections = 2.5\n", SEA_ERR_PARSE, 10, "[model] reflections", "auto, 1, 2, 3" },
     { BASE "[model]\nfinest = 1001\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
-    /* a denormal underflows strtod: refused as no number, with the range */
-    { BASE "[model]\nfinest = 4.9e-324\n", SEA_ERR_PARSE, 10, "[model] finest", "[0.001, 1000] m" },
+    /* a denormal is a number (strtod's underflow), refused by the range;
+     * one beyond double range is out of range too */
+    { BASE "[model]\nfinest = 4.9e-324\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
     { BASE "[model]\nfinest = 1e-4\n", SEA_ERR_DOMAIN, 10, "[model] finest", "[0.001, 1000] m" },
+    { BASE "[model]\nfinest = 1e400\n", SEA_ERR_DOMAIN, 10, "[model] finest: 1e400 is out of range",
+      "[0.001, 1000] m" },
     /* missing keys: the section's line, or no line without the section */
     { "[sea]\n[sensor]\naltitude = 500\nhfov = 30\nwidth = 64\nheight = 48\nwavelength = 4\n",
       SEA_ERR_DOMAIN, 1, "[sea] wind_speed: missing required key", "(allowed: [0.5, 40] m/s)" },
@@ -347,7 +352,7 @@ static const error_case CASES[] = {
       "(allowed: (0, 1000000] m)" },
     { "[sea]\nwind_speed = 10\n[sensor]\naltitude = 500\nwidth = 64\nheight = 48\n"
       "wavelength = 4\n",
-      SEA_ERR_DOMAIN, 3, "[sensor] hfov: missing required key", "(allowed: (0, 170] deg)" },
+      SEA_ERR_DOMAIN, 3, "[sensor] hfov: missing required key", "(allowed: [1e-06, 170] deg)" },
     { "[sea]\nwind_speed = 10\n[sensor]\naltitude = 500\nhfov = 30\nheight = 48\n"
       "wavelength = 4\n",
       SEA_ERR_DOMAIN, 3, "[sensor] width: missing required key", "[1, 16384] pixels" },
@@ -385,7 +390,7 @@ static const error_case CASES[] = {
     { "[sea]\nwind_speed = 10\nwater = segelstein\nsalinity = 0\n[sensor]\naltitude = 500\n"
       "hfov = 30\nwidth = 64\nheight = 48\nband = 3:16\n",
       SEA_ERR_DOMAIN, 10, "[sensor] band: 3:16 um is outside the water table",
-      "(allowed: 2.40991-15.5955 um, Segelstein" },
+      "(allowed: 2.4099054-15.595525 um, Segelstein" },
     /* unreadable files named in the scene: SEA_ERR_IO, the resolved path */
     { BASE "[sea]\nwater = nowhere.csv\n", SEA_ERR_IO, 10, "[sea] water: ",
       "/nowhere.csv: cannot open" },
@@ -552,9 +557,9 @@ static void test_response_load(void)
         { "wavelength_um,response\n3,1\nx,1\n", SEA_ERR_PARSE, ":3: ", "wavelength_um: 'x'" },
         { "wavelength_um,response\n3,1\n-4,1\n", SEA_ERR_PARSE, ":3: ", "positive" },
         { "wavelength_um,response\n3,1\n4,inf\n", SEA_ERR_PARSE, ":3: ", "response: 'inf'" },
-        { "wavelength_um,response\n3,1\n4,-0.1\n", SEA_ERR_DOMAIN, ":3: ", "-0.1 is outside [0, 1e+06]" },
-        { "wavelength_um,response\n3,1\n4,1e300\n", SEA_ERR_DOMAIN, ":3: ", "1e+300 is outside [0, 1e+06]" },
-        { "wavelength_um,response\n3,1\n4e7,1\n", SEA_ERR_DOMAIN, ":3: ", "4e+07 is outside (0, 1000]" },
+        { "wavelength_um,response\n3,1\n4,-0.1\n", SEA_ERR_DOMAIN, ":3: ", "-0.1 is outside [0, 1000000]" },
+        { "wavelength_um,response\n3,1\n4,1e300\n", SEA_ERR_DOMAIN, ":3: ", "1e+300 is outside [0, 1000000]" },
+        { "wavelength_um,response\n3,1\n4e7,1\n", SEA_ERR_DOMAIN, ":3: ", "40000000 is outside (0, 1000]" },
         { "wavelength_um,response\n3,1\n4,1\n4,1\n", SEA_ERR_PARSE, ":4: ", "does not increase" },
         { "wavelength_um,response\n3,1\n", SEA_ERR_PARSE, ": ", "at least two rows (found 1)" },
         { "# only comments\n", SEA_ERR_PARSE, ": ", "no header" },

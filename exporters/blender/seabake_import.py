@@ -39,8 +39,9 @@
 # World axes are seabake's: x east, y north, z up, metres.  Pixel values of
 # a render are radiances times the manifest's emission_scale.
 #
-# Errors (unreadable manifest, wrong format or version, a missing map) print
-# "seabake_import: error: ..." naming the file and exit with status 1.
+# Errors (unreadable manifest, wrong format or version, a missing map, a
+# map outside the manifest's directory) print "seabake_import: error: ..."
+# naming the file and exit with status 1.
 
 import argparse
 import json
@@ -139,8 +140,23 @@ def sky_scaled(m, path):
 
 # --------------------------------------------------------------------- maps
 
-def load_map(directory, name, n_channels):
-    path = os.path.join(directory, name)
+def inside(directory, name, manifest_path):
+    """The path of a file the manifest names, which must lie inside the
+    manifest's directory: a manifest is data, and one edited or written by
+    someone else must not make the import load ../../x.exr or /any/file.
+    Symbolic links are resolved before the check."""
+    if not isinstance(name, str) or not name:
+        fail("%s: a map's file is %r, not a file name" % (manifest_path, name))
+    root = os.path.realpath(directory)
+    path = os.path.realpath(os.path.join(root, name))
+    if os.path.commonpath([root, path]) != root:
+        fail("%s: map %r lies outside the manifest's directory %s (allowed: a file "
+             "inside it, as seabake bake writes them)" % (manifest_path, name, root))
+    return path
+
+
+def load_map(directory, name, n_channels, manifest_path):
+    path = inside(directory, name, manifest_path)
     if not os.path.isfile(path):
         fail("%s: map not found" % path)
     try:
@@ -713,7 +729,7 @@ def build(manifest_path, frame, material):
         if entry is None:
             fail("%s: no sensor image for frame %d" % (manifest_path, frame))
         focal = float(cam["focal_px"])
-        SENSOR = (load_map(directory, entry["exr"], 1), cam_obj,
+        SENSOR = (load_map(directory, entry["exr"], 1, manifest_path), cam_obj,
                   focal / int(cam["width"]), focal / int(cam["height"]))
     sun = None
     if material == "visible":
@@ -748,7 +764,7 @@ def build(manifest_path, frame, material):
             cut = [level_rect(o) for o in levels
                    if not o["low_res"] and "height" in o["frames"][0]]
             mesh = horizon_mesh("seabake_horizon", horizon, -LAYER * finest * rank, cut)
-            img = load_map(directory, horizon["exr"], 1)
+            img = load_map(directory, horizon["exr"], 1, manifest_path)
             em = emission_material("seabake_emission_%d" % idx, img=img)
             vis = visible_material("seabake_visible_%d" % idx,
                                    constants=lr_constants(lv["moments"]))
@@ -788,7 +804,7 @@ def build(manifest_path, frame, material):
             imgs = {}
             for group, names in files.items():
                 n_ch = len(lv.get("maps", {}).get(group, [])) or 3
-                imgs[group] = load_map(directory, names["exr"], n_ch)
+                imgs[group] = load_map(directory, names["exr"], n_ch, manifest_path)
             for need in ("emission", "normal", "roughness"):
                 if need not in imgs:
                     fail("%s: level %d has no %s map" % (manifest_path, idx, need))
@@ -805,7 +821,8 @@ def build(manifest_path, frame, material):
         if height is not None:
             if "exr" not in height:
                 fail("%s: level %d has heights but no EXR of them" % (manifest_path, idx))
-            add_waves(obj, load_map(directory, height["exr"], 3), "seabake_waves_%d" % idx)
+            add_waves(obj, load_map(directory, height["exr"], 3, manifest_path),
+                      "seabake_waves_%d" % idx)
             waves += 1
         rings += 1
     scene.frame_set(first if frame is None else frame)

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -586,6 +587,25 @@ sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, l
     return sea_cli_parse_number("--frame-rate", text, &RATE, rate, err);
 }
 
+sea_status sea_cli_check_frame_times(double time, bool framed, long a, long b, double rate,
+                                     sea_error *err)
+{
+    if (!framed)
+        return SEA_OK;
+    /* time + f / rate runs monotonically from frame a to frame b */
+    const long ends[2] = {a, b};
+    for (int i = 0; i < 2; ++i) {
+        const double t = time + (double)ends[i] / rate;
+        if (!(fabs(t) <= SEA_TIME_MAX))
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "--frames %ld:%ld at --frame-rate %g Hz: frame %ld falls at %g s, "
+                            "outside [%.10g, %.10g] s (allowed: a rate and frames that keep every "
+                            "frame's time, [sea] time + frame / rate, in that range)",
+                            a, b, rate, ends[i], t, -SEA_TIME_MAX, SEA_TIME_MAX);
+    }
+    return SEA_OK;
+}
+
 /* ------------------------------------------------- shared ranges, helpers */
 
 const sea_cli_range SEA_CLI_RANGE_WIND = {SEA_WIND_MIN, SEA_WIND_MAX, false, false, "m/s"};
@@ -699,6 +719,55 @@ sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err)
 #ifdef _OPENMP
     if (n > 0)
         omp_set_num_threads((int)n);
+#endif
+    return SEA_OK;
+}
+
+/* A thread that does nothing: sea_cli_threads_start's probe. */
+static void *idle_thread(void *arg)
+{
+    return arg;
+}
+
+sea_status sea_cli_threads_start(sea_error *err)
+{
+#ifdef _OPENMP
+    const int n = omp_get_max_threads();
+    pthread_t *t = n > 1 ? malloc((size_t)(n - 1) * sizeof *t) : NULL;
+    if (n > 1 && t == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %d threads", n);
+    /* The probe: as many threads as the team will hold beside this one,
+     * with libgomp's attributes (the default stack, unless OMP_STACKSIZE
+     * sets one, which the message cannot know). */
+    int made = 0, e = 0;
+    while (made < n - 1 && (e = pthread_create(&t[made], NULL, idle_thread, NULL)) == 0)
+        made++;
+    for (int i = 0; i < made; i++)
+        pthread_join(t[i], NULL);
+    free(t);
+    if (e != 0) {
+        size_t stack = 0;
+        pthread_attr_t attr;
+        if (pthread_attr_init(&attr) == 0) {
+            pthread_attr_getstacksize(&attr, &stack);
+            pthread_attr_destroy(&attr);
+        }
+        return sea_fail(err, SEA_ERR_NOMEM,
+                        "cannot start %d threads (%d did, with stacks of %.3g MiB): %s "
+                        "(allowed: fewer threads, by OMP_NUM_THREADS or --threads, or a larger "
+                        "ulimit -v or -s)",
+                        n, made + 1, (double)stack / 1048576.0, strerror(e));
+    }
+    /* libgomp makes its team at the first parallel region and keeps it
+     * for the later ones.  Made here, before any file exists, its thread
+     * creation cannot fail in the middle of the work, where libgomp
+     * prints its own message and exits, leaving temporaries behind. */
+    int started = 0;
+#pragma omp parallel reduction(+ : started)
+    started += 1;
+    (void)started;
+#else
+    (void)err;
 #endif
     return SEA_OK;
 }

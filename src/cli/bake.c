@@ -173,7 +173,9 @@ static const char BAKE_HELP[] =
     "  --frames A:B        frames A to B, integers, 0 <= A <= B <= 999999; frame f\n"
     "                      at time + f / HZ, names get _FFFF; default: one frame\n"
     "                      at the scene's time, no number\n"
-    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
+    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames);\n"
+    "                      every frame's time, [sea] time + frame / HZ, within\n"
+    "                      +-1e9 s\n"
     "  --emission-texels K emission texels per facet side, odd, 1 to 7 (default 3)\n"
     "  --emission-space S  what the exported sea shows where the sensor sees it:\n"
     "                      sensor (default: the sensor's image, DIR/sensor.exr,\n"
@@ -270,6 +272,9 @@ static sea_status bake_parse(const sea_cli_args *args, bake_setup *s, sea_error 
     if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
     sea_cli_apply_model(&model, &s->sc);
+    if ((st = sea_cli_check_frame_times(s->sc.time, s->framed, s->frame_a, s->frame_b, s->rate,
+                                        err)) != SEA_OK)
+        return st;
     /* The exports' sky is one radiance (POV-Ray's background, Blender's
      * world): a sky that changes with the zenith angle, or an atmosphere
      * along the camera's rays, would show wrong there. */
@@ -589,11 +594,36 @@ static cJSON *scene_json(const bake_setup *s)
     cJSON_AddNumberToObject(sun, "temperature_K", sc->sun_temperature);
     cJSON_AddNumberToObject(sun, "solid_angle_sr", sc->sun_solid_angle);
     cJSON_AddNumberToObject(sun, "transmittance", sc->sun_transmittance);
+    /* The sky and the air that were used: an isotropic sky's radiance (null:
+     * from its temperature), a clear sky's zenith emissivity, a table's
+     * file; the keys of a model that was not used are left out, so that
+     * no default reads as part of the scene. */
     cJSON *sky = cJSON_AddObjectToObject(o, "sky");
-    cJSON_AddItemToObject(sky, "radiance_W_m2_sr_um",
-                          sc->sky_radiance >= 0.0 ? cJSON_CreateNumber(sc->sky_radiance * 1e-6)
-                                                  : cJSON_CreateNull());
-    cJSON_AddNumberToObject(sky, "temperature_K", sc->sky_temperature);
+    cJSON_AddStringToObject(sky, "model", sc->sky_model == SEA_SKY_CLEAR   ? "clear"
+                                          : sc->sky_model == SEA_SKY_TABLE ? "table"
+                                                                           : "isotropic");
+    if (sc->sky_model == SEA_SKY_ISOTROPIC) {
+        cJSON_AddItemToObject(sky, "radiance_W_m2_sr_um",
+                              sc->sky_radiance >= 0.0
+                                  ? cJSON_CreateNumber(sc->sky_radiance * 1e-6)
+                                  : cJSON_CreateNull());
+        cJSON_AddNumberToObject(sky, "temperature_K", sc->sky_temperature);
+    } else if (sc->sky_model == SEA_SKY_CLEAR) {
+        cJSON_AddNumberToObject(sky, "zenith_emissivity", sc->sky_zenith_emissivity);
+    } else {
+        cJSON_AddStringToObject(sky, "table", sc->sky_table_file);
+    }
+    /* null: no [atmosphere] (the paper's vacuum) */
+    if (isnan(sc->air_temperature) && sc->atmosphere_table_file[0] == '\0') {
+        cJSON_AddNullToObject(o, "atmosphere");
+    } else {
+        cJSON *air = cJSON_AddObjectToObject(o, "atmosphere");
+        cJSON_AddItemToObject(air, "air_temperature_K", number_or_null(sc->air_temperature));
+        if (sc->atmosphere_table_file[0] != '\0')
+            cJSON_AddStringToObject(air, "table", sc->atmosphere_table_file);
+        else
+            cJSON_AddNumberToObject(air, "extinction_per_km", sc->extinction * 1e3);
+    }
     cJSON *sen = cJSON_AddObjectToObject(o, "sensor");
     cJSON_AddNumberToObject(sen, "x_m", sc->sensor_x);
     cJSON_AddNumberToObject(sen, "y_m", sc->sensor_y);
@@ -2290,6 +2320,8 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     /* under MPI rank 0 alone owns the directory (see bake_send_frames) */
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_status st = bake_parse(args, &s, err);
+    if (st == SEA_OK)
+        st = sea_cli_threads_start(err);
     /* Signals are caught before the temporary directory exists, so that one
      * during the preparation (seconds for a large scene) still removes it:
      * the bake then stops at its first check. */

@@ -254,6 +254,10 @@ static sea_status run_bench(const sea_cli_args *args, FILE *stdout_f, sea_error 
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         goto done;
     }
+    /* what a killed run left beside them (marked, its maker gone) */
+    sea_cli_clean_stale_files("bench", csv);
+    sea_cli_clean_stale_files("bench", png1);
+    sea_cli_clean_stale_files("bench", png2);
     const int threads = max_threads(), reps = quick ? 1 : 3;
     const size_t side = quick ? 256 : 1024, patch = quick ? 1024 : 4096, N = quick ? 128 : 256;
     if ((st = sea_spectrum_init(&spec, SEA_CLI_BENCH_WIND, INFINITY, 0.0, err)) != SEA_OK)

@@ -204,6 +204,13 @@ sea_status sea_cli_parse_frames(const char *text, long *a, long *b, sea_error *e
 #define SEA_CLI_PNG_RANGE_MAX 10000.0
 sea_status sea_cli_opt_frames(const sea_cli_args *args, bool *framed, long *a, long *b,
                               double *rate, sea_error *err);
+/* SEA_ERR_DOMAIN naming --frames and --frame-rate unless every frame's
+ * time, time + f / rate for f in [a, b], lies within SEA_TIME_MAX (a rate
+ * of 4.9e-324 Hz put frame 1 at an infinite time after frame 0 was
+ * written); SEA_OK without --frames.  Checked once the scene's time is
+ * known, before any work. */
+sea_status sea_cli_check_frame_times(double time, bool framed, long a, long b, double rate,
+                                     sea_error *err);
 
 /* The ranges of options that several subcommands take. */
 extern const sea_cli_range SEA_CLI_RANGE_WIND;         /* --wind, m/s */
@@ -231,6 +238,14 @@ sea_status sea_cli_opt_sea_state(const sea_cli_args *args, double *wind, double 
 #define SEA_CLI_THREADS_LIMIT 1024
 long sea_cli_threads_max(void);
 sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err);
+/* The OpenMP team of this process, started before any work: the threads
+ * libgomp will start (omp_get_max_threads, after --threads) are first
+ * created and joined as a probe, so that a failure (a low ulimit -v, which
+ * libgomp would report by printing "Thread creation failed" and exiting
+ * mid-work) is seabake's own SEA_ERR_NOMEM naming the count and the
+ * remedy; then the team is made by an empty parallel region, before any
+ * file or directory is created. */
+sea_status sea_cli_threads_start(sea_error *err);
 /* --format float|half (default float) and --compression none|zip|piz
  * (default zip) of render and bake. */
 sea_status sea_cli_opt_exr(const sea_cli_args *args, sea_exr_options *out, sea_error *err);
@@ -260,11 +275,13 @@ sea_status sea_cli_check_written(FILE *out, sea_error *err);
  * gets 0666 or 0777 less it. */
 mode_t sea_cli_umask(void);
 
-/* A file written under "<path>.tmp.XXXXXX" next to its destination (as the
- * EXR writer does) and renamed over it only when complete. */
+/* A file written into seabake's marked temporary "<path>.tmp.XXXXXX/"
+ * next to its destination (as the EXR writer does; src/tempfile.c) and
+ * renamed over it only when complete. */
+struct sea_temp_file;
 typedef struct {
     const char *path;
-    char *tmp;
+    struct sea_temp_file *tmp;
     FILE *f;
 } sea_cli_atomic_file;
 /* Creates the temporary file (mode 0666 less the umask); opt names the
@@ -277,6 +294,13 @@ sea_status sea_cli_atomic_open(sea_cli_atomic_file *af, const char *opt, const c
 void sea_cli_atomic_abort(sea_cli_atomic_file *af);
 /* Flushes, syncs and renames the file to its destination. */
 sea_status sea_cli_atomic_commit(sea_cli_atomic_file *af, const char *opt, sea_error *err);
+/* Removes the file temporaries (above) that runs killed before their
+ * commit left beside the outputs STEM* (STEM itself, or STEM then '.' or
+ * '_': frame numbers, AOVs, extensions), each only with seabake's marker
+ * inside and its maker's flock gone (src/tempfile.c), never on a name
+ * alone; notes each on standard error as "WHO: removed 'PATH', left by a
+ * WHO that was killed".  Returns how many. */
+size_t sea_cli_clean_stale_files(const char *who, const char *stem);
 /* Creates dir unless it exists (its parent must: nothing is created on
  * the way), then checks that it is a writable directory; *created tells
  * whether this call made it (the caller removes it on failure). */

@@ -564,6 +564,9 @@ static sea_status run_convergence(const sea_cli_args *args, FILE *out, sea_error
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         goto done;
     }
+    /* what a killed run left beside them (marked, its maker gone) */
+    sea_cli_clean_stale_files("convergence", csv);
+    sea_cli_clean_stale_files("convergence", png);
     const size_t per_wind = (size_t)(c.x2 - c.x1 + 1), nrows = c.winds.n * per_wind;
     rows = calloc(nrows, sizeof *rows);
     if (rows == NULL) {

@@ -21,6 +21,7 @@
 #include <cjson/cJSON.h>
 
 #include "cli.h"
+#include "internal.h"
 
 /* ------------------------------------------------------------------ names */
 
@@ -109,25 +110,21 @@ sea_status sea_cli_atomic_open(sea_cli_atomic_file *af, const char *opt, const c
                                sea_error *err)
 {
     *af = (sea_cli_atomic_file){path, NULL, NULL};
-    af->tmp = sea_cli_sibling_template(path, "tmp");
-    if (af->tmp == NULL)
+    if ((af->tmp = malloc(sizeof *af->tmp)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    int fd = mkstemp(af->tmp);
-    if (fd < 0) {
-        int e = errno;
+    int fd;
+    const int e = sea_temp_open(af->tmp, path, &fd);
+    if (e != 0) {
         free(af->tmp);
         af->tmp = NULL;
         return sea_fail(err, SEA_ERR_IO, "%s: cannot create a file next to '%s': %s", opt, path,
                         strerror(e));
     }
-    /* mkstemp creates mode 0600; a new output file gets 0666 less the umask. */
-    if (fchmod(fd, 0666 & ~sea_cli_umask()) != 0 || (af->f = fdopen(fd, "w")) == NULL) {
-        int e = errno;
+    if ((af->f = fdopen(fd, "w")) == NULL) {
+        const int fe = errno;
         close(fd);
-        unlink(af->tmp);
-        free(af->tmp);
-        af->tmp = NULL;
-        return sea_fail(err, SEA_ERR_IO, "%s: cannot open '%s': %s", opt, path, strerror(e));
+        sea_cli_atomic_abort(af);
+        return sea_fail(err, SEA_ERR_IO, "%s: cannot open '%s': %s", opt, path, strerror(fe));
     }
     return SEA_OK;
 }
@@ -138,7 +135,7 @@ void sea_cli_atomic_abort(sea_cli_atomic_file *af)
     if (af->f != NULL)
         fclose(af->f);
     if (af->tmp != NULL) {
-        unlink(af->tmp);
+        sea_temp_abort(af->tmp);
         free(af->tmp);
     }
     af->f = NULL;
@@ -159,15 +156,31 @@ sea_status sea_cli_atomic_commit(sea_cli_atomic_file *af, const char *opt, sea_e
         sea_cli_atomic_abort(af);
         return sea_fail(err, SEA_ERR_IO, "%s: cannot write '%s': %s", opt, af->path, strerror(e));
     }
-    if (rename(af->tmp, af->path) != 0) {
-        e = errno;
-        sea_cli_atomic_abort(af);
-        return sea_fail(err, SEA_ERR_IO, "%s: cannot rename the finished file to '%s': %s", opt,
-                        af->path, strerror(e));
-    }
+    e = sea_temp_commit(af->tmp, af->path);
     free(af->tmp);
     af->tmp = NULL;
+    if (e != 0)
+        return sea_fail(err, SEA_ERR_IO, "%s: cannot rename the finished file to '%s': %s", opt,
+                        af->path, strerror(e));
     return SEA_OK;
+}
+
+/* A note for each stale temporary removed, as bake's. */
+static void note_removed(void *ctx, const char *path)
+{
+    const char *who = ctx;
+    fprintf(stderr, "%s: removed '%s', left by a %s that was killed\n", who, path, who);
+}
+
+size_t sea_cli_clean_stale_files(const char *who, const char *stem)
+{
+    char *dir = sea_cli_parent_dir(stem);
+    const char *slash = strrchr(stem, '/');
+    size_t n = 0;
+    if (dir != NULL)
+        n = sea_temp_clean(dir, slash != NULL ? slash + 1 : stem, note_removed, (void *)who);
+    free(dir);
+    return n;
 }
 
 /* Creates dir (its parent must exist) unless it is there, then checks that
@@ -305,19 +318,17 @@ static void drop_lock(sea_cli_out_dir *od)
  * wrote it: never on a name alone.
  *
  * Its temporaries (DIR.tmp.XXXXXX while a bake runs, DIR.old.XXXXXX inside
- * a commit) hold a marker file, SEA_CLI_TEMP_MARKER, written by the process
- * that made them: its first line is SEA_CLI_TEMP_MAGIC, then "kind tmp" or
- * "kind old", "target BASE" (the directory it belongs to), and the process's
- * pid and host.  A directory named like a temporary without that marker, or
- * whose marker names another kind or target, or that another user owns, is
- * left alone.
+ * a commit, FILE.tmp.XXXXXX while a file is written) hold a marker file,
+ * SEA_TEMP_MARKER, written by the process that made them (src/tempfile.c):
+ * "kind tmp", "kind old" or "kind file", "target BASE" (the directory or
+ * file it belongs to), and the process's pid and host.  A directory named
+ * like a temporary without that marker, or whose marker names another kind
+ * or target, or that another user owns, is left alone.
  *
  * A bake directory that may be replaced is empty, or holds a manifest.json
  * with "format": "seabake-bake" whose "files" list names every other entry,
  * each a regular file (the marker of an interrupted commit aside). */
 
-static const char SEA_CLI_TEMP_MARKER[] = ".seabake-temporary";
-static const char SEA_CLI_TEMP_MAGIC[] = "seabake temporary directory";
 /* A manifest is a few hundred kilobytes at most (a thousand frames of six
  * levels); anything far larger is not one of seabake's. */
 static const long SEA_CLI_MANIFEST_MAX = 64L << 20;
@@ -337,70 +348,6 @@ static int temporary_kind(const char *name, const char *base, size_t blen)
         if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9')))
             return 0;
     return kind;
-}
-
-/* Writes the marker into dir: O_EXCL and O_NOFOLLOW, so that nothing is
- * overwritten or followed.  0 or an errno. */
-static int write_marker(const char *dir, const char *kind, const char *base, size_t blen)
-{
-    char *path = sea_cli_path_join(dir, SEA_CLI_TEMP_MARKER);
-    if (path == NULL)
-        return ENOMEM;
-    char host[256] = "";
-    gethostname(host, sizeof host - 1);
-    int e = 0;
-    const int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd < 0) {
-        e = errno;
-    } else {
-        char text[1024];
-        const int n = snprintf(text, sizeof text, "%s\nkind %s\ntarget %.*s\npid %ld\nhost %s\n",
-                               SEA_CLI_TEMP_MAGIC, kind, (int)blen, base, (long)getpid(), host);
-        if (n < 0 || (size_t)n >= sizeof text || write(fd, text, (size_t)n) != n)
-            e = errno ? errno : EIO;
-        if (close(fd) != 0 && e == 0)
-            e = errno;
-        if (e != 0)
-            unlink(path);
-    }
-    free(path);
-    return e;
-}
-
-/* True if dir holds a marker of this kind ("tmp" or "old") and target that
- * this user wrote. */
-static bool has_marker(const char *dir, const char *kind, const char *base, size_t blen)
-{
-    char *path = sea_cli_path_join(dir, SEA_CLI_TEMP_MARKER);
-    if (path == NULL)
-        return false;
-    const int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
-    free(path);
-    if (fd < 0)
-        return false;
-    struct stat sb;
-    char text[1024];
-    ssize_t n = -1;
-    if (fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_uid == geteuid() &&
-        sb.st_size < (off_t)sizeof text)
-        n = read(fd, text, sizeof text - 1);
-    close(fd);
-    if (n <= 0)
-        return false;
-    text[n] = '\0';
-    char want[600];
-    snprintf(want, sizeof want, "%s\nkind %s\ntarget %.*s\n", SEA_CLI_TEMP_MAGIC, kind, (int)blen,
-             base);
-    return strncmp(text, want, strlen(want)) == 0;
-}
-
-/* Removes dir's marker (after a commit, or a restore). */
-static void remove_marker(const char *dir)
-{
-    char *path = sea_cli_path_join(dir, SEA_CLI_TEMP_MARKER);
-    if (path != NULL)
-        unlink(path);
-    free(path);
 }
 
 /* Reads dir/manifest.json into a cJSON tree; NULL (with *why set) if it is
@@ -468,7 +415,7 @@ static sea_status check_replaceable(const sea_cli_out_dir *od, sea_error *err)
     struct dirent *e;
     while ((e = readdir(d)) != NULL) {
         if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0 ||
-            strcmp(e->d_name, SEA_CLI_TEMP_MARKER) == 0)
+            strcmp(e->d_name, SEA_TEMP_MARKER) == 0)
             continue;
         if (strcmp(e->d_name, "manifest.json") == 0) {
             has_manifest = true;
@@ -577,7 +524,7 @@ static void clean_stale(sea_cli_out_dir *od)
         char *path = sea_cli_path_join(od->parent, e->d_name);
         struct stat sb;
         if (path == NULL || lstat(path, &sb) != 0 || !S_ISDIR(sb.st_mode) || sb.st_uid != me ||
-            !has_marker(path, kind == 1 ? "tmp" : "old", b, blen)) {
+            !sea_temp_marker_is(path, kind == 1 ? "tmp" : "old", b, blen)) {
             free(path);
             continue;
         }
@@ -595,7 +542,7 @@ static void clean_stale(sea_cli_out_dir *od)
         struct stat tb;
         if (kind == 2 && lstat(od->target, &tb) != 0 && errno == ENOENT &&
             rename(path, od->target) == 0) {
-            remove_marker(od->target);
+            sea_temp_marker_remove(od->target);
             fprintf(stderr,
                     "bake: '%s' restored from '%s', left by a bake that was killed while "
                     "replacing it\n",
@@ -724,7 +671,7 @@ sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quie
     }
     od->made = st == SEA_OK;
     if (st == SEA_OK) {
-        const int e = write_marker(od->tmp, "tmp", base, blen);
+        const int e = sea_temp_marker_write(od->tmp, "tmp", base, blen);
         if (e != 0)
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot write into '%s': %s", od->tmp,
                           strerror(e));
@@ -762,27 +709,27 @@ sea_status sea_cli_out_dir_commit(sea_cli_out_dir *od, bool quiet, sea_error *er
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", od->tmp,
                           od->target, strerror(errno));
         else
-            remove_marker(od->target);
+            sea_temp_marker_remove(od->target);
     } else if (!S_ISDIR(sb.st_mode)) {
         st = sea_fail(err, SEA_ERR_IO, "-o: '%s' exists and is not a directory", od->user);
     } else if ((st = check_replaceable(od, err)) != SEA_OK) {
         /* something was put into DIR while the bake ran */
     } else {
         /* A marker left by a commit killed before its rename is replaced. */
-        remove_marker(od->target);
-        int e = write_marker(od->target, "old", base, blen);
+        sea_temp_marker_remove(od->target);
+        int e = sea_temp_marker_write(od->target, "old", base, blen);
         if (e != 0)
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot write into '%s': %s", od->user,
                           strerror(e));
         else if ((st = move_aside(od, &old, err)) != SEA_OK)
-            remove_marker(od->target);
+            sea_temp_marker_remove(od->target);
         else if (rename(od->tmp, od->target) != 0) {
             st = sea_fail(err, SEA_ERR_IO, "-o: cannot rename '%s' to '%s': %s", od->tmp,
                           od->target, strerror(errno));
             if (rename(old, od->target) == 0) /* put the old one back */
-                remove_marker(od->target);
+                sea_temp_marker_remove(od->target);
         } else {
-            remove_marker(od->target);
+            sea_temp_marker_remove(od->target);
             sea_cli_remove_tree(old);
         }
     }

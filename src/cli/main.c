@@ -7,6 +7,7 @@
 #endif
 
 #include <errno.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -166,6 +167,13 @@ static int run(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+    /* A write past the file size limit (ulimit -f) raises SIGXFSZ, whose
+     * default action kills the process at once (exit 153), leaving its
+     * temporaries behind; ignored, the write fails with EFBIG and the
+     * error path runs as on a full disk: a message, exit 3, nothing left.
+     * gnuplot, started by convergence and bench, inherits it and fails
+     * the same way. */
+    signal(SIGXFSZ, SIG_IGN);
     sea_init();
     sea_error err = {{0}};
     sea_status st = sea_cli_mpi_init(&argc, &argv, &err);

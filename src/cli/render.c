@@ -53,10 +53,12 @@ static const char RENDER_HELP[] =
     "of every pixel (Eq 23 of the paper) over the clipmap levels the view needs.\n"
     "Writes OUT.exr (channel Y: spectral radiance, W m^-2 sr^-1 um^-1, for one\n"
     "wavelength; in-band radiance, W m^-2 sr^-1, for a band) and a PNG preview\n"
-    "of the brightness temperature.  Files are written atomically.  A summary\n"
-    "line goes to standard error, and a progress bar on a terminal.  On SIGINT\n"
-    "(Ctrl-C), SIGTERM or SIGHUP the frame in progress is not written (earlier\n"
-    "frames stay) and seabake dies of the signal.\n"
+    "of the brightness temperature.  Files are written atomically, each in a\n"
+    "marked temporary OUT.tmp.XXXXXX/; those a killed render left beside the\n"
+    "same outputs are removed, with a note.  A summary line goes to standard\n"
+    "error, and a progress bar on a terminal.  On SIGINT (Ctrl-C), SIGTERM or\n"
+    "SIGHUP the frame in progress is not written (earlier frames stay) and\n"
+    "seabake dies of the signal.\n"
     "\n"
     "Output:\n"
     "  -o OUT.exr          the radiance image; default: the scene file's base name\n"
@@ -84,7 +86,9 @@ static const char RENDER_HELP[] =
     "                      100000; frame f at time + f / HZ; each file name gets\n"
     "                      the frame number: OUT_0001.exr, OUT_0001.level.exr,\n"
     "                      OUT_0001.png.  Default: one frame at the scene's time\n"
-    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames)\n"
+    "  --frame-rate HZ     frames per second, > 0; default 25 (only with --frames);\n"
+    "                      every frame's time, [sea] time + frame / HZ, within\n"
+    "                      +-1e9 s\n"
     "\n"
     "Scene:\n"
     "  --set SECTION.KEY=VALUE\n"
@@ -269,6 +273,9 @@ static sea_status render_parse(const sea_cli_args *args, render_setup *s, sea_er
     if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
     sea_cli_apply_model(&model, &s->sc);
+    if ((st = sea_cli_check_frame_times(s->sc.time, s->framed, s->frame_a, s->frame_b, s->rate,
+                                        err)) != SEA_OK)
+        return st;
 
     if (out != NULL) {
         s->out_stem = strndup(out, strlen(out) - strlen(".exr"));
@@ -936,6 +943,8 @@ static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err
     if (st == SEA_OK)
         st = check_outputs(&s, err);
     if (st == SEA_OK)
+        st = sea_cli_threads_start(err);
+    if (st == SEA_OK)
         st = sea_render_prepare(&s.sc, &r, err);
     /* Under MPI every rank has read the same arguments and files; a rank
      * that could not (a file system one node does not see) stops them all. */
@@ -943,6 +952,14 @@ static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err
     st = sea_cli_mpi_agree(st, 0, NULL, err);
     if (st == SEA_OK && s.explain && sea_cli_mpi_rank() == 0)
         sea_cli_explain("render", s.scene_path, r);
+    /* What a render killed before its rename left beside these outputs
+     * (SIGKILL, a crash): removed with a note, by one rank, before any
+     * rank writes (a live writer's flock keeps its own). */
+    if (st == SEA_OK && sea_cli_mpi_rank() == 0) {
+        sea_cli_clean_stale_files("render", s.out_stem);
+        if (s.png && strcmp(s.png_stem, s.out_stem) != 0)
+            sea_cli_clean_stale_files("render", s.png_stem);
+    }
     if (st == SEA_OK) {
         sea_cli_signals_catch();
         st = size == 1   ? render_frames(&s, r, start, err)

@@ -29,7 +29,8 @@
 static const double SEA_CLI_LENGTH_REL_TOL = 1e-9;
 
 static const sea_cli_range SEA_CLI_RANGE_LENGTH = {0.0, SEA_CLI_LENGTH_MAX, true, false, "m"};
-static const sea_cli_range SEA_CLI_RANGE_TIME = {-INFINITY, INFINITY, true, true, "s"};
+/* The library's times (SEA_TIME_MAX: beyond it the phases lose every digit). */
+static const sea_cli_range SEA_CLI_RANGE_TIME = {-SEA_TIME_MAX, SEA_TIME_MAX, false, false, "s"};
 static const sea_cli_range SEA_CLI_RANGE_LOOP = {0.0, INFINITY, false, true, "s"};
 static const sea_cli_range SEA_CLI_RANGE_SIZE[2] = {
     {1.0, SEA_CLI_SIDE_MAX, false, false, "facets"},
@@ -61,7 +62,7 @@ static const char SEA_CLI_HELP_SLOPES[] =
     "Waves:\n"
     "  --seed S            unsigned integer, the same seed gives the same sea;\n"
     "                      default 1\n"
-    "  --time T            time, s; default 0 (waves travel downwind)\n"
+    "  --time T            time, s, [-1e9, 1e9]; default 0 (waves travel downwind)\n"
     "  --finest L0         finest facet size of the wave plan, m, (0, 1e6];\n"
     "                      default 1\n"
     "  --generator G       sinusoids or fft; default fft for one-meter, sinusoids\n"
@@ -381,6 +382,9 @@ static sea_status run_slopes(const sea_cli_args *args, FILE *out, sea_error *err
     if (s.output != SLOPES_STDOUT &&
         (st = sea_cli_check_parent_writable("-o", s.path, err)) != SEA_OK)
         return st;
+    /* what a killed run left beside the output (marked, its maker gone) */
+    if (s.output != SLOPES_STDOUT)
+        sea_cli_clean_stale_files("slopes", s.path);
     if ((st = sea_spectrum_init(&spec, s.wind, s.fetch, sea_cli_radians(s.wind_dir_deg), err)) !=
         SEA_OK)
         return st;
