@@ -8,6 +8,7 @@
 #include <omp.h>
 #endif
 
+#include "indep.h"
 #include "mc.h"
 #include "unit.h"
 
@@ -51,8 +52,9 @@ static sea_cov2 lr_cov(double wind)
  * exactly and its reflection escapes, so eps1 = eps = eps_pol = 1 - rho(theta)
  * and all the escaping energy has one bounce.  Tolerance 1e-12: the sums of
  * 20000 equal terms (rounding 20000 x 1.1e-16 relative at most); eps_pol
- * also checks the complex amplitudes r_s, r_p against
- * sea_fresnel_unpolarized ((|r_s|^2 + |r_p|^2) / 2 = rho to rounding). */
+ * also checks the tracer's complex amplitudes r_s, r_p against its real
+ * form ((|r_s|^2 + |r_p|^2) / 2 = rho to rounding; both tests/indep.c,
+ * checked against closed forms by test_fresnel_closed_forms). */
 static void test_flat(void)
 {
     mc_surface s;
@@ -65,7 +67,7 @@ static void test_flat(void)
         long R = 20000;
         CU_ASSERT_FATAL(mc_trace(&s, (sea_dir){ ths[i] * DEG, 0.3 }, N, 2, R, 7, &T) == 0);
         for (int q = 0; q < 2; q++) {
-            double want = 1 - sea_fresnel_unpolarized(cos(ths[i] * DEG), N[q]);
+            double want = 1 - indep_fresnel(cos(ths[i] * DEG), creal(N[q]), cimag(N[q]));
             ASSERT_ABS(T.eps1[q] / R, want, 1e-12);
             ASSERT_ABS(T.eps[q] / R, want, 1e-12);
             ASSERT_ABS(T.eps_pol[q] / R, want, 1e-12);
@@ -74,6 +76,85 @@ static void test_flat(void)
         CU_ASSERT(T.multi == 0 && T.leaks == 0 && T.stopped == 0);
     }
     mc_surface_free(&s);
+}
+
+/* The ray tracer's Fresnel (tests/indep.c: Born & Wolf's real form with
+ * their u, v for the unpolarised reflectance, the amplitudes r_s and r_p in
+ * the ratio form for the polarised one), and the library's
+ * sea_fresnel_unpolarized, against values known in closed form for complex
+ * indices at oblique incidence:
+ *  - 60 deg, N^2 = 3/4 + 2i: then w = sqrt(N^2 - sin^2) = 1 + i exactly, and
+ *    by hand R_s = |1/2 - 1 - i|^2 / |1/2 + 1 + i|^2 = 5/13, r_p =
+ *    (N^2/2 - w)/(N^2/2 + w) = (-5/8)/(11/8 + 2i), R_p = 25/377, so the
+ *    unpolarised R = 85/377 (N = 1.2347 + 0.8099 i);
+ *  - 45 deg, N^2 = 1/2 + 2i: w = 1 + i again, R_s = (5/2 - sqrt 2)/(5/2 +
+ *    sqrt 2), and R_p = R_s^2 (Abeles's relation at 45 deg, true for any
+ *    complex index: F. Abeles, Ann. Phys. (Paris) 5, 596 (1950));
+ *  - Abeles's relation for sea water at 4 and 10 um and a metal-like
+ *    N = 1.5 + 3i;
+ *  - k = 0: Fresnel's angle forms R_s = sin^2(i - t)/sin^2(i + t), R_p =
+ *    tan^2(i - t)/tan^2(i + t) with Snell's sin t = sin i / n (Eq 1), and
+ *    R_p = 0 at Brewster's tan i = n;
+ *  - normal incidence: ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2).
+ * Tolerances: 1e-15 (a few ulps of the values, about 0.2) and 2e-14 for
+ * the angle forms (sin^2 of small differences: relative rounding of 1e-15
+ * in each factor).  The library's formula is the complex one of seabake.h;
+ * over a grid of cos psi it agrees with the tracer's within 1e-14. */
+static void test_fresnel_closed_forms(void)
+{
+    /* 60 deg, w = 1 + i */
+    const double complex Na = csqrt(0.75 + 2.0 * I);
+    const double c60 = 0.5; /* exactly cos 60 deg */
+    double complex rs, rp;
+    indep_fresnel_amplitudes(c60, Na, &rs, &rp);
+    ASSERT_ABS(creal(rs * conj(rs)), 5.0 / 13.0, 1e-15);
+    ASSERT_ABS(creal(rp * conj(rp)), 25.0 / 377.0, 1e-15);
+    ASSERT_ABS(indep_fresnel(c60, creal(Na), cimag(Na)), 85.0 / 377.0, 1e-15);
+    ASSERT_ABS(sea_fresnel_unpolarized(c60, Na), 85.0 / 377.0, 1e-15);
+    /* 45 deg, w = 1 + i */
+    const double complex Nb = csqrt(0.5 + 2.0 * I);
+    const double c45 = M_SQRT1_2;
+    const double Rs45 = (2.5 - M_SQRT2) / (2.5 + M_SQRT2);
+    indep_fresnel_amplitudes(c45, Nb, &rs, &rp);
+    ASSERT_ABS(creal(rs * conj(rs)), Rs45, 1e-15);
+    ASSERT_ABS(creal(rp * conj(rp)), Rs45 * Rs45, 1e-15);
+    ASSERT_ABS(indep_fresnel(c45, creal(Nb), cimag(Nb)), 0.5 * (Rs45 + Rs45 * Rs45), 1e-15);
+    ASSERT_ABS(sea_fresnel_unpolarized(c45, Nb), 0.5 * (Rs45 + Rs45 * Rs45), 1e-15);
+    /* Abeles at 45 deg for other indices */
+    const double complex Ns[3] = { N4, N10, 1.5 + 3.0 * I };
+    for (int q = 0; q < 3; q++) {
+        indep_fresnel_amplitudes(c45, Ns[q], &rs, &rp);
+        const double Rs = creal(rs * conj(rs)), Rp = creal(rp * conj(rp));
+        ASSERT_ABS(Rp, Rs * Rs, 1e-15);
+        ASSERT_ABS(indep_fresnel(c45, creal(Ns[q]), cimag(Ns[q])), 0.5 * (Rs + Rs * Rs), 1e-15);
+        /* normal incidence */
+        const double n = creal(Ns[q]), k = cimag(Ns[q]);
+        const double R0 = ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
+        ASSERT_ABS(indep_fresnel(1.0, n, k), R0, 1e-15);
+    }
+    /* a real index: the angle forms, and Brewster's angle */
+    const double n = 1.33;
+    const double angles[] = { 0.6174, 75 * DEG, 88 * DEG };
+    for (int a = 0; a < 3; a++) {
+        const double i_ = angles[a], t = asin(sin(i_) / n);
+        const double Rs = pow(sin(i_ - t) / sin(i_ + t), 2), Rp = pow(tan(i_ - t) / tan(i_ + t), 2);
+        ASSERT_REL(indep_fresnel(cos(i_), n, 0.0), 0.5 * (Rs + Rp), 2e-14, 0);
+        indep_fresnel_amplitudes(cos(i_), n, &rs, &rp);
+        ASSERT_REL(creal(rs * conj(rs)), Rs, 2e-14, 0);
+        ASSERT_REL(creal(rp * conj(rp)), Rp, 2e-14, 1e-3);
+    }
+    indep_fresnel_amplitudes(cos(atan(n)), n, &rs, &rp);
+    ASSERT_ABS(cabs(rp), 0.0, 1e-15);
+    /* the library's formula against the tracer's over cos psi in [0, 1] */
+    double worst = 0.0;
+    for (int q = 0; q < 3; q++)
+        for (int j = 0; j <= 1000; j++) {
+            const double c = j / 1000.0;
+            worst = fmax(worst, fabs(sea_fresnel_unpolarized(c, Ns[q]) -
+                                     indep_fresnel(c, creal(Ns[q]), cimag(Ns[q]))));
+        }
+    MEASURED("Fresnel: library against the ray tracer's, max difference %.1e\n", worst);
+    CU_ASSERT(worst <= 1e-14);
 }
 
 /* The synthesised surface: triangle slope covariance equal to the target
@@ -167,8 +248,8 @@ static void test_roof(void)
         ASSERT_ABS((double)T.first_up / R, f, 4 * se + 1e-12);
         double cp = (cos(th) - a * sin(th) * cos(ph)) / sqrt(1 + a * a);
         double cm = (cos(th) + a * sin(th) * cos(ph)) / sqrt(1 + a * a);
-        double ep = 1 - sea_fresnel_unpolarized(fmax(cp, 0), N4);
-        double em = 1 - sea_fresnel_unpolarized(cm, N4);
+        double ep = 1 - indep_fresnel(fmax(cp, 0), creal(N4), cimag(N4));
+        double em = 1 - indep_fresnel(cm, creal(N4), cimag(N4));
         ASSERT_ABS(T.eps1[0] / R, f * ep + (1 - f) * em, 4 * se * fabs(ep - em) + 1e-12);
         CU_ASSERT(T.leaks == 0 && T.max_energy_err <= 1e-12);
     }
@@ -762,7 +843,9 @@ int test_mc_register(void)
     CU_pSuite s = CU_add_suite("mc oracle", setup, teardown);
     if (s == NULL)
         return 1;
-    return !CU_add_test(s, "flat surface -> 1 - rho, one bounce", test_flat) ||
+    return !CU_add_test(s, "the tracer's Fresnel: closed forms, the library's",
+                        test_fresnel_closed_forms) ||
+           !CU_add_test(s, "flat surface -> 1 - rho, one bounce", test_flat) ||
            !CU_add_test(s, "surface slope covariance = target", test_surface_covariance) ||
            !CU_add_test(s, "energy conserved per ray", test_energy) ||
            !CU_add_test(s, "roof of tilted planes: visible fractions", test_roof) ||
