@@ -17,7 +17,7 @@
 #endif
 
 static double complex N4, N10; /* sea water at 4 and 10 um, salinity 35 (Hale & Querry) */
-static sea_optics *P, *PC; /* Smith's shadowing (the library's default), correlated */
+static sea_optics *P, *PC; /* Smith's shadowing (set: whatever the library's default), correlated */
 
 static int setup(void)
 {
@@ -28,6 +28,7 @@ static int setup(void)
         sea_water_index(w, 10e-6, &N10, NULL) != SEA_OK)
         return 1;
     sea_water_free(w);
+    sea_optics_set_shadowing(P, SEA_SHADOW_SMITH);
     sea_optics_set_shadowing(PC, SEA_SHADOW_CORRELATED);
     return 0;
 }
@@ -273,6 +274,8 @@ static void test_reproducible(void)
     omp_set_num_threads(nt);
     CU_ASSERT(a.eps[0] == b.eps[0] && a.eps1[0] == b.eps1[0] && a.eps_pol[0] == b.eps_pol[0]);
     mc_surface_free(&s);
+#else
+    UNIT_SKIP("the tracer's sums whatever the threads: built without OpenMP");
 #endif
 }
 
@@ -340,22 +343,69 @@ static int csv_numbers(const char *line, double *x, int max)
     return k;
 }
 
-/* The stored table: every row's slope variances and model column are what
- * sea_spectrum_slope_cov and sea_emissivity give today (variances stored
- * with 9 significant digits: 1e-8 relative; the model with 9 decimals:
- * 1e-6 is the check asked for, far above that rounding), so a change of the
- * model shows up here instead of leaving the comparison silently stale.
- * And the table holds what the manual quotes: theta 70, 80, 85 at 5 and
- * 10 m/s, 4 and 10 um, with standard errors <= 5e-4 at 80 deg. */
+/* The visibility of the correlated shadowing, for tests/indep.c's Eq 7. */
+static double corr_vis(double z, double t)
+{
+    return sea_shadow_correlated(z, t);
+}
+
+/* Rows' gaps d (model minus ray tracing) against a figure of
+ * tests/claims.csv.  A bound ("<=") must hold on every row with that row's
+ * standard error: the row asserted is the one closest to its bound, |d| - k
+ * se largest (k the claim's multiple of se).  A value ("=") is the largest
+ * |d|, asserted with its row's standard error. */
+typedef struct {
+    const char *id;
+    double d, se, crit;
+    int n;
+} gap;
+
+static void gap_add(gap *g, double d, double se)
+{
+    const claim *c = unit_claim_find(g->id);
+    const int bound = c == NULL || c->kind == CLAIM_LE;
+    const double crit = bound ? fabs(d) - (c != NULL ? c->se_mult : 3.0) * se : fabs(d);
+    if (g->n++ == 0 || crit > g->crit) {
+        g->crit = crit;
+        g->d = fabs(d);
+        g->se = se;
+    }
+}
+
+static void gap_assert(const gap *g)
+{
+    CU_ASSERT(g->n > 0);
+    ASSERT_CLAIM(g->id, g->d, g->se);
+}
+
+/* The stored table (tests/data/mc_emissivity.csv), its model column first:
+ * it was written by the library (tests/mc_model_refresh.c rewrites it), so
+ * it and today's sea_emissivity are both held against Eq 7 computed
+ * independently (tests/indep.c: its own Fresnel, adaptive quadrature, Smith's
+ * Lambda in closed form) at the default rule's promise, 1e-6.  The slope
+ * variances are sea_spectrum_slope_cov's (9 digits: 1e-8).  Then the
+ * figures of seabake-model(7), TRUTH BY RAY TRACING, SHADOWING and
+ * MULTIPLE REFLECTIONS (tests/claims.csv), each against the ray tracer's
+ * columns with their standard errors: eps1 (single bounce) for one
+ * reflection, eps (every hit) for reflections = 2 and for the energy one
+ * reflection misses. */
 static void test_table(void)
 {
     FILE *f = open_data("mc_emissivity.csv");
     CU_ASSERT_FATAL(f != NULL);
     char line[1024];
     int rows = 0, header = 0, need = 0;
-    /* worst |model - eps| (all hits) for reflections 1 and 2, theta <= 75, 80, 85;
-     * worst |model - eps1| (single bounce), Smith's and correlated shadowing */
-    double worst[2][3] = { { 0 } }, single[2][3] = { { 0 } }, worst_c2[3] = { 0 };
+    double col_worst = 0.0, lib_worst = 0.0;
+    double se80 = 0.0, se85 = 0.0, pol_min = INFINITY, pol_max = 0.0;
+    gap agree40 = { .id = "mc_agree_40" }, agree60 = { .id = "mc_agree_60" };
+    gap corr1[3] = { { .id = "corr_single_75" }, { .id = "corr_single_80" }, { .id = "corr_single_85" } };
+    gap smith1[3] = { { .id = "smith_single_75" }, { .id = "smith_single_80" }, { .id = "smith_single_85" } };
+    gap corr2[3] = { { .id = "multi_corr_75" }, { .id = "multi_corr_80" }, { .id = "multi_corr_85" } };
+    gap smith2[3] = { { .id = "multi_smith_75" }, { .id = "multi_smith_80" }, { .id = "multi_smith_85" } };
+    gap corr_all1[3] = { { .id = "single_corr_75" }, { .id = "single_corr_80" }, { .id = "single_corr_85" } };
+    gap smith_all1[3] = { { .id = "single_smith_75" }, { .id = "single_smith_80" }, { .id = "single_smith_85" } };
+    sea_water *w = NULL;
+    CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) == SEA_OK);
     while (fgets(line, sizeof line, f)) {
         if (line[0] == '#')
             continue;
@@ -367,40 +417,47 @@ static void test_table(void)
         }
         double x[17];
         CU_ASSERT_FATAL(csv_numbers(line, x, 17) == 17);
-        double wind = x[0], wl = x[1], th = x[2], ph = x[3];
+        const double wind = x[0], wl = x[1], th = x[2], ph = x[3];
+        const double eps1 = x[6], eps1_se = x[7], eps = x[8], eps_se = x[9], eps_pol = x[10];
         sea_cov2 c = lr_cov(wind);
         ASSERT_REL(x[4], c.xx, 1e-8, 0);
         ASSERT_REL(x[5], c.yy, 1e-8, 0);
-        sea_water *w = NULL;
         double complex N;
-        CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) == SEA_OK);
         CU_ASSERT(sea_water_index(w, wl * 1e-6, &N, NULL) == SEA_OK);
-        sea_water_free(w);
-        sea_slope_stats st = { { 0, 0 }, c };
+        const sea_slope_stats st = { { 0, 0 }, c };
+        const sea_dir v = { th * DEG, ph * DEG };
         double model = NAN;
-        CU_ASSERT(sea_emissivity(P, SEA_EMIS_AUTO, N, &st, (sea_dir){ th * DEG, ph * DEG },
-                                 &model, NULL) == SEA_OK);
-        ASSERT_ABS(x[16], model, 1e-6);
+        CU_ASSERT(sea_emissivity(P, SEA_EMIS_AUTO, N, &st, v, &model, NULL) == SEA_OK);
+        const double indep = indep_emissivity(N, 0, 0, c.xx, c.yy, 0, v.theta, v.phi, NULL);
+        CU_ASSERT(isfinite(indep));
+        col_worst = fmax(col_worst, fabs(x[16] - indep));
+        lib_worst = fmax(lib_worst, fabs(model - indep));
+        if (th <= 40)
+            gap_add(&agree40, model - eps1, eps1_se);
+        if (th <= 60)
+            gap_add(&agree60, model - eps1, eps1_se);
         if (th >= 60) {
-            double e2 = NAN;
-            CU_ASSERT(sea_emissivity_multi_n(P, SEA_EMIS_AUTO, NULL, &N, 1, &st,
-                                             (sea_dir){ th * DEG, ph * DEG }, 2, &e2,
+            double e2 = NAN, ec = NAN, ec2 = NAN;
+            CU_ASSERT(sea_emissivity_multi_n(P, SEA_EMIS_AUTO, NULL, &N, 1, &st, v, 2, &e2,
+                                             NULL) == SEA_OK);
+            CU_ASSERT(sea_emissivity(PC, SEA_EMIS_AUTO, N, &st, v, &ec, NULL) == SEA_OK);
+            CU_ASSERT(sea_emissivity_multi_n(PC, SEA_EMIS_AUTO, NULL, &N, 1, &st, v, 2, &ec2,
                                              NULL) == SEA_OK);
             const int b = th <= 75 ? 0 : th <= 80 ? 1 : 2;
-            worst[0][b] = fmax(worst[0][b], fabs(model - x[8]));
-            worst[1][b] = fmax(worst[1][b], fabs(e2 - x[8]));
-            double ec = NAN, ec2 = NAN;
-            CU_ASSERT(sea_emissivity(PC, SEA_EMIS_AUTO, N, &st, (sea_dir){ th * DEG, ph * DEG },
-                                     &ec, NULL) == SEA_OK);
-            CU_ASSERT(sea_emissivity_multi_n(PC, SEA_EMIS_AUTO, NULL, &N, 1, &st,
-                                             (sea_dir){ th * DEG, ph * DEG }, 2, &ec2,
-                                             NULL) == SEA_OK);
-            single[0][b] = fmax(single[0][b], fabs(model - x[6]));
-            single[1][b] = fmax(single[1][b], fabs(ec - x[6]));
-            worst_c2[b] = fmax(worst_c2[b], fabs(ec2 - x[8]));
+            gap_add(&smith1[b], model - eps1, eps1_se);
+            gap_add(&corr1[b], ec - eps1, eps1_se);
+            gap_add(&smith_all1[b], model - eps, eps_se);
+            gap_add(&corr_all1[b], ec - eps, eps_se);
+            gap_add(&smith2[b], e2 - eps, eps_se);
+            gap_add(&corr2[b], ec2 - eps, eps_se);
         }
-        if (th == 80) {
-            CU_ASSERT(x[7] <= 5e-4 && x[9] <= 5e-4);
+        if (th == 80)
+            se80 = fmax(se80, fmax(eps1_se, eps_se));
+        if (th == 85)
+            se85 = fmax(se85, fmax(eps1_se, eps_se));
+        if (th >= 70 && th <= 85) {
+            pol_min = fmin(pol_min, eps - eps_pol);
+            pol_max = fmax(pol_max, eps - eps_pol);
         }
         if ((wind == 5 || wind == 10) && (wl == 4 || wl == 10) &&
             (th == 70 || th == 80 || th == 85) && ph == 0)
@@ -408,47 +465,27 @@ static void test_table(void)
         rows++;
     }
     fclose(f);
+    sea_water_free(w);
     CU_ASSERT(header && rows > 0);
-    CU_ASSERT(need == 12);
-    /* Multiple reflections against the ray-traced truth with every hit
-     * (eps): 3-15 m/s, 4 and 10 um, both azimuths.  Measured (2026-11-26,
-     * the second hits by their split rule, nodes crowded toward the mirror
-     * ray's horizon, half the cross-slope nodes, the facets met at 0.35 of
-     * the orders) for reflections = 2: 0.56e-3 up to 75 deg, 1.83e-3 at
-     * 80, 4.66e-3 at 85;
-     * the paper's single reflection: 33e-3, 35e-3, 32e-3.  Bounds: the
-     * measured worst plus 0.5e-3, the oracle's own bias (a finer mesh moves
-     * eps by up to 0.41e-3 at 85 deg, 4 standard errors of the table are
-     * below 0.6e-3), so that a change of the model or of the table that
-     * costs more than that fails here. */
-    for (int r = 0; r < 2; r++)
-        MEASURED("reflections %d: worst |model - eps| %.2e (<= 75 deg), %.2e (80), %.2e (85)\n",
-                 r + 1, worst[r][0], worst[r][1], worst[r][2]);
-    CU_ASSERT(worst[1][0] <= 1.1e-3);
-    CU_ASSERT(worst[1][1] <= 2.4e-3);
-    CU_ASSERT(worst[1][2] <= 5.2e-3);
-    CU_ASSERT(worst[0][1] > 0.02); /* the gap that multiple reflections close */
-    /* Single bounce against the ray tracer's first hit (eps1), 60-85 deg:
-     * Smith's shadowing measured (2026-11-23) 4.8e-3 to 75 deg, 8.5e-3 at 80,
-     * 11.9e-3 at 85; the correlated function 0.14e-3, 0.38e-3, 1.05e-3.
-     * Bounds for the correlated one: measured plus 0.5e-3, as above (the
-     * oracle's mesh moves eps1 by up to 0.63e-3 at 85 deg crosswind, which is
-     * where the worst case lies). */
-    for (int c = 0; c < 2; c++)
-        MEASURED("%s shadowing: worst |model - eps1| %.2e (60-75 deg), %.2e (80), %.2e (85)\n",
-                 c ? "correlated" : "Smith's", single[c][0], single[c][1], single[c][2]);
-    CU_ASSERT(single[1][0] <= 0.7e-3);
-    CU_ASSERT(single[1][1] <= 0.9e-3);
-    CU_ASSERT(single[1][2] <= 1.6e-3);
-    CU_ASSERT(single[0][2] > 0.01); /* what it corrects */
-    /* reflections = 2 with it, the program's most accurate: measured
-     * (2026-11-26, as above) 0.92e-3 to 75 deg,
-     * 1.86e-3 at 80, 2.52e-3 at 85, above the truth from 75 deg (the facets
-     * met emit too much: seabake-model(7), MULTIPLE REFLECTIONS).  Bounds:
-     * measured plus 0.5e-3 up to 80 deg, and at 85 the issue's 3e-3. */
-    MEASURED("correlated shadowing, reflections 2: worst |model - eps| %.2e (60-75 deg), "
-             "%.2e (80), %.2e (85)\n", worst_c2[0], worst_c2[1], worst_c2[2]);
-    CU_ASSERT(worst_c2[0] <= 1.5e-3 && worst_c2[1] <= 2.4e-3 && worst_c2[2] <= 3.0e-3);
+    CU_ASSERT(need == 12); /* the rows the manual quotes */
+    MEASURED("mc table: |model column - independent Eq 7| <= %.1e, |sea_emissivity - independent "
+             "Eq 7| <= %.1e over %d rows\n", col_worst, lib_worst, rows);
+    ASSERT_CLAIM("auto_within_full", col_worst, 0.0);
+    ASSERT_CLAIM("auto_within_full", lib_worst, 0.0);
+    gap_assert(&agree40);
+    gap_assert(&agree60);
+    for (int b = 0; b < 3; b++) {
+        gap_assert(&corr1[b]);
+        gap_assert(&smith1[b]);
+        gap_assert(&corr2[b]);
+        gap_assert(&smith2[b]);
+        gap_assert(&corr_all1[b]);
+        gap_assert(&smith_all1[b]);
+    }
+    ASSERT_CLAIM("mc_se_80", se80, 0.0);
+    ASSERT_CLAIM("mc_se_85", se85, 0.0);
+    ASSERT_CLAIM("mc_pol_min", pol_min, 0.0);
+    ASSERT_CLAIM("mc_pol_max", pol_max, 0.0);
 }
 
 /* The sea-spectrum tables' rows grouped by direction (wind x[0], theta
@@ -485,19 +522,41 @@ static void tally_mean(const dir_tally *t, double mean[2], double se[2])
     }
 }
 
-/* The many-scale table (tests/mc_sea_oracle.c): every row's model columns
- * are today's model at the row's slope covariance (1e-6, as above), and
- * what it shows stays true: over sea-spectrum surfaces (many scales, where
+/* A sea table's model columns (Smith's x[8], correlated x[9]) and today's
+ * sea_emissivity against Eq 7 computed independently (tests/indep.c; the
+ * correlated one weighs the facets by the library's tabulated C(z, t),
+ * whose own accuracy tests/test_shadow.c checks against the exact integral
+ * and ray-traced profiles): the larger differences into *col and *lib. */
+static void model_columns(const double *x, double *col, double *lib)
+{
+    const sea_slope_stats st = { { 0, 0 }, { x[4], x[5], x[6] } };
+    const sea_dir v = { x[2] * DEG, x[3] * DEG };
+    double es = NAN, ec = NAN;
+    CU_ASSERT(sea_emissivity(P, SEA_EMIS_AUTO, N4, &st, v, &es, NULL) == SEA_OK);
+    CU_ASSERT(sea_emissivity(PC, SEA_EMIS_AUTO, N4, &st, v, &ec, NULL) == SEA_OK);
+    const double is = indep_emissivity(N4, 0, 0, x[4], x[5], x[6], v.theta, v.phi, NULL);
+    const double ic = indep_emissivity(N4, 0, 0, x[4], x[5], x[6], v.theta, v.phi, corr_vis);
+    CU_ASSERT(isfinite(is) && isfinite(ic));
+    *col = fmax(*col, fmax(fabs(x[8] - is), fabs(x[9] - ic)));
+    *lib = fmax(*lib, fmax(fabs(es - is), fabs(ec - ic)));
+}
+
+/* The many-scale table (tests/mc_sea_oracle.c): every row's model columns,
+ * and today's model, are Eq 7 at the row's slope covariance computed
+ * independently (1e-6, as above), and what it shows stays true: over sea-spectrum surfaces (many scales, where
  * the correlated function assumes one) the correlated shadowing is closer
  * to ray tracing than Smith's at 75-85 deg but still low, by about half of
  * Smith's gap at 80-85 deg along the wind (seabake-model(7), TRUTH BY RAY
- * TRACING).  Bounds from the table's seed means and standard errors. */
+ * TRACING), where the figures at 85 deg along the wind at 10 m/s are
+ * asserted (tests/claims.csv, 3 standard errors of the 12 surfaces' mean).
+ * Bounds from the table's seed means and standard errors. */
 static void test_sea_table(void)
 {
     FILE *f = open_data("mc_sea_emissivity.csv");
     CU_ASSERT_FATAL(f != NULL);
     char line[1024];
     int header = 0, rows = 0, nd = 0;
+    double col_worst = 0.0, lib_worst = 0.0;
     dir_tally tally[DIRS_MAX];
     while (fgets(line, sizeof line, f)) {
         if (line[0] == '#')
@@ -510,19 +569,18 @@ static void test_sea_table(void)
         }
         double x[10];
         CU_ASSERT_FATAL(csv_numbers(line, x, 10) == 10);
-        const sea_slope_stats st = { { 0, 0 }, { x[4], x[5], x[6] } };
-        const sea_dir v = { x[2] * DEG, x[3] * DEG };
-        double es = NAN, ec = NAN;
-        CU_ASSERT(sea_emissivity(P, SEA_EMIS_AUTO, N4, &st, v, &es, NULL) == SEA_OK);
-        CU_ASSERT(sea_emissivity(PC, SEA_EMIS_AUTO, N4, &st, v, &ec, NULL) == SEA_OK);
-        ASSERT_ABS(x[8], es, 1e-6);
-        ASSERT_ABS(x[9], ec, 1e-6);
+        model_columns(x, &col_worst, &lib_worst);
         const double g[2] = { x[8] - x[7], x[9] - x[7] };
         tally_add(tally, &nd, x, g);
         rows++;
     }
     fclose(f);
     CU_ASSERT(header && rows >= 2 * nd && nd >= 8);
+    MEASURED("sea table: |model columns - independent Eq 7| <= %.1e, |sea_emissivity - "
+             "independent Eq 7| <= %.1e over %d rows\n", col_worst, lib_worst, rows);
+    ASSERT_CLAIM("auto_within_full", col_worst, 0.0);
+    ASSERT_CLAIM("auto_within_full", lib_worst, 0.0);
+    int quoted = 0;
     for (int d = 0; d < nd; d++) {
         double mean[2], se[2];
         tally_mean(&tally[d], mean, se);
@@ -536,19 +594,31 @@ static void test_sea_table(void)
         CU_ASSERT(mean[1] <= 3.0 * se[1] + 5e-4);
         if (key[1] >= 85.0)
             CU_ASSERT(mean[1] < -3.0 * se[1]); /* the gap that remains */
+        if (key[0] == 10.0 && key[1] == 85.0 && key[2] == 0.0) {
+            /* seabake-model(7)'s figures: 15.3e-3 low, Smith's 25.0e-3 */
+            ASSERT_CLAIM("sea_corr_85_10", mean[1], se[1]);
+            ASSERT_CLAIM("sea_smith_85_10", mean[0], se[0]);
+            quoted++;
+        }
     }
+    CU_ASSERT_EQUAL(quoted, 1);
 }
 
 /* Two scales (sea_emissivity_two_scale) against the sea-spectrum surfaces
  * of the full table (tests/data/mc_sea_full_emissivity.csv: waves from 0.32
  * to 328 m, 4 surfaces per wind, 5-15 m/s, 75-85 deg along and across the
- * wind).  Each surface's slopes split at half its measured trace: the
- * resolved band is the spectrum's integral from the period's wavenumber
- * to k_half, the sub-facet band the rest of the measured covariance.
- * Measured (model - ray tracing, mean over the surfaces): within 1.42e-3
- * to 82 deg (one scale: up to 8.1e-3 low) and 4.6e-3 at 85 (one scale:
- * 19.7e-3 low).  Bounds: 2e-3 to 82 deg, 6e-3 at 85, plus 3 standard
- * errors; and never further from the truth than one scale. */
+ * wind).  Each surface's slopes split as the render splits the sea's
+ * (sea_spectrum_split_at, which sea_spectrum_split_half calls with half the
+ * variance) at half the surface's measured variance (the surfaces lack the
+ * waves under 0.32 m that the spectrum's variance counts): the resolved
+ * band is the spectrum's from the period's wavenumber to the split, the
+ * sub-facet band the rest of the measured covariance.  The table's model
+ * columns, and today's model, against the independent Eq 7 (1e-6).  The
+ * figures of seabake-model(7) (tests/claims.csv; measured model - ray
+ * tracing, mean over the surfaces): two scales within 1.4e-3 to 82 deg
+ * and 4.6e-3 at 85, each direction to its figure plus 3 standard errors
+ * of its 4 surfaces' mean, where one scale is up to 8.1e-3 and 19.7e-3
+ * low; and two scales never further from the truth than one. */
 static void test_two_scale_table(void)
 {
     FILE *f = open_data("mc_sea_full_emissivity.csv");
@@ -556,6 +626,7 @@ static void test_two_scale_table(void)
     const double kmin = 2.0 * M_PI / (8192 * 0.04); /* the surfaces' period */
     char line[1024];
     int header = 0, nd = 0;
+    double col_worst = 0.0, lib_worst = 0.0;
     dir_tally tally[DIRS_MAX];
     while (fgets(line, sizeof line, f)) {
         if (line[0] == '#')
@@ -566,21 +637,15 @@ static void test_two_scale_table(void)
         }
         double x[10];
         CU_ASSERT_FATAL(csv_numbers(line, x, 10) == 10);
+        model_columns(x, &col_worst, &lib_worst);
         sea_spectrum sp;
         CU_ASSERT_FATAL(sea_spectrum_init(&sp, x[0], INFINITY, 0.0, NULL) == SEA_OK);
-        sea_cov2 a, b;
-        CU_ASSERT_FATAL(sea_spectrum_slope_cov(&sp, kmin, &a, NULL) == SEA_OK);
-        double lo = kmin, hi = 1e3;
-        for (int it = 0; it < 60; it++) {
-            const double k = sqrt(lo * hi);
-            CU_ASSERT_FATAL(sea_spectrum_slope_cov(&sp, k, &b, NULL) == SEA_OK);
-            if ((a.xx - b.xx) + (a.yy - b.yy) > 0.5 * (x[4] + x[5]))
-                hi = k;
-            else
-                lo = k;
-        }
-        CU_ASSERT_FATAL(sea_spectrum_slope_cov(&sp, lo, &b, NULL) == SEA_OK);
-        const sea_cov2 res = { a.xx - b.xx, a.yy - b.yy, a.xy - b.xy };
+        /* the render's split (sea_spectrum_split_half calls it with half the
+         * spectrum's variance), at half the surface's own variance */
+        double k;
+        sea_cov2 res, spec_sub;
+        CU_ASSERT_FATAL(sea_spectrum_split_at(&sp, kmin, 0.5 * (x[4] + x[5]), &k, &res, &spec_sub,
+                                              NULL) == SEA_OK);
         const sea_slope_stats sub = { { 0, 0 }, { x[4] - res.xx, x[5] - res.yy, x[6] - res.xy } };
         const sea_dir v = { x[2] * DEG, x[3] * DEG };
         double e2 = NAN;
@@ -590,6 +655,10 @@ static void test_two_scale_table(void)
     }
     fclose(f);
     CU_ASSERT(header && nd == 24);
+    ASSERT_CLAIM("auto_within_full", col_worst, 0.0);
+    ASSERT_CLAIM("auto_within_full", lib_worst, 0.0);
+    gap two[2] = { { .id = "two_scale_82" }, { .id = "two_scale_85" } };
+    gap one[2] = { { .id = "one_scale_82" }, { .id = "one_scale_85" } };
     for (int d = 0; d < nd; d++) {
         double mean[2], se[2];
         tally_mean(&tally[d], mean, se);
@@ -597,12 +666,34 @@ static void test_two_scale_table(void)
         MEASURED("sea-spectrum surfaces to 328 m, %g m/s, %g deg, phi %g: model - ray tracing: "
                  "one scale %+.4f, two scales %+.4f +- %.4f\n",
                  key[0], key[1], key[2], mean[0], mean[1], se[1]);
-        CU_ASSERT(fabs(mean[1]) <= (key[1] <= 82.0 ? 2e-3 : 6e-3) + 3.0 * se[1]);
+        gap_add(&two[key[1] > 82.0], mean[1], se[1]);
+        gap_add(&one[key[1] > 82.0], mean[0], se[0]);
         CU_ASSERT(fabs(mean[1]) <= fabs(mean[0]) + 3.0 * se[1]);
+    }
+    for (int b = 0; b < 2; b++) {
+        gap_assert(&two[b]);
+        gap_assert(&one[b]);
+    }
+    /* the render's function is this split at half the variance, to the bit */
+    sea_spectrum sp;
+    CU_ASSERT_FATAL(sea_spectrum_init(&sp, 10.0, INFINITY, 0.5, NULL) == SEA_OK);
+    for (int c = 0; c < 2; c++) {
+        const double kc = c ? kmin : 0.0;
+        double kh, ka;
+        sea_cov2 r1, s1, r2, s2, all;
+        CU_ASSERT_FATAL(sea_spectrum_split_half(&sp, kc, &kh, &r1, &s1, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_spectrum_slope_cov(&sp, kc, &all, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_spectrum_split_at(&sp, kc, 0.5 * (all.xx + all.yy), &ka, &r2, &s2,
+                                              NULL) == SEA_OK);
+        CU_ASSERT(kh == ka && r1.xx == r2.xx && r1.yy == r2.yy && s1.xx == s2.xx);
+        ASSERT_REL(r1.xx + r1.yy, s1.xx + s1.yy, 1e-8, 0); /* halves */
     }
 }
 
-/* Two scales' limits: no resolved band is sea_emissivity to the bit; at
+/* Two scales' limits: a resolved band vanishing (1e-6 of the variance) is
+ * the one-scale Eq 7 (2e-6: the default rule's 1e-6 and the band's own
+ * 1e-6 of the slopes; the quadrature runs: the shortcut for no band at
+ * all is below 1e-12 of the trace); at
  * nadir every facet counts alike (g = 1, nothing hidden) and the mixture
  * of Gaussians is the Gaussian of the summed covariance (1e-6: the two
  * quadratures); with a vanishing sub-facet band it is the one-scale
@@ -617,13 +708,17 @@ static void test_two_scale_limits(void)
         const sea_cov2 C = lr_cov(winds[a]);
         const sea_cov2 half = { 0.5 * C.xx, 0.5 * C.yy, 0.5 * C.xy };
         const sea_slope_stats all = { { 0, 0 }, C }, sub = { { 0, 0 }, half };
-        const sea_cov2 zero = { 0, 0, 0 };
+        /* a resolved band a million times narrower than the sea's: the
+         * quadrature over its facets (above the cut to one scale, 1e-12 of
+         * the trace) gives the one-scale value, whose own rule error is
+         * 1e-6; the first order of the band is 1e-6 of the slopes' */
+        const sea_cov2 narrow = { 1e-6 * C.xx, 1e-6 * C.yy, 1e-6 * C.xy };
         for (double th = 0.0; th < 89.5; th += 20.0) {
             const sea_dir v = { th * DEG, 0.3 };
             double e1, e2;
-            CU_ASSERT_FATAL(sea_emissivity(PC, SEA_EMIS_AUTO, N4, &all, v, &e1, NULL) == SEA_OK);
-            CU_ASSERT_FATAL(sea_emissivity_two_scale(PC, N4, &all, zero, v, &e2, NULL) == SEA_OK);
-            CU_ASSERT_EQUAL(e1, e2);
+            CU_ASSERT_FATAL(sea_emissivity(PC, SEA_EMIS_FULL, N4, &all, v, &e1, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_emissivity_two_scale(PC, N4, &all, narrow, v, &e2, NULL) == SEA_OK);
+            ASSERT_ABS(e2, e1, 2e-6);
         }
         const sea_dir nadir = { 0.0, 0.0 };
         double e1, e2;
@@ -697,7 +792,8 @@ static void test_two_scale_limits(void)
      * they are 0.02-0.07 */
     MEASURED("two-scale table: worst |table - direct| %.2e to 85 deg, %.2e at 88\n", worst[0],
              worst[1]);
-    CU_ASSERT(worst[0] <= 8e-4 && worst[1] <= 6e-3);
+    ASSERT_CLAIM("two_scale_table_85", worst[0], 0.0);
+    ASSERT_CLAIM("two_scale_table_88", worst[1], 0.0);
     sea_two_scale_table_free(t);
 }
 
@@ -851,7 +947,7 @@ int test_mc_register(void)
            !CU_add_test(s, "roof of tilted planes: visible fractions", test_roof) ||
            !CU_add_test(s, "same sums whatever the threads", test_reproducible) ||
            !CU_add_test(s, "agrees with the model at 0 and 40 deg", test_against_model) ||
-           !CU_add_test(s, "stored table's model column is today's model", test_table) ||
+           !CU_add_test(s, "stored table: model column = independent Eq 7; figures", test_table) ||
            !CU_add_test(s, "sea-spectrum surfaces: the table and what it shows", test_sea_table) ||
            !CU_add_test(s, "two scales against sea-spectrum surfaces to 328 m",
                         test_two_scale_table) ||
