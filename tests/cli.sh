@@ -356,7 +356,7 @@ if [ -w /dev/full ]; then
     SB_RC=$? SB_OUT= SB_ERR=$(cat "$SB_TMP/err") SB_CMD="seabake help >/dev/full"
     check_error write.help_full_disk 3 "standard output"
 else
-    echo "cli: /dev/full not available, write-failure checks skipped" >&2
+    skip "/dev/full not available: the write-failure checks are skipped"
 fi
 
 # ---------------------------------------------- no NaN or inf anywhere
@@ -816,7 +816,7 @@ check_error bench.quick_value 2 "--quick takes no value"
 sb_run bench --size 4
 check_error bench.unknown 2 "unknown option '--size'"
 if [ -n "$SEABAKE_WRAPPER" ]; then
-    echo "cli: bench --quick skipped under $SEABAKE_WRAPPER (too slow)" >&2
+    skip "bench --quick under $SEABAKE_WRAPPER (too slow; the plain run has it)"
 else
     # A directory name gnuplot would interpret, as for convergence above.
     bench_dir="$SB_TMP/bench"$'\nsystem("touch '"$SB_TMP"$'/PWNED_BENCH")\n'"q''x"
@@ -978,6 +978,9 @@ if [ -z "$SEABAKE_WRAPPER" ] && ! grep -q __asan_init "$SEABAKE" 2>/dev/null; th
     SB_OUT=$(cat "$SB_TMP/out")
     SB_ERR=$(cat "$SB_TMP/err")
     check_error render.memory_rlimit 1 "needs [0-9.]+ GiB .*this process may use 0.25 GiB"
+else
+    skip "render under ulimit -v, under a wrapper or AddressSanitizer (no shadow memory" \
+        "there; the plain run has it)"
 fi
 
 sb_run render "$RSCENE" -o "$RDIR/out.exr" --aov level,emissivity,reflectivity,temperature
@@ -1388,7 +1391,9 @@ check_eq render.sigterm_no_temporary "$(find "$RDIR/sig" -name '*.tmp.*' | grep 
 # which seabake keeps (as for nohup): env --default-signal=INT gives the
 # render the terminal's ^C whatever started the suite, and timeout ends a
 # render that missed it (a failure, not a hung suite).
-if have script bsdutils && [ -z "$SEABAKE_WRAPPER" ]; then
+if [ -n "$SEABAKE_WRAPPER" ]; then
+    skip "^C on a terminal, under $SEABAKE_WRAPPER (the plain run has it)"
+elif have script bsdutils; then
     rm -rf "$RDIR/sig" && mkdir -p "$RDIR/sig"
     SB_CMD="script: seabake render --frames 0:99999, then ^C"
     { n=0

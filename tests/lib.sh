@@ -193,17 +193,23 @@ check_close() {
     if [ -z "$bad" ]; then pass; else fail "$name" "$bad"; fi
 }
 
+# skip WHY...: says that some checks do not run here, on a line of its own
+# "SKIP: NAME: WHY" that scripts/test counts (a skip is never silent).
+skip() {
+    echo "SKIP: $TEST_NAME: $*" >&2
+}
+
 # have PROGRAM PACKAGE: whether PROGRAM is installed.  Where it is absent,
-# the checks that need it are skipped with a note naming the Debian package,
-# except under scripts/test and CI (SEABAKE_REQUIRE_TOOLS=1), which install
-# every package the tests use: there an absent program is a failure, so that
-# a check cannot silently stop running on a fresh machine.
+# the checks that need it are skipped with a SKIP line naming the Debian
+# package, except under scripts/test and CI (SEABAKE_REQUIRE_TOOLS=1), which
+# install every package the tests use: there an absent program is a
+# failure, so that a check cannot silently stop running on a fresh machine.
 have() {
     command -v "$1" >/dev/null 2>&1 && return 0
     if [ "${SEABAKE_REQUIRE_TOOLS:-0}" = 1 ]; then
         fail "have.$1" "$1 is not installed (Debian package $2; scripts/setup installs it)"
     else
-        echo "$TEST_NAME: $1 is not installed (Debian package $2): its checks are skipped" >&2
+        skip "$1 is not installed (Debian package $2): its checks are skipped"
     fi
     return 1
 }

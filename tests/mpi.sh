@@ -33,7 +33,7 @@ check_rc plain.render.rc 0
 check_eq plain.render.silent "$SB_ERR" ""
 
 if [ -n "$SEABAKE_WRAPPER" ]; then
-    echo "mpi: runs under mpirun skipped under $SEABAKE_WRAPPER (minutes of valgrind per rank)" >&2
+    skip "runs under mpirun, under $SEABAKE_WRAPPER (minutes of valgrind per rank; the plain run has them)"
     finish
 fi
 have mpirun openmpi-bin || finish
@@ -92,7 +92,7 @@ if printf '%s\n' "$SB_ERR" | grep -q 'built without MPI'; then
     if [ "${SEABAKE_REQUIRE_TOOLS:-0}" = 1 ]; then
         fail nompi.required "seabake was built without MPI (scripts/setup installs libopenmpi-dev; configure uses it when found)"
     else
-        echo "mpi: seabake built without MPI: the sharing checks are skipped" >&2
+        skip "seabake built without MPI: the sharing checks are skipped"
     fi
     finish
 fi
