@@ -214,6 +214,25 @@ have() {
     return 1
 }
 
+# wait_until COMMAND...: waits for an event (a file appearing, a line
+# written) by running COMMAND every 50 ms until it succeeds; nothing depends
+# on how long the work before the event takes.  A guard of 20 minutes (a
+# stuck program) returns 1 instead of hanging the suite.
+wait_until() {
+    local n=0
+    until "$@"; do
+        [ "$n" -ge 24000 ] && return 1
+        sleep 0.05
+        n=$((n + 1))
+    done
+    return 0
+}
+
+# exists GLOB: whether a path matches the glob (bash).
+exists() {
+    compgen -G "$1" >/dev/null
+}
+
 # png_color_type FILE: the colour type of a PNG (byte 25: 0 grey, 2 RGB).
 png_color_type() {
     od -An -tu1 -j25 -N1 "$1" 2>/dev/null | tr -d ' '
