@@ -183,13 +183,17 @@ static void run(const claim *c, const char *srcdir, const char *seabake, const c
         n += got;
     }
     const int status = p != NULL ? pclose(p) : -1;
+    if (out != NULL)
+        out[n] = '\0';
     if (out == NULL || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        fail(c, "'%s' failed (exit status %s)", cmd,
-             status == -1 ? "unknown" : WIFEXITED(status) ? "non-zero" : "by a signal");
+        /* what it printed first says why (emis_rule_check exits 1 above its
+         * promise, after printing the largest difference) */
+        fail(c, "'%s' failed (exit status %d): %.300s", cmd,
+             status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+             out != NULL ? out : "(no output)");
         free(out);
         return;
     }
-    out[n] = '\0';
     if (regex) {
         regex_t re;
         regmatch_t m[2];
