@@ -463,6 +463,15 @@ sea_status sea_emissivity_two_scale(const sea_optics *p, double complex N,
  * kc <= |k| < k_half, sub of |k| >= k_half.  kc >= 0, finite. */
 sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_half,
                                    sea_cov2 *res, sea_cov2 *sub, sea_error *err);
+/* The same split at any share: the wavenumber k_split where the slope
+ * variance (trace) of the waves with kc <= |k| < k_split is `resolved`, and
+ * the two bands' covariances.  sea_spectrum_split_half is this with half
+ * of the trace of |k| >= kc; a sea that lacks some of the spectrum's short
+ * waves (the ray tracer's surfaces, tests/test_mc.c) splits its own
+ * variance with it.  SEA_ERR_DOMAIN unless kc >= 0 is finite and 0 <
+ * resolved < that trace. */
+sea_status sea_spectrum_split_at(const sea_spectrum *s, double kc, double resolved,
+                                 double *k_split, sea_cov2 *res, sea_cov2 *sub, sea_error *err);
 
 /* What two scales add to a facet's one-scale emissivity, tabulated per
  * scene for the indices N[0..n) (twoscale.c says how: on the facet's

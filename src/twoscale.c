@@ -31,8 +31,8 @@
 enum { TS_NX = 24, TS_NY = 8 };      /* the reference's orders */
 enum { TAB_NX = 12, TAB_NY = 4 };    /* the table's (within 1e-4 of them, tests) */
 
-sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_half,
-                                   sea_cov2 *res, sea_cov2 *sub, sea_error *err)
+sea_status sea_spectrum_split_at(const sea_spectrum *s, double kc, double resolved,
+                                 double *k_split, sea_cov2 *res, sea_cov2 *sub, sea_error *err)
 {
     if (!(kc >= 0.0) || !isfinite(kc))
         return sea_fail(err, SEA_ERR_DOMAIN, "cutoff wavenumber %g (allowed: finite, >= 0)", kc);
@@ -40,7 +40,13 @@ sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_h
     sea_status st = sea_spectrum_slope_cov(s, kc, &all, err);
     if (st != SEA_OK)
         return st;
-    const double half = 0.5 * (all.xx + all.yy);
+    if (!(resolved > 0.0 && resolved < all.xx + all.yy))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "resolved slope variance %g (allowed: (0, %g), the waves' above the "
+                        "cutoff)",
+                        resolved, all.xx + all.yy);
+    /* the shorter waves keep the rest (exact for resolved = half: Sterbenz) */
+    const double rest = (all.xx + all.yy) - resolved;
     /* bisection in log k: the slope variance of waves with |k| >= k
      * decreases with k */
     double lo = kc > 0.0 ? kc : 1e-4, hi = 1e5;
@@ -48,16 +54,28 @@ sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_h
         const double k = sqrt(lo * hi);
         if ((st = sea_spectrum_slope_cov(s, k, &c, err)) != SEA_OK)
             return st;
-        if (c.xx + c.yy > half)
+        if (c.xx + c.yy > rest)
             lo = k;
         else
             hi = k;
     }
-    *k_half = sqrt(lo * hi);
-    if ((st = sea_spectrum_slope_cov(s, *k_half, sub, err)) != SEA_OK)
+    *k_split = sqrt(lo * hi);
+    if ((st = sea_spectrum_slope_cov(s, *k_split, sub, err)) != SEA_OK)
         return st;
     *res = (sea_cov2){ all.xx - sub->xx, all.yy - sub->yy, all.xy - sub->xy };
     return SEA_OK;
+}
+
+sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_half,
+                                   sea_cov2 *res, sea_cov2 *sub, sea_error *err)
+{
+    if (!(kc >= 0.0) || !isfinite(kc))
+        return sea_fail(err, SEA_ERR_DOMAIN, "cutoff wavenumber %g (allowed: finite, >= 0)", kc);
+    sea_cov2 all;
+    sea_status st = sea_spectrum_slope_cov(s, kc, &all, err);
+    if (st != SEA_OK)
+        return st;
+    return sea_spectrum_split_at(s, kc, 0.5 * (all.xx + all.yy), k_half, res, sub, err);
 }
 
 static sea_status two_scale(const sea_optics *p, double complex N, const sea_slope_stats *sub,

@@ -1,7 +1,8 @@
 /* emis_rule_check.c - the default emissivity rule (SEA_EMIS_AUTO) against
  * the adaptive Eq 7 (SEA_EMIS_FULL) over random conditions: what the
  * rule's orders were fitted and checked on (seabake-model(7), the auto
- * method).  Built by make check, not run by it (about 1 s of CPU per 100
+ * method).  make check runs it for the figures of the manual (the four
+ * seeds of tests/claims.csv, 50 s of CPU; about 1 s of CPU per 100
  * conditions with correlated shadowing):
  *
  *   tests/emis_rule_check [-n CONDITIONS] [-s SEED] [--smith]

@@ -199,19 +199,44 @@ check_close() {
     if [ -z "$bad" ]; then pass; else fail "$name" "$bad"; fi
 }
 
+# skip WHY...: says that some checks do not run here, on a line of its own
+# "SKIP: NAME: WHY" that scripts/test counts (a skip is never silent).
+skip() {
+    echo "SKIP: $TEST_NAME: $*" >&2
+}
+
 # have PROGRAM PACKAGE: whether PROGRAM is installed.  Where it is absent,
-# the checks that need it are skipped with a note naming the Debian package,
-# except under scripts/test and CI (SEABAKE_REQUIRE_TOOLS=1), which install
-# every package the tests use: there an absent program is a failure, so that
-# a check cannot silently stop running on a fresh machine.
+# the checks that need it are skipped with a SKIP line naming the Debian
+# package, except under scripts/test and CI (SEABAKE_REQUIRE_TOOLS=1), which
+# install every package the tests use: there an absent program is a
+# failure, so that a check cannot silently stop running on a fresh machine.
 have() {
     command -v "$1" >/dev/null 2>&1 && return 0
     if [ "${SEABAKE_REQUIRE_TOOLS:-0}" = 1 ]; then
         fail "have.$1" "$1 is not installed (Debian package $2; scripts/setup installs it)"
     else
-        echo "$TEST_NAME: $1 is not installed (Debian package $2): its checks are skipped" >&2
+        skip "$1 is not installed (Debian package $2): its checks are skipped"
     fi
     return 1
+}
+
+# wait_until COMMAND...: waits for an event (a file appearing, a line
+# written) by running COMMAND every 50 ms until it succeeds; nothing depends
+# on how long the work before the event takes.  A guard of 20 minutes (a
+# stuck program) returns 1 instead of hanging the suite.
+wait_until() {
+    local n=0
+    until "$@"; do
+        [ "$n" -ge 24000 ] && return 1
+        sleep 0.05
+        n=$((n + 1))
+    done
+    return 0
+}
+
+# exists GLOB: whether a path matches the glob (bash).
+exists() {
+    compgen -G "$1" >/dev/null
 }
 
 # png_color_type FILE: the colour type of a PNG (byte 25: 0 grey, 2 RGB).

@@ -8,6 +8,7 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "indep.h"
 #include "mc.h"
 
 /* ------------------------------------------------------------- surfaces */
@@ -329,14 +330,6 @@ static inline double cnorm2(const cvec *e)
     return creal(e->x * conj(e->x) + e->y * conj(e->y) + e->z * conj(e->z));
 }
 
-/* Fresnel amplitudes, the formulas of seabake.h (sea_fresnel_unpolarized). */
-static void fresnel_amp(double c, double complex N, double complex *rs, double complex *rp)
-{
-    double complex N2 = N * N, w = csqrt(N2 - (1 - c * c));
-    *rs = (c - w) / (c + w);
-    *rp = (N2 * c - w) / (N2 * c + w);
-}
-
 enum { CHUNK = 4096, MAX_BOUNCES = 1000 };
 #define W_MIN 1e-6
 
@@ -429,7 +422,10 @@ int mc_trace(const mc_surface *s, sea_dir v, const double complex *N, int nwl, l
                     T->multi++;
                 double wmax = 0;
                 for (int q = 0; q < nwl; q++) {
-                    double rho = sea_fresnel_unpolarized(cpsi, N[q]);
+                    /* the tracer's own Fresnel (tests/indep.c): Born & Wolf's
+                     * real form for the unpolarised weight, the amplitudes
+                     * for the polarised one */
+                    double rho = indep_fresnel(cpsi, creal(N[q]), cimag(N[q]));
                     if (bounces == 1) {
                         T->eps1[q] += 1 - rho;
                         T->eps1_sq[q] += (1 - rho) * (1 - rho);
@@ -437,7 +433,7 @@ int mc_trace(const mc_surface *s, sea_dir v, const double complex *N, int nwl, l
                     absorbed[q] += w[q] * (1 - rho);
                     w[q] *= rho;
                     double complex rs, rp;
-                    fresnel_amp(cpsi, N[q], &rs, &rp);
+                    indep_fresnel_amplitudes(cpsi, N[q], &rs, &rp);
                     double before = 0, after = 0;
                     for (int m = 0; m < 2; m++) {
                         cvec *e = &E[q][m];

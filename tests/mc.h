@@ -1,8 +1,10 @@
 /* mc.h - an independent Monte Carlo ray tracer over periodic random sea
  * surfaces: the test oracle of the model's effective emissivity at grazing
  * views (tests/mc_oracle.c writes the table, tests/test_mc.c checks the
- * oracle itself).  It uses nothing of the library but Fresnel's formula and
- * the slope statistics it is asked to reproduce.
+ * oracle itself).  It uses nothing of the library: its Fresnel reflectance
+ * is tests/indep.c's (Born & Wolf's real form and the amplitudes written
+ * from it, checked against closed forms in tests/test_mc.c), and it is
+ * given the slope statistics it is asked to reproduce.
  *
  * Surface.  Heights h[j n + i] on the vertices (i, j) of a periodic n x n
  * index grid; the physical horizontal position of vertex (i, j) is

@@ -1,8 +1,8 @@
 /* mc_oracle.c - writes tests/data/mc_emissivity.csv: the emissivity of a
  * wind-roughened sea by Monte Carlo ray tracing (tests/mc.c) next to the
  * model's low-resolution effective emissivity (sea_emissivity, default
- * rule), and prints the model minus the oracle per angle.  Built by make
- * check, not run by it (minutes of CPU):
+ * rule), and prints the model minus the oracle per angle.  Minutes of CPU;
+ * make check traces a few rows again on other surfaces (tests/mc_regen.sh):
  *
  *   tests/mc_oracle -o ../tests/data/mc_emissivity.csv
  *

@@ -23,8 +23,7 @@ POV_DRIVER=${POV_DRIVER:-$(dirname "$SEABAKE")/../tests/pov_driver}
 if ! have povray povray; then
     # Under scripts/test an absent povray has failed a check: finish says so.
     [ "${SEABAKE_REQUIRE_TOOLS:-0}" = 1 ] && finish
-    echo "povray: SKIP: povray is not installed (Debian package povray; scripts/setup installs it)"
-    exit 77
+    exit 77 # (have printed the SKIP line)
 fi
 if [ ! -x "$POV_DRIVER" ]; then
     echo "povray: $POV_DRIVER is missing (make check builds it)" >&2

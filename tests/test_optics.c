@@ -8,25 +8,29 @@
 #include "unit.h"
 #include "internal.h"
 
-static sea_optics *P;
+static sea_optics *P;  /* the library's default optics */
+static sea_optics *PS; /* Smith's shadowing, whatever the default: the paper's model, which
+                          the figures of seabake-model(7) measured here are about */
 static double complex N4, N10; /* sea water at 4 and 10 um, salinity 35 (Hale & Querry) */
 
 static int setup(void)
 {
     sea_water *w = NULL;
-    if (sea_optics_alloc(&P, NULL) != SEA_OK ||
+    if (sea_optics_alloc(&P, NULL) != SEA_OK || sea_optics_alloc(&PS, NULL) != SEA_OK ||
         sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) != SEA_OK ||
         sea_water_index(w, 4e-6, &N4, NULL) != SEA_OK ||
         sea_water_index(w, 10e-6, &N10, NULL) != SEA_OK)
         return 1;
     sea_water_free(w);
     sea_optics_set_shadowing(P, SEA_SHADOW_SMITH); /* the paper's */
+    sea_optics_set_shadowing(PS, SEA_SHADOW_SMITH);
     return 0;
 }
 
 static int teardown(void)
 {
     sea_optics_free(P);
+    sea_optics_free(PS);
     return 0;
 }
 
@@ -35,7 +39,7 @@ static double emis(sea_emis_method m, const sea_slope_stats *st, double theta, d
     double e = NAN;
     sea_error err = { "" };
     sea_dir v = { theta, phi };
-    sea_status s = sea_emissivity(P, m, N4, st, v, &e, &err);
+    sea_status s = sea_emissivity(PS, m, N4, st, v, &e, &err);
     if (s != SEA_OK)
         fprintf(stderr, "  emissivity: %s\n", err.msg);
     CU_ASSERT(s == SEA_OK);
@@ -97,7 +101,9 @@ static void test_correlated_shadowing(void)
     gsl_rng_free(rng);
     MEASURED("correlated shadowing: auto vs adaptive reference, %d conditions to 89.9 deg: max "
              "|diff| %.2g at theta %.2f |m| %.2f var %.2g\n", n, worst, at[0], at[1], at[2]);
-    CU_ASSERT(worst <= 1e-6); /* measured 4.7e-7 (6.6e-7 with the orders before 2026-11-24) */
+    /* measured 4.7e-7 (6.6e-7 with the orders before 2026-11-24):
+     * seabake-model(7)'s bound, tests/claims.csv */
+    ASSERT_CLAIM("corr_rule_full_899", worst, 0.0);
     sea_slope_stats lr = { { 0, 0 }, { 0.0360422, 0.0251592, 0 } };
     double es, ec;
     CU_ASSERT(sea_emissivity(P, SEA_EMIS_AUTO, N4, &lr, (sea_dir){ 85 * DEG, 0 }, &es, NULL) == SEA_OK);
@@ -293,7 +299,8 @@ static void test_eq12_vs_eq7_paper_example(void)
         }
     MEASURED("Eq 12 vs Eq 7, paper example, theta 0-85: max relative error %.3g %% at (%g, %g) deg\n",
              100 * worst, at_th / DEG, at_ph / DEG);
-    CU_ASSERT(worst < 0.01);
+    CU_ASSERT(worst < 0.01); /* the paper's */
+    ASSERT_CLAIM("fast_paper_worst", worst, 0.0); /* seabake-model(7)'s 0.90 % */
 }
 
 /* The default against the adaptive reference over a deterministic sample of
@@ -302,7 +309,8 @@ static void test_eq12_vs_eq7_paper_example(void)
  * correlation |r| <= 0.9, at 4 and 10 um, with Smith's and with the
  * correlated shadowing.  Tolerance 1e-6, the accuracy issue 14 asks of the
  * default: its orders were refitted for it (sea_emissivity_auto_rule;
- * measured here 5.7e-7 with Smith's shadowing, 6.8e-7 correlated; at most
+ * measured here 5.7e-7 with Smith's shadowing, 6.8e-7 correlated, the
+ * figures of seabake-model(7) asserted from tests/claims.csv; at most
  * 6.6e-7 over the bench's 896 conditions and 9000 random ones, correlated,
  * and 4000 with Smith's, where the orders before reached 3.0e-6:
  * tests/emis_rule_check reproduces those). */
@@ -312,7 +320,7 @@ static void test_auto_vs_full(void)
     CU_ASSERT_FATAL(sea_optics_alloc(&pc, NULL) == SEA_OK);
     sea_optics_set_shadowing(pc, SEA_SHADOW_CORRELATED);
     for (int corr = 0; corr < 2; corr++) {
-        const sea_optics *p = corr ? pc : P;
+        const sea_optics *p = corr ? pc : PS;
         gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
         gsl_rng_set(rng, 6);
         const int n = UNIT_QUICK ? 12 : 400;
@@ -345,6 +353,9 @@ static void test_auto_vs_full(void)
                  "deg): max |diff| %.3g at theta %.1f phi %.0f |m| %.2f var %.2g anisotropy "
                  "%.1f\n",
                  corr ? "correlated" : "Smith's", n, worst, at[0], at[1], at[2], at[3], at[4]);
+        /* seabake-model(7)'s figures for these 400 conditions (a maximum
+         * over the quick run's 12 of them is below them too) */
+        ASSERT_CLAIM(corr ? "auto_vs_full_corr" : "auto_vs_full_smith", worst, 0.0);
         CU_ASSERT(worst <= 1e-6);
     }
     sea_optics_free(pc);
@@ -507,39 +518,51 @@ static void test_narrow_glint(void)
     ASSERT_ABS(en.total, 1.0, 1e-4);
 }
 
-/* Energy (Eq 21) at 4 um, 10 m/s, low resolution: within 1e-3 of 1 near nadir (0-30 deg);
- * a dip at grazing angles like the paper's Fig. 4 (a few percent, deepest
- * near 80 deg, recovering toward the horizon); symmetric in +-theta for m = 0 and asymmetric once m != 0
- * (Table 1, L = 1 m: m = (0.103, -0.052)). */
+/* Energy (Eq 21) at 4 um, 10 m/s, low resolution, Smith's shadowing (the
+ * paper's Fig. 4): 1 within 1.8e-4 near nadir (0-30 deg); a dip at grazing
+ * angles to 0.965, 0.952, 0.963 and 0.990 at 70, 80, 85 and 89 deg,
+ * deepest near 80 deg, recovering toward the horizon; symmetric in +-theta
+ * for m = 0, and asymmetric once m != 0 (Table 1, L = 1 m: m = (0.103,
+ * -0.052)): 0.933 at +70, 0.984 at -70.  The figures are seabake-model(7)'s,
+ * from tests/claims.csv, each to the rounding of its last digit (the
+ * quadratures are good to 1e-6); tests/claims.sh measures the same ones
+ * with seabake energy. */
 static double total(const sea_slope_stats *st, double th_signed, double phi)
 {
     sea_energy en = { 0, 0, 0 };
     sea_dir v = sea_dir_fold(th_signed, phi);
-    CU_ASSERT(sea_energy_balance(P, SEA_EMIS_AUTO, N4, st, v, &en, NULL) == SEA_OK);
+    CU_ASSERT(sea_energy_balance(PS, SEA_EMIS_AUTO, N4, st, v, &en, NULL) == SEA_OK);
     return en.total;
 }
 
 static void test_energy_low_resolution(void)
 {
     sea_slope_stats st = lr10();
-    double worst_near = 0.0;
-    for (double th = 0.0; th <= 30 * DEG; th += 10 * DEG)
-        worst_near = fmax(worst_near, fabs(total(&st, th, 0.0) - 1.0));
+    double worst_near = 0.0, far = 1.0;
+    for (double th = 0.0; th <= 30 * DEG; th += 10 * DEG) {
+        const double e = total(&st, th, 0.0);
+        if (fabs(e - 1.0) > worst_near)
+            worst_near = fabs(e - 1.0), far = e;
+    }
     double e60 = total(&st, 60 * DEG, 0), e70 = total(&st, 70 * DEG, 0), e80 = total(&st, 80 * DEG, 0),
            e85 = total(&st, 85 * DEG, 0), e89 = total(&st, 89 * DEG, 0);
     MEASURED("energy LR 10 m/s 4 um: max |E-1| over 0-30 deg %.2e; E(60,70,80,85,89) = %.4f %.4f %.4f %.4f %.4f\n",
              worst_near, e60, e70, e80, e85, e89);
-    CU_ASSERT(worst_near < 1e-3);
+    ASSERT_CLAIM("energy_lr_0_30", far, 0.0);
+    ASSERT_CLAIM("energy_lr_70", e70, 0.0);
+    ASSERT_CLAIM("energy_lr_80", e80, 0.0);
+    ASSERT_CLAIM("energy_lr_85", e85, 0.0);
+    ASSERT_CLAIM("energy_lr_89", e89, 0.0);
     /* A dip, not a fall: deepest near 80 deg, recovering toward the horizon. */
     CU_ASSERT(e60 > e70 && e70 > e80 && e85 > e80 && e89 > e80);
-    CU_ASSERT(1.0 - e80 > 0.005 && 1.0 - e80 < 0.10);
     ASSERT_REL(total(&st, -70 * DEG, 0), e70, 1e-9, 0);
 
     sea_slope_stats hr = st;
     hr.mean.x = 0.103, hr.mean.y = -0.052;
     double plus = total(&hr, 70 * DEG, 0), minus = total(&hr, -70 * DEG, 0);
     MEASURED("energy with m = (0.103, -0.052): E(+70) = %.4f, E(-70) = %.4f\n", plus, minus);
-    CU_ASSERT(fabs(plus - minus) > 1e-3);
+    ASSERT_CLAIM("energy_mean_p70", plus, 0.0);
+    ASSERT_CLAIM("energy_mean_m70", minus, 0.0);
 }
 
 /* Property sweep: theta to 89.99 deg, sigma down to 1e-4, |m| up to 1, winds
@@ -660,7 +683,10 @@ static void test_emissivity_simd(void)
     CU_ASSERT_FATAL(sea_optics_alloc(&q, NULL) == SEA_OK);
     if (!sea_optics_set_simd(q, 1)) {
         sea_optics_free(q);
-        return; /* no AVX2 here: the portable loops are all there is */
+        /* no AVX2 here: the portable loops are all there is; said, so that
+         * a machine without it does not pass this test unseen */
+        UNIT_SKIP("AVX2 emissivity loops = portable ones: this processor has no AVX2");
+        return;
     }
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 11);

@@ -14,7 +14,9 @@
 #include "exr.h"
 #include "unit.h"
 
-static sea_optics *P;
+static sea_optics *P;  /* the library's default optics */
+static sea_optics *PS; /* Smith's shadowing whatever the default: the figures of
+                          seabake-model(7) measured here are the paper's model's */
 static double complex N4; /* sea water at 4 um, salinity 35 (Hale & Querry) */
 
 /* The energy total comes from the adaptive reference, accepted when its
@@ -25,18 +27,20 @@ static const double ENERGY_TOL = 1e-5;
 static int setup(void)
 {
     sea_water *w = NULL;
-    if (sea_optics_alloc(&P, NULL) != SEA_OK ||
+    if (sea_optics_alloc(&P, NULL) != SEA_OK || sea_optics_alloc(&PS, NULL) != SEA_OK ||
         sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) != SEA_OK ||
         sea_water_index(w, 4e-6, &N4, NULL) != SEA_OK)
         return 1;
     sea_water_free(w);
     sea_optics_set_shadowing(P, SEA_SHADOW_SMITH); /* the paper's */
+    sea_optics_set_shadowing(PS, SEA_SHADOW_SMITH);
     return 0;
 }
 
 static int teardown(void)
 {
     sea_optics_free(P);
+    sea_optics_free(PS);
     return 0;
 }
 
@@ -47,12 +51,12 @@ static int in_unit(double e)
     return isfinite(e) && e >= 0.0 && e <= 1.0;
 }
 
-/* Emissivity by method m, with the invariants asserted. */
-static double emis(sea_emis_method m, const sea_slope_stats *st, sea_dir v)
+/* Emissivity by method m with optics p, with the invariants asserted. */
+static double emis_by(const sea_optics *p, sea_emis_method m, const sea_slope_stats *st, sea_dir v)
 {
     double e = NAN;
     sea_error err = { "" };
-    sea_status s = sea_emissivity(P, m, N4, st, v, &e, &err);
+    sea_status s = sea_emissivity(p, m, N4, st, v, &e, &err);
     if (s != SEA_OK)
         fprintf(stderr, "  emissivity %s: %s\n", sea_emis_method_name(m), err.msg);
     CU_ASSERT(s == SEA_OK);
@@ -62,6 +66,12 @@ static double emis(sea_emis_method m, const sea_slope_stats *st, sea_dir v)
                 st->cov.yy, st->cov.xy);
     CU_ASSERT(in_unit(e));
     return e;
+}
+
+/* ... with the default optics. */
+static double emis(sea_emis_method m, const sea_slope_stats *st, sea_dir v)
+{
+    return emis_by(P, m, st, v);
 }
 
 static double refl(const sea_slope_stats *st, sea_dir inc, sea_dir obs)
@@ -76,11 +86,11 @@ static double refl(const sea_slope_stats *st, sea_dir inc, sea_dir obs)
     return r;
 }
 
-static sea_energy energy(const sea_slope_stats *st, sea_dir v)
+static sea_energy energy_by(const sea_optics *p, const sea_slope_stats *st, sea_dir v)
 {
     sea_energy e = { NAN, NAN, NAN };
     sea_error err = { "" };
-    sea_status s = sea_energy_balance(P, SEA_EMIS_FULL, N4, st, v, &e, &err);
+    sea_status s = sea_energy_balance(p, SEA_EMIS_FULL, N4, st, v, &e, &err);
     if (s != SEA_OK)
         fprintf(stderr, "  energy: %s\n", err.msg);
     CU_ASSERT(s == SEA_OK);
@@ -90,6 +100,11 @@ static sea_energy energy(const sea_slope_stats *st, sea_dir v)
         fprintf(stderr, "  energy total %.9g at theta %.6g deg\n", e.total, v.theta / DEG);
     CU_ASSERT(isfinite(e.total) && e.total <= 1.0 + ENERGY_TOL);
     return e;
+}
+
+static sea_energy energy(const sea_slope_stats *st, sea_dir v)
+{
+    return energy_by(P, st, v);
 }
 
 static sea_slope_stats lr_stats(double U)
@@ -161,13 +176,15 @@ static void render(const sea_scene *sc, sea_image *img)
 
 /* ------------------------------------------ 1. grazing views to 89.99 deg */
 
-/* The default (auto) is documented within 1e-4 of the reference up to 85
- * deg (seabake.h).  Beyond, the fixed rule cuts the weight at 6 sigma and
- * its window shrinks to the visible sliver; measured up to 89.99 deg over
- * the LR 10 m/s sea, with and without the paper's mean slope (0.15, -0.15),
- * at 4 azimuths, its difference stays below 2e-4, the bound asserted.  Eq
- * 12 (fast) drops gamma_Y from psi: the paper's < 1 % holds to 85 deg; at
- * grazing its error is asserted only to stay below 0.02 (measured below). */
+/* The default (auto) rule against the reference (full) beyond 80 deg, where
+ * the fixed rule cuts the weight at 6 sigma and its window shrinks to the
+ * visible sliver: over the LR 10 m/s sea, with and without the paper's mean
+ * slope (0.15, -0.15), at 4 azimuths, up to 89.99 deg.  Eq 12 (fast) drops
+ * gamma_Y from psi: the paper's < 1 % holds to 85 deg.  Asserted at the
+ * figures of seabake-model(7) and seabake(1) (tests/claims.csv; Smith's
+ * shadowing, deterministic quadratures): auto within 5.9e-7 (measured
+ * 2.3e-7), fast within 5.1e-3 and 0.72 % relative to 85 deg, and the
+ * energy total back to 0.9999 at 89.99 deg for m = 0. */
 static void test_grazing(void)
 {
     const double ths[] = { 80.0, 85.0, 89.0, 89.9, 89.99 };
@@ -180,30 +197,34 @@ static void test_grazing(void)
         for (int i = 0; i < 5; i++)
             for (int j = 0; j < 4; j++) {
                 const sea_dir v = { ths[i] * DEG, phis[j] };
-                const double ef = emis(SEA_EMIS_FULL, &st, v);
-                const double ea = emis(SEA_EMIS_AUTO, &st, v);
-                const double es = emis(SEA_EMIS_FAST, &st, v);
+                const double ef = emis_by(PS, SEA_EMIS_FULL, &st, v);
+                const double ea = emis_by(PS, SEA_EMIS_AUTO, &st, v);
+                const double es = emis_by(PS, SEA_EMIS_FAST, &st, v);
                 worst_auto = fmax(worst_auto, fabs(ea - ef));
                 worst_fast = fmax(worst_fast, fabs(es - ef));
                 if (ths[i] <= 85.0)
                     worst_fast85 = fmax(worst_fast85, fabs(es - ef) / ef);
-                ASSERT_ABS(ea, ef, 2e-4);
-                ASSERT_ABS(es, ef, 0.02);
                 /* The sun high on the other side and on the same side. */
                 refl(&st, (sea_dir){ 40 * DEG, v.phi + M_PI }, v);
                 refl(&st, (sea_dir){ 40 * DEG, v.phi }, v);
                 refl(&st, (sea_dir){ v.theta, v.phi + M_PI }, v);
             }
         for (int i = 0; i < 5; i += UNIT_QUICK ? 2 : 1) {
-            const sea_energy e = energy(&st, (sea_dir){ ths[i] * DEG, 0.3 });
+            const sea_energy e = energy_by(PS, &st, (sea_dir){ ths[i] * DEG, 0.3 });
             MEASURED("grazing: energy at %g deg, m (%g, %g): eps %.5f + R %.5f = %.5f\n", ths[i],
                      st.mean.x, st.mean.y, e.emissivity, e.reflectance, e.total);
+            if (k == 0 && ths[i] == 89.99)
+                ASSERT_CLAIM("energy_lr_8999", e.total, 0.0);
         }
     }
-    CU_ASSERT(worst_fast85 < 0.01);
     MEASURED("grazing 80-89.99 deg: |auto - full| <= %.2e, |fast - full| <= %.2e "
              "(fast to 85 deg: %.2e relative)\n",
              worst_auto, worst_fast, worst_fast85);
+    ASSERT_CLAIM("grazing_auto_full", worst_auto, 0.0);
+    ASSERT_CLAIM("grazing_auto_full_1", worst_auto, 0.0);
+    ASSERT_CLAIM("grazing_fast_full", worst_fast, 0.0);
+    ASSERT_CLAIM("grazing_fast_rel85", worst_fast85, 0.0);
+    CU_ASSERT(worst_fast85 < 0.01); /* the paper's */
 }
 
 /* A scene whose rays graze a flat sea: camera axis 89.9 deg from nadir,

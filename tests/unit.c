@@ -7,7 +7,54 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "claims.h"
 #include "unit.h"
+
+#ifndef SEA_TOP_SRCDIR
+#define SEA_TOP_SRCDIR "."
+#endif
+
+static claim *claims;
+static size_t nclaims;
+static char claims_error[512];
+
+const claim *unit_claim_find(const char *id)
+{
+    if (claims == NULL && claims_error[0] == '\0' &&
+        claims_load(SEA_TOP_SRCDIR "/tests/claims.csv", &claims, &nclaims, claims_error,
+                    sizeof claims_error) != 0 && claims_error[0] == '\0')
+        snprintf(claims_error, sizeof claims_error, "cannot read tests/claims.csv");
+    return claims != NULL ? claims_find(claims, nclaims, id) : NULL;
+}
+
+void unit_claim(const char *id, double measured, double se, const char *file, int line)
+{
+    char msg[1024];
+    const claim *c = unit_claim_find(id);
+    if (c == NULL) {
+        snprintf(msg, sizeof msg, "claim %s: %s", id,
+                 claims != NULL ? "not in tests/claims.csv" : claims_error);
+        fprintf(stderr, "  %s:%d: %s\n", file, line, msg);
+        CU_assertImplementation(CU_FALSE, (unsigned)line, msg, file, "", CU_FALSE);
+        return;
+    }
+    double lo, hi;
+    const int ok = claim_holds(c, measured, se, &lo, &hi);
+    printf("measured: claim %s (%s, %s): %.6g, stated %s %.6g (within [%.6g, %.6g]%s)\n", id,
+           c->page, c->section, measured, claim_kind_name(c->kind), c->stated, lo, hi,
+           se > 0.0 ? ", with the reference's standard errors" : "");
+    fflush(stdout);
+    if (!ok) {
+        snprintf(msg, sizeof msg,
+                 "claim %s (%s, %s: %s): measured %.6g outside [%.6g, %.6g] (stated %s %.6g, "
+                 "tolerance %g + %g se, se %.3g)",
+                 id, c->page, c->section, c->figure, measured, lo, hi, claim_kind_name(c->kind),
+                 c->stated, c->tol, c->se_mult, se);
+        fprintf(stderr, "  %s:%d: %s\n", file, line, msg);
+    }
+    CU_assertImplementation(ok ? CU_TRUE : CU_FALSE, (unsigned)line, ok ? "claim" : msg, file, "",
+                            CU_FALSE);
+}
 
 int main(void)
 {
@@ -55,5 +102,6 @@ int main(void)
     int failed_registry = CU_get_number_of_suites_failed();
     printf("\nunit: %u passed, %u failed\n", run - failed, failed);
     CU_cleanup_registry();
+    free(claims);
     return (failed || asserts_failed || failed_registry) ? 1 : 0;
 }

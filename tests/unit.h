@@ -57,4 +57,19 @@ int test_mc_register(void);
 /* Figures worth quoting are printed on stdout, prefixed "measured:". */
 #define MEASURED(...) (printf("measured: " __VA_ARGS__), fflush(stdout))
 
+/* ASSERT_CLAIM(id, measured, se): the figure tests/claims.csv states for
+ * id, asserted with the kind and tolerance it gives there; se is the
+ * standard error of the reference the measurement was compared with (0
+ * for none), which the tolerance may count in.  Prints a "measured:" line
+ * with the figure; an id the table lacks is a failure. */
+void unit_claim(const char *id, double measured, double se, const char *file, int line);
+/* The row of id in tests/claims.csv (its kind and tolerance), or NULL. */
+#include "claims.h"
+const claim *unit_claim_find(const char *id);
+#define ASSERT_CLAIM(id, measured, se) unit_claim((id), (measured), (se), __FILE__, __LINE__)
+
+/* A check that cannot run here (a processor or build feature is missing):
+ * one line "SKIP: unit: WHY" on stdout, which scripts/test counts. */
+#define UNIT_SKIP(...) (printf("\nSKIP: unit: " __VA_ARGS__), printf("\n"), fflush(stdout))
+
 #endif

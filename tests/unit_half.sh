@@ -6,7 +6,7 @@
 # every other one (SEA_UNIT_SKIP), so a new suite is never left out.  Each
 # half's log ends in its own "unit: N passed, M failed" line.
 # Split by their time (SEA_UNIT_QUICK, native): optics 2.7 s, render 2.2 s
-# and the small ones here; bake 2.0, mc oracle 1.3, multires 1.0,
+# and the small ones here; bake 2.0, mc oracle 2.2, multires 1.0,
 # stability 0.5, exr 0.4 in half b.
 A_SUITES="optics,render,shadow,waves,scene,water,spectrum,sensor,preview"
 unit="${SEABAKE%/src/seabake}/tests/unit"
