@@ -789,6 +789,11 @@ struct sea_multires {
     size_t ncompact;
     size_t npix;
     mr_pixel *px;
+    /* pixels whose ground point lies outside the window (or in the fading
+     * band) of the level their footprint asks for, and the grid that would
+     * hold them all (the largest side any level's pixels need) */
+    size_t fallback;
+    size_t grid_needed;
 };
 
 /* A level's window on the map, the part of it at full weight, and what
@@ -1464,6 +1469,13 @@ void sea_multires_free(sea_multires *mr)
     free(mr);
 }
 
+size_t sea_multires_fallback(const sea_multires *mr, size_t *grid_needed)
+{
+    if (grid_needed != NULL)
+        *grid_needed = mr->grid_needed;
+    return mr->fallback;
+}
+
 size_t sea_multires_levels(const sea_multires *mr, const sea_clip_level **levels)
 {
     *levels = mr->compact;
@@ -1805,7 +1817,10 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
             continue;
         any_hr = 1;
         const double L = lv->facet;
-        const size_t grid = (size_t)sc->grid;
+        /* grid = auto: as large as the level's pixels need, up to the
+         * largest grid a scene may ask (a clipmap, which no pixel sizes,
+         * keeps the old default) */
+        size_t grid = sc->grid > 0 ? (size_t)sc->grid : clipmap ? 256 : SEA_GRID_AUTO_MAX;
         long i_lo, i_hi, j_lo, j_hi;
         if (xmin <= xmax) {
             TRY(check_cells(l, L, fmax(fabs(xmin), fabs(xmax)), fmax(fabs(ymin), fabs(ymax)),
@@ -1817,6 +1832,11 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
             const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
             i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
             j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
+            const size_t side = (size_t)(i_hi - i_lo + 1) > (size_t)(j_hi - j_lo + 1)
+                                    ? (size_t)(i_hi - i_lo + 1)
+                                    : (size_t)(j_hi - j_lo + 1);
+            if (side > mr->grid_needed)
+                mr->grid_needed = side + (side & 1);
         } else {
             /* No pixel reads this level (a clipmap window all the same):
              * the bounds stay infinite, and converting them is undefined. */
@@ -1879,6 +1899,19 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
      * the low-resolution level closes the chain. */
     mr->used[mr->first_lr] = 1;
     mr->lev[mr->first_lr].low_res = 1;
+    /* the pixels that do, for want of a larger grid */
+    {
+        size_t fb = 0;
+#pragma omp parallel for schedule(static) reduction(+ : fb)
+        for (size_t q = 0; q < mr->npix; q++) {
+            const mr_pixel *p = &mr->px[q];
+            if (!p->hit || p->level >= mr->first_lr)
+                continue;
+            const sea_clip_level *lv = &mr->lev[p->level];
+            fb += edge_weight(lv, p->x, p->y) < 1.0;
+        }
+        mr->fallback = fb;
+    }
 
     if (any_hr) {
         sea_waves_params wp;

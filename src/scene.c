@@ -191,7 +191,8 @@ enum {
     LO_OPEN = 1, /* (lo, ... instead of [lo, ... */
     HI_OPEN = 2, /* ..., hi) instead of ..., hi] */
     EVEN = 4,    /* an even integer */
-    REQUIRED = 8
+    REQUIRED = 8,
+    AUTO = 16    /* KIND_INT: or "auto", stored as 0 */
 };
 
 typedef enum {
@@ -330,7 +331,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                         "variable-step, variable-step-2n, one-meter", method),
     [K_N] = INT(SEC_MODEL, "n", 0, 20, 0, "", n),
     [K_FINEST] = REAL(SEC_MODEL, "finest", SEA_FINEST_MIN, 1000.0, 0, 1.0, "m", finest),
-    [K_GRID] = INT(SEC_MODEL, "grid", 16, 4096, EVEN, "facets", grid),
+    [K_GRID] = INT(SEC_MODEL, "grid", 16, 4096, EVEN | AUTO, "facets", grid),
     [K_EMISSIVITY] = CHOICE(SEC_MODEL, "emissivity", sea_emis_method_from_name,
                             "auto, fast, full", emissivity_method),
     [K_EARTH] = CHOICE(SEC_MODEL, "earth", earth_from_name, "flat, spherical", earth),
@@ -386,7 +387,7 @@ static void allowed_text(const key_spec *k, char *buf, size_t size)
     case KIND_INT:
         format_bound(lo, sizeof lo, k->lo);
         format_bound(hi, sizeof hi, k->hi);
-        snprintf(buf, size, "%s in [%s, %s]%s%s",
+        snprintf(buf, size, "%s%s in [%s, %s]%s%s", (k->flags & AUTO) ? "auto or " : "",
                  (k->flags & EVEN) ? "an even integer" : "an integer", lo, hi, unit_sep, k->unit);
         return;
     case KIND_REAL:
@@ -601,6 +602,10 @@ static int set_value(loader *ld, key_id id, const char *value)
         return 1;
     }
     case KIND_INT: {
+        if ((k->flags & AUTO) && strcmp(value, "auto") == 0) {
+            *(int *)(base + k->offset) = 0;
+            return 1;
+        }
         char *end;
         errno = 0;
         long v = strtol(value, &end, 10);
@@ -969,7 +974,7 @@ void sea_scene_defaults(sea_scene *sc)
     sc->method = SEA_METHOD_VARIABLE_STEP;
     sc->n = 1;
     sc->finest = 1.0;
-    sc->grid = 256;
+    sc->grid = SEA_GRID_AUTO;
     sc->emissivity_method = SEA_EMIS_AUTO;
     sc->earth = SEA_EARTH_FLAT;
     sc->windows = SEA_WINDOWS_VIEW;

@@ -1032,7 +1032,10 @@ typedef struct {
                                   a sea_facet_method; variable-step (the paper's model) */
     int n;                     /* n, [0, 20], with variable-step-2n; 1 */
     double finest;             /* finest, m, [0.001, 1000]; 1 */
-    int grid;                  /* grid, clipmap level size in facets, even [16, 4096]; 256 */
+    int grid;                  /* grid = auto | even [16, 4096], a level's largest side in
+                                  facets; SEA_GRID_AUTO (0): as large as the level's
+                                  pixels need, up to SEA_GRID_AUTO_MAX (256 for
+                                  windows = clipmap) */
     int emissivity_method;     /* emissivity = auto | fast | full; auto */
     sea_earth earth;           /* earth = flat | spherical; flat */
     sea_windows windows;       /* windows = view | clipmap; view */
@@ -1048,6 +1051,8 @@ typedef struct {
      * (seabake(1), REFERENCE), with at least two surface hits. */
     int reference;
 } sea_scene;
+
+enum { SEA_GRID_AUTO = 0, SEA_GRID_AUTO_MAX = 4096 };
 
 /* Defaults of every optional key; the required ones are marked unset
  * (wind_speed, altitude, hfov NAN; width, height 0; wavelength, band -1).
@@ -1205,6 +1210,12 @@ void sea_multires_free(sea_multires *mr);
 void sea_multires_drop_pixels(sea_multires *mr);
 /* The levels used, finest first, then the low-resolution one. */
 size_t sea_multires_levels(const sea_multires *mr, const sea_clip_level **levels);
+/* The pixels whose ground point lies outside the window (or in its fading
+ * band) of the level their footprint asks for, which read a coarser level
+ * for want of a larger grid; *grid_needed (may be NULL): the grid that
+ * would hold every pixel at its level (the largest side any level's pixels
+ * need, even).  Reads mr. */
+size_t sea_multires_fallback(const sea_multires *mr, size_t *grid_needed);
 /* The wave plan (NULL when every level is low-resolution). */
 const sea_waves *sea_multires_waves(const sea_multires *mr);
 /* Moments of a low-resolution facet: m = 0, C = C_LR, h = 0. */

@@ -164,7 +164,7 @@ static void test_defaults(void)
     CU_ASSERT(sc.roll == 0.0);
     CU_ASSERT(sc.band_min < 0.0 && sc.response_file[0] == '\0' && sc.band_samples == 0);
     CU_ASSERT(sc.method == SEA_METHOD_VARIABLE_STEP && sc.n == 1);
-    CU_ASSERT(sc.finest == 1.0 && sc.grid == 256);
+    CU_ASSERT(sc.finest == 1.0 && sc.grid == SEA_GRID_AUTO);
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_AUTO && sc.earth == SEA_EARTH_FLAT);
     CU_ASSERT(sc.windows == SEA_WINDOWS_VIEW);
     CU_ASSERT(sc.tolerance == 1e-3);
@@ -300,7 +300,7 @@ static const error_case CASES[] = {
     { BASE "[model]\nn = 21\n", SEA_ERR_DOMAIN, 10, "[model] n: 21 is out of range",
       "(allowed: an integer in [0, 20])" },
     { BASE "[model]\ngrid = 255\n", SEA_ERR_DOMAIN, 10, "[model] grid: 255 is out of range",
-      "(allowed: an even integer in [16, 4096] facets)" },
+      "(allowed: auto or an even integer in [16, 4096] facets)" },
     { BASE "[model]\ntolerance = 0\n", SEA_ERR_DOMAIN, 10, "[model] tolerance",
       "(allowed: (0, 0.1])" },
     { BASE "[sky]\nmodel = clear\n[atmosphere]\nair_temperature = 288\n", SEA_ERR_DOMAIN, 10,

@@ -648,7 +648,10 @@ static cJSON *scene_json(const bake_setup *s)
     cJSON_AddStringToObject(mod, "method", sea_facet_method_name((sea_facet_method)sc->method));
     cJSON_AddNumberToObject(mod, "n", sc->n);
     cJSON_AddNumberToObject(mod, "finest_m", sc->finest);
-    cJSON_AddNumberToObject(mod, "grid", sc->grid);
+    if (sc->grid == SEA_GRID_AUTO)
+        cJSON_AddStringToObject(mod, "grid", "auto");
+    else
+        cJSON_AddNumberToObject(mod, "grid", sc->grid);
     cJSON_AddStringToObject(mod, "emissivity",
                             sea_emis_method_name((sea_emis_method)sc->emissivity_method));
     cJSON_AddStringToObject(mod, "earth", sc->earth == SEA_EARTH_FLAT ? "flat" : "spherical");

@@ -19,12 +19,26 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     size_t sea_pixels = 0;
     for (size_t i = 0; i < n; ++i)
         sea_pixels += lv[i].pixels;
+    char grid[64];
+    size_t grid_needed = 0;
+    const size_t fallback = sea_multires_fallback(sea_render_multires(r), &grid_needed);
+    if (sc->grid == SEA_GRID_AUTO && sc->windows == SEA_WINDOWS_CLIPMAP)
+        snprintf(grid, sizeof grid, "grid auto: 256");
+    else if (sc->grid == SEA_GRID_AUTO)
+        snprintf(grid, sizeof grid, "grid auto: %zu at most", grid_needed);
+    else
+        snprintf(grid, sizeof grid, "grid %d", sc->grid);
     fprintf(stderr,
             "%s: %s: %d x %d pixels, %zu sea and %zu sky; %zu clipmap level%s of facets "
-            "%g m x 2^l (grid %d, tolerance %g, method %s):\n", what,
+            "%g m x 2^l (%s, tolerance %g, method %s):\n", what,
             scene_path, sc->width, sc->height, sea_pixels, npix - sea_pixels, n,
-            n == 1 ? "" : "s", sc->finest, sc->grid, sc->tolerance,
+            n == 1 ? "" : "s", sc->finest, grid, sc->tolerance,
             sea_facet_method_name((sea_facet_method)sc->method));
+    if (fallback > 0)
+        fprintf(stderr,
+                "  %zu pixel%s read coarser facets than their footprints ask, outside their "
+                "level's window: grid = %zu would hold them\n",
+                fallback, fallback == 1 ? "" : "s", grid_needed);
     for (size_t i = 0; i < n; ++i) {
         const sea_clip_level *l = &lv[i];
         if (l->low_res)
@@ -84,7 +98,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
     if (sc->windows == SEA_WINDOWS_CLIPMAP)
         fprintf(stderr, "  windows = clipmap: every high-resolution level is %d x %d facets "
                         "around the point the optical axis meets, whether pixels read it or not\n",
-                sc->grid, sc->grid);
+                sc->grid > 0 ? sc->grid : 256, sc->grid > 0 ? sc->grid : 256);
     const sea_render_choices ch = sea_render_choices_of(r);
     if (sc->emissivity_method == SEA_EMIS_AUTO)
         fprintf(stderr,

@@ -314,7 +314,8 @@ static char *frame_path(const char *stem, bool framed, long frame, const char *m
 
 /* ------------------------------------------------------------- reporting */
 
-/* "1,2,512(LR)": facet sizes of the levels prepare chose, finest first. */
+/* "1,2,512(LR) m": facet sizes of the levels prepare chose, finest first,
+ * and the pixels on coarser facets than they ask, if any. */
 static void levels_text(const sea_render *r, char *buf, size_t size)
 {
     const sea_clip_level *lv;
@@ -328,6 +329,16 @@ static void levels_text(const sea_render *r, char *buf, size_t size)
             break;
         used += (size_t)w;
     }
+    /* the pixels that read coarser facets than their footprint asks, for
+     * want of a larger grid: said in the summary, with the grid */
+    size_t grid_needed = 0;
+    const size_t fb = sea_multires_fallback(sea_render_multires(r), &grid_needed);
+    if (used < size)
+        used += (size_t)snprintf(buf + used, size - used, " m");
+    if (fb > 0 && used < size)
+        snprintf(buf + used, size - used,
+                 " (%zu pixel%s on coarser facets than they ask: grid = %zu would hold them)", fb,
+                 fb == 1 ? "" : "s", grid_needed);
 }
 
 /* -------------------------------------------------------------- previews */
@@ -617,7 +628,7 @@ static sea_status render_summary(const render_setup *s, const char *levels, doub
     char *b = frame_path(s->out_stem, s->framed, last, "", s->out_ext);
     if (a != NULL && b != NULL)
         fprintf(stderr,
-                "render: %s%s%s: %d x %d, levels %s m, %ld frame%s, %.3g s, brightness "
+                "render: %s%s%s: %d x %d, levels %s, %ld frame%s, %.3g s, brightness "
                 "temperature %.2f to %.2f K\n",
                 a, last > first ? " to " : "", last > first ? b : "", s->sc.width, s->sc.height,
                 levels, last - first + 1, last > first ? "s" : "", sea_cli_seconds() - start, t_min,
@@ -637,7 +648,7 @@ static sea_status render_frames(const render_setup *s, const sea_render *r, doub
     sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
     if (st != SEA_OK)
         return st;
-    char levels[SEA_CLIP_MAX_LEVELS * 24];
+    char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
     levels_text(r, levels, sizeof levels);
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
     render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1}, s->progress};
@@ -762,7 +773,7 @@ static sea_status render_frames_mpi(const render_setup *s, const sea_render *r, 
         sea_image_free(&img);
         return st;
     }
-    char levels[SEA_CLIP_MAX_LEVELS * 24];
+    char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
     levels_text(r, levels, sizeof levels);
     const long first = s->frame_a, last = s->frame_b;
     render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1},
@@ -899,7 +910,7 @@ static sea_status render_rows_mpi(const render_setup *s, const sea_render *r, do
         ((pack = malloc((most * RENDER_PLANES * W + 1) * sizeof *pack)) == NULL ||
          (rows = malloc((most + 1) * sizeof *rows)) == NULL))
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
-    char levels[SEA_CLIP_MAX_LEVELS * 24];
+    char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
     levels_text(r, levels, sizeof levels);
     render_progress prog = {{"render", 0, 1, -1}, s->progress && rank == 0};
     const double t = s->sc.time;
