@@ -83,20 +83,35 @@ static int heading(const char *line, size_t len, char *title, size_t tlen)
     return 1;
 }
 
-/* Whether the section `section` of text states figure (roff's \- read as -). */
+/* Whether the section `section` of text states figure (roff's \- read as
+ * -): the section's lines joined by spaces, so that a figure may run over a
+ * line break (Markdown's list indentation and roff's requests aside). */
 static int page_states(const char *text, const char *section, const char *figure)
 {
-    int in = 0, found_section = 0;
-    char title[256], norm[4096];
-    for (const char *p = text; *p;) {
+    int in = 0, found_section = 0, found = 0;
+    char title[256];
+    size_t cap = strlen(text) + 2, k = 0;
+    char *norm = malloc(cap);
+    if (norm == NULL)
+        return 0;
+    norm[0] = '\0';
+    for (const char *p = text; *p && !found;) {
         const char *e = strchr(p, '\n');
         size_t len = e ? (size_t)(e - p) : strlen(p);
         if (heading(p, len, title, sizeof title)) {
+            if (in)
+                found = strstr(norm, figure) != NULL;
             in = strcmp(title, section) == 0;
             found_section |= in;
+            k = 0;
+            norm[0] = '\0';
         } else if (in) {
-            size_t k = 0;
-            for (size_t i = 0; i < len && k + 1 < sizeof norm; i++) {
+            size_t i = 0;
+            while (i < len && p[i] == ' ')
+                i++; /* a list item's indentation */
+            if (k > 0 && k + 1 < cap)
+                norm[k++] = ' ';
+            for (; i < len && k + 1 < cap; i++) {
                 if (p[i] == '\\' && i + 1 < len && p[i + 1] == '-') {
                     norm[k++] = '-';
                     i++;
@@ -104,12 +119,13 @@ static int page_states(const char *text, const char *section, const char *figure
                     norm[k++] = p[i];
             }
             norm[k] = '\0';
-            if (strstr(norm, figure) != NULL)
-                return 1;
         }
         p += len + (e != NULL);
     }
-    return found_section ? 0 : -1;
+    if (in && !found)
+        found = strstr(norm, figure) != NULL;
+    free(norm);
+    return found ? 1 : found_section ? 0 : -1;
 }
 
 /* s with every "{srcdir}" replaced by srcdir and "{tmp}" by the scratch
@@ -218,9 +234,12 @@ static void run(const claim *c, const char *srcdir, const char *seabake, const c
         free(out);
         return;
     }
-    /* col:NAME: every data row of the CSV on stdout */
+    /* col:NAME: every data row of the CSV on stdout (its comment lines,
+     * a leading '#', aside) */
     const char *name = c->extract + 4;
     char *save = NULL, *line = strtok_r(out, "\n", &save);
+    while (line != NULL && line[0] == '#')
+        line = strtok_r(NULL, "\n", &save);
     int col = -1, rows = 0;
     if (line != NULL) {
         int k = 0;
@@ -234,6 +253,8 @@ static void run(const claim *c, const char *srcdir, const char *seabake, const c
         return;
     }
     while ((line = strtok_r(NULL, "\n", &save)) != NULL) {
+        if (line[0] == '#')
+            continue;
         int k = 0;
         char *f = line, *next;
         for (; k < col && f != NULL; k++) {

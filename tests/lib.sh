@@ -130,6 +130,14 @@ csv_rows() {
     printf '%s\n' "$SB_OUT" | grep -v '^#' | tail -n +2 | grep -c ''
 }
 
+# claim_limit ID: the bound of claim ID of tests/claims.csv (a "<=" row:
+# stated plus its absolute tolerance), for the shell tests that assert a
+# figure of the manuals.
+claim_limit() {
+    awk -F, -v id="$1" '$1 == id { print $8 + $9; found = 1 } END { if (!found) print "nan" }' \
+        "${top_srcdir:-.}/tests/claims.csv"
+}
+
 # csv_data: $SB_OUT without its comment lines (a leading "#": the model
 # the emissivity subcommand names).
 csv_data() {
