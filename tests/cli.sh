@@ -1106,7 +1106,7 @@ fi
 sb_run render "$RSCENE" -o "$RDIR/explain.exr" --explain --quiet --png none
 check_rc render.explain_rc 0
 check_match render.explain_level "$SB_ERR" "level +[0-9]+: [0-9.]+ m, window [0-9]+ x [0-9]+ facets from"
-check_match render.explain_lr "$SB_ERR" "low-resolution: the waves longer than .* less than the tolerance 0.001"
+check_match render.explain_lr "$SB_ERR" "low-resolution: the waves longer than .* less than a thousandth of the tolerance \\(1e-06\\)"
 check_match render.explain_samples "$SB_ERR" "1 spectral sample, at 4 um"
 check_no_match render.explain_no_fallback "$SB_ERR" "fallback"
 check_match render.explain_emissivity "$SB_ERR" "emissivity: fast \(not scaled by the tolerance\)"
