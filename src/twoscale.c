@@ -460,6 +460,23 @@ static void cr_axis(double x, int nn, int mirror, int k[4], double w[4])
     }
 }
 
+/* Linear interpolation on the same stencil shape: nodes i and i + 1 of x
+ * in [0, nn - 1] (clamped), weights 1 - f and f, the other two 0. */
+static void lin_axis(double x, int nn, int k[4], double w[4])
+{
+    int i = (int)floor(x);
+    if (i < 0)
+        i = 0;
+    if (i > nn - 2)
+        i = nn - 2;
+    const double f = fmin(fmax(x - i, 0.0), 1.0);
+    k[0] = i;
+    k[1] = k[2] = k[3] = i + 1;
+    w[0] = 1.0 - f;
+    w[1] = f;
+    w[2] = w[3] = 0.0;
+}
+
 sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
                                double *out, sea_error *err)
 {
@@ -484,8 +501,12 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
     /* the azimuth to the wind in [0, 90] deg: the table is even about both
      * ends (the sea's slopes are symmetric about the wind and across it) */
     const double phi = fabs(remainder(v.phi - t->wind_dir, M_PI));
-    cr_axis(fmin(phi, M_PI / 2.0) / (M_PI / 2.0) * (TAB_NP - 1), TAB_NP, 1, kp, wp);
-    cr_axis((v.theta - TAB_T0) / TAB_DT, TAB_NT, 0, kt, wt);
+    /* the addition changes by a few percent of itself over the azimuth and
+     * the zenith, smoothly: linear in both (Catmull-Rom in each, 4 times the
+     * reads, was closer to the reference by at most 4e-5 of the radiance on
+     * the images of seabake(1), REFERENCE) */
+    lin_axis(fmin(phi, M_PI / 2.0) / (M_PI / 2.0) * (TAB_NP - 1), TAB_NP, kp, wp);
+    lin_axis((v.theta - TAB_T0) / TAB_DT, TAB_NT, kt, wt);
     int rows[16], nr = 0;
     for (int a = 0; a < 4; a++)
         for (int b = 0; b < 4; b++)
@@ -510,7 +531,9 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
                 const double wabc = wab * wf[c];
                 if (wabc == 0.0)
                     continue;
-                for (int d = 0; d < 4; d++)
+                for (int d = 0; d < 4; d++) {
+                    if (wp[d] == 0.0)
+                        continue;
                     for (int e = 0; e < TAB_NY2; e++) {
                         const double w = wabc * wp[d] * wy[e];
                         const double *q =
@@ -519,6 +542,7 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
                         for (size_t k = 0; k < n; k++)
                             out[k] += w * q[k];
                     }
+                }
             }
         }
     }
