@@ -26,6 +26,7 @@
 #include "config.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -440,7 +441,11 @@ static inline double exp_rule(double x)
     const double p6 = c[12] + c[13] * r;
     const double q0 = p0 + p1 * r2, q1 = p2 + p3 * r2, q2 = p4 + p5 * r2;
     const double s0 = q0 + q1 * r4, s1 = q2 + p6 * r4;
-    return ldexp(s0 + s1 * r8, (int)k);
+    /* times 2^k, exactly: k >= -1010 here, so 2^k is a normal number put
+     * together in the exponent bits (as the AVX2 loop does), without
+     * ldexp's call */
+    const union { uint64_t u; double d; } two_k = { (uint64_t)((int64_t)k + 1023) << 52 };
+    return (s0 + s1 * r8) * two_k.d;
 }
 
 /* The fixed rules' weight at node t: view_weight with exp_rule. */

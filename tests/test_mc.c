@@ -798,7 +798,7 @@ static void test_two_scale_limits(void)
                     own = fmax(own, fabs(x - (e2 - e1)));
                 }
     }
-    /* measured 1.08e-4 to 85 deg and 5.45e-4 at 88 (additions of
+    /* measured 1.19e-4 to 85 deg and 5.40e-4 at 88 (additions of
      * 0.002-0.07: the table's orders 12 x 4 against 24 x 8 and its
      * interpolation, worst near the visibility limit), and 6.9e-4 between
      * the exact form and the difference with the facet's own covariance
