@@ -987,6 +987,21 @@ void sea_scene_defaults(sea_scene *sc)
     sc->sky_zenith_emissivity = NAN;
     sc->air_temperature = NAN;
     sc->extinction = 0.0;
+    /* the camera: absent */
+    sc->psf_sigma = NAN;
+    sc->f_number = NAN;
+    sc->pitch = NAN;
+    sc->mtf_file[0] = '\0';
+    sc->fill_factor = NAN;
+    sc->netd = NAN;
+    sc->netd_temperature = 300.0;
+    sc->noise_seed = 1;
+    sc->fpn_gain = NAN;
+    sc->fpn_offset = NAN;
+    sc->fpn_seed = 1;
+    sc->gain = NAN;
+    sc->offset = NAN;
+    sc->bit_depth = 14;
 }
 
 /* Applies the overrides "section.key=value" through the file's own key
