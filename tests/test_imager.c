@@ -743,13 +743,99 @@ static void test_tolerance(void)
     CU_ASSERT(tb < sea_imager_tolerance_from_netd(&e8.band, 0.05, 300.0, 300.0, 0.1));
     CU_ASSERT(tb > sea_imager_tolerance_from_netd(&e12.band, 0.05, 300.0, 300.0, 0.1));
 
-    /* no netd, no tolerance */
+    /* a scene's: its wavelength, netd, netd_temperature and sea temperature */
+    const char *set[] = { "sensor.netd=0.05", "sensor.netd_temperature=300" };
     sea_scene sc;
     sea_error err = { "" };
+    CU_ASSERT_FATAL(sea_scene_load_with(SEA_TOP_SRCDIR "/examples/tiny.ini", set, 2, &sc, &err) ==
+                    SEA_OK);
     double tol;
+    CU_ASSERT_FATAL(sea_imager_scene_tolerance(&sc, 0.1, &tol, &err) == SEA_OK);
+    ASSERT_REL(tol,
+               0.1 * 0.05 * sea_planck_radiance_dT(4e-6, 300.0) /
+                   sea_planck_radiance(4e-6, sc.temperature),
+               1e-12, 0.0);
+    /* a band's, by its 64-node rule, against the imager's formula on a
+     * 256-node midpoint rule (1e-5: the midpoint rule's error) */
+    const char *band_set[] = { "sensor.netd=0.05", "sensor.band=8:12", "sea.temperature=290" };
+    sea_scene sb;
+    static const char TINY_NO_WL[] = "/tmp/seabake-imager-band-XXXXXX";
+    char path[sizeof TINY_NO_WL];
+    memcpy(path, TINY_NO_WL, sizeof path);
+    const int fd = mkstemp(path);
+    CU_ASSERT_FATAL(fd >= 0);
+    FILE *f = fdopen(fd, "w");
+    fprintf(f, "[sea]\nwind_speed = 8\n[sensor]\naltitude = 50\nhfov = 40\nwidth = 8\n"
+               "height = 8\n");
+    fclose(f);
+    CU_ASSERT_FATAL(sea_scene_load_with(path, band_set, 3, &sb, &err) == SEA_OK);
+    unlink(path);
+    CU_ASSERT_FATAL(sea_imager_scene_tolerance(&sb, 0.1, &tol, &err) == SEA_OK);
+    double wl[256], wt[256];
+    for (int i = 0; i < 256; i++) {
+        wl[i] = (8.0 + 4.0 * (i + 0.5) / 256.0) * 1e-6;
+        wt[i] = 4e-6 / 256.0;
+    }
+    const sea_band mid = { 256, wl, wt, 1.0 };
+    ASSERT_REL(tol, sea_imager_tolerance_from_netd(&mid, 0.05, 300.0, 290.0, 0.1), 1e-5, 0.0);
+    /* no netd, no tolerance */
     sea_scene_defaults(&sc);
     CU_ASSERT(sea_imager_scene_tolerance(&sc, 0.1, &tol, &err) == SEA_ERR_DOMAIN);
     CU_ASSERT(strstr(err.msg, "netd") != NULL);
+}
+
+/* ---------------------------------------------------------- the scene */
+
+/* A scene without camera keys gives no camera (its radiance image is all
+ * there is); with them, the render's band and size, and the temperature
+ * of its unblurred, noiseless frame is the render's own temperature plane
+ * (both float: 4e-5 K, float's rounding, apart). */
+static void test_from_render(void)
+{
+    sea_scene sc;
+    sea_error err = { "" };
+    const char *path = SEA_TOP_SRCDIR "/examples/tiny.ini";
+    CU_ASSERT_FATAL(sea_scene_load(path, &sc, &err) == SEA_OK);
+    sea_imager_params p;
+    CU_ASSERT(sea_imager_params_from_scene(&sc, &p) == 0);
+    sea_render *r = NULL;
+    if (sea_render_prepare(&sc, &r, &err) != SEA_OK)
+        fprintf(stderr, "\n  %s\n", err.msg);
+    CU_ASSERT_FATAL(r != NULL);
+    sea_imager *im = NULL;
+    CU_ASSERT(sea_imager_from_render(r, &im, &err) == SEA_OK);
+    CU_ASSERT(im == NULL);
+    sea_image img;
+    image_make(&img, sc.width, sc.height);
+    CU_ASSERT_FATAL(sea_render_frame(r, sc.time, &img, NULL, NULL, &err) == SEA_OK);
+    /* the render's own conversion, exposed: of the float radiance (6e-8
+     * relative, 4e-6 K here) against the float of the double's */
+    double worst_render = 0.0;
+    for (int q = 0; q < sc.width * sc.height; q++)
+        worst_render = fmax(worst_render, fabs(sea_render_brightness_temperature(r, img.radiance[q]) -
+                                               img.temperature[q]));
+    CU_ASSERT(worst_render <= 4e-5);
+    sea_render_free(r);
+
+    const char *set[] = { "sensor.fill_factor=1", "sensor.gain=20000", "sensor.offset=-100" };
+    CU_ASSERT_FATAL(sea_scene_load_with(path, set, 3, &sc, &err) == SEA_OK);
+    CU_ASSERT(sea_imager_params_from_scene(&sc, &p) == 1);
+    CU_ASSERT(p.psf == SEA_PSF_NONE && p.gain == 20000.0 && p.offset == -100.0 &&
+              p.bit_depth == 14);
+    CU_ASSERT_FATAL(sea_render_prepare(&sc, &r, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_imager_from_render(r, &im, &err) == SEA_OK && im != NULL);
+    CU_ASSERT(!sea_imager_filters(im) && sea_imager_counts(im));
+    sea_imager_image out;
+    out_make(im, &out);
+    apply(im, &img, 0, &out);
+    double worst = 0.0;
+    for (int q = 0; q < sc.width * sc.height; q++)
+        worst = fmax(worst, fabs(out.temperature[q] - img.temperature[q]));
+    CU_ASSERT(worst <= 4e-5);
+    sea_imager_image_free(&out);
+    sea_imager_free(im);
+    sea_render_free(r);
+    sea_image_free(&img);
 }
 
 /* --------------------------------------------------------------- errors */
@@ -950,6 +1036,7 @@ int test_imager_register(void)
            !CU_add_test(s, "fixed-pattern noise", test_fpn) ||
            !CU_add_test(s, "counts: linear, saturation counted", test_counts) ||
            !CU_add_test(s, "the tolerance from the NETD", test_tolerance) ||
+           !CU_add_test(s, "the scene's camera and the render's band", test_from_render) ||
            !CU_add_test(s, "errors name the parameter, value and range", test_errors) ||
            !CU_add_test(s, "cost at 1920 x 1080 (measured)", test_cost);
 }
