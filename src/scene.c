@@ -1152,6 +1152,7 @@ sea_status sea_scene_load_with(const char *path, const char *const *overrides, s
     apply_overrides(ld);
     check_scene(ld);
     check_files(ld);
+    ld->sc.tolerance_given = ld->key_line[K_TOLERANCE] != 0;
 
     st = ld->status;
     if (st == SEA_OK)

@@ -1094,6 +1094,10 @@ typedef struct {
      * approximation the tolerance allows replaced by its exact form
      * (seabake(1), REFERENCE), with at least two surface hits. */
     int reference;
+    /* Not a key either: 1 when the file or an override gave [model]
+     * tolerance, 0 when it is the default, which a program may then
+     * derive from the camera's netd (sea_imager_scene_tolerance). */
+    int tolerance_given;
 } sea_scene;
 
 enum { SEA_GRID_AUTO = 0, SEA_GRID_AUTO_MAX = 4096 };

@@ -108,7 +108,7 @@ static void test_full_file(void)
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_FAST);
     CU_ASSERT(sc.earth == SEA_EARTH_SPHERICAL);
     CU_ASSERT(sc.windows == SEA_WINDOWS_CLIPMAP);
-    CU_ASSERT(sc.tolerance == 1e-4);
+    CU_ASSERT(sc.tolerance == 1e-4 && sc.tolerance_given == 1);
     CU_ASSERT(sc.reflections == 2);
     CU_ASSERT(sc.f_number == 2.5);
     CU_ASSERT(sc.pitch == 15 * 1e-6);
@@ -188,7 +188,7 @@ static void test_defaults(void)
     CU_ASSERT(sc.finest == 1.0 && sc.grid == SEA_GRID_AUTO);
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_AUTO && sc.earth == SEA_EARTH_FLAT);
     CU_ASSERT(sc.windows == SEA_WINDOWS_VIEW);
-    CU_ASSERT(sc.tolerance == 1e-3);
+    CU_ASSERT(sc.tolerance == 1e-3 && sc.tolerance_given == 0);
     CU_ASSERT(sc.reflections == SEA_REFLECTIONS_AUTO);
     CU_ASSERT(sc.reference == 0);
     /* no camera: every key absent, the image is the radiance alone */
@@ -695,6 +695,7 @@ static void test_overrides(void)
     CU_ASSERT_FATAL(sea_scene_load_with(path, ok, 4, &sc, &err) == SEA_OK);
     CU_ASSERT(sc.wind_speed == 12.5 && sc.width == 32 && sc.height == 48);
     CU_ASSERT(sc.tolerance == 1e-2 && sc.sky_temperature == 250.0);
+    CU_ASSERT(sc.tolerance_given == 1); /* by an override */
     /* a required key may come from an override alone */
     const char *nofile = write_file("over_missing.ini", "[sea]\n[sensor]\naltitude = 500\n"
                                     "hfov = 30\nwidth = 64\nheight = 48\nwavelength = 4\n");
