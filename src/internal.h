@@ -29,6 +29,16 @@ __attribute__((target("avx2"))) static inline void sea_transpose4_avx2(__m256d r
 }
 #endif
 
+/* waves.c: FFTW's planner is not thread-safe (its execution is): every
+ * plan the library makes or destroys holds this lock meanwhile. */
+SEA_INTERNAL void sea_fftw_planner_lock(void);
+SEA_INTERNAL void sea_fftw_planner_unlock(void);
+
+/* imager.c: the apparent temperature of a radiance as sea_imager_apply
+ * computes it, in double (the frame stores floats), for the tests. */
+struct sea_imager;
+SEA_INTERNAL double sea_imager_temperature(const struct sea_imager *im, double radiance);
+
 /* planck.c: the black body L(lambda, T) = a / expm1(b / T), a and b of lambda. */
 SEA_INTERNAL void sea_planck_coefficients(double wavelength, double *a, double *b);
 

@@ -44,3 +44,61 @@ void sea_planck_coefficients(double wavelength, double *a, double *b)
     *a = c1 / pow(wavelength, 5);
     *b = c2 / wavelength;
 }
+
+/* ------------------------------------------------------------ a band */
+
+double sea_band_radiance(const sea_band *b, double temperature)
+{
+    double L = 0.0;
+    for (size_t i = 0; i < b->n; i++)
+        L += b->weight[i] * sea_planck_radiance(b->wavelength[i], temperature);
+    return b->unit * L;
+}
+
+double sea_band_radiance_dT(const sea_band *b, double temperature)
+{
+    double d = 0.0;
+    for (size_t i = 0; i < b->n; i++)
+        d += b->weight[i] * sea_planck_radiance_dT(b->wavelength[i], temperature);
+    return b->unit * d;
+}
+
+/* The bracket of the band's brightness temperature, K: every scene of
+ * seabake lies far inside it, and a black body's band radiance is
+ * increasing in T over it. */
+static const double SEA_BAND_T_LO = 1.0, SEA_BAND_T_HI = 1e5;
+
+double sea_band_temperature(const sea_band *b, double radiance)
+{
+    if (!(radiance > 0.0))
+        return 0.0;
+    if (b->n == 1)
+        return sea_planck_brightness_temperature(b->wavelength[0],
+                                                 radiance / (b->unit * b->weight[0]));
+    /* first guess: the middle sample's temperature of the mean radiance */
+    double wsum = 0.0;
+    for (size_t i = 0; i < b->n; i++)
+        wsum += b->weight[i];
+    double T = sea_planck_brightness_temperature(b->wavelength[b->n / 2],
+                                                 radiance / (b->unit * wsum));
+    double lo = SEA_BAND_T_LO, hi = SEA_BAND_T_HI;
+    if (!(T > lo && T < hi))
+        T = 300.0;
+    /* L(T) is increasing and convex in T over the bracket's useful part:
+     * Newton converges quadratically; a step leaving the bracket bisects */
+    for (int it = 0; it < 200; it++) {
+        const double f = sea_band_radiance(b, T) - radiance;
+        const double df = sea_band_radiance_dT(b, T);
+        if (f > 0.0)
+            hi = T;
+        else
+            lo = T;
+        double Tn = T - f / df;
+        if (!(Tn > lo && Tn < hi))
+            Tn = 0.5 * (lo + hi);
+        if (fabs(Tn - T) <= 1e-13 * T)
+            return Tn;
+        T = Tn;
+    }
+    return T;
+}

@@ -417,6 +417,19 @@ static double radiance_unit(const sea_render *r)
     return r->nsamp == 1 && r->sc.wavelength > 0.0 ? 1e-6 : 1.0;
 }
 
+void sea_render_band(const sea_render *r, sea_band *out)
+{
+    out->n = r->nsamp;
+    out->wavelength = r->wl;
+    out->weight = r->wt;
+    out->unit = radiance_unit(r);
+}
+
+double sea_render_brightness_temperature(const sea_render *r, double radiance)
+{
+    return radiance > 0.0 ? band_temperature(r, radiance / radiance_unit(r)) : 0.0;
+}
+
 sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
                                    sea_dir sun, sea_facet_optics *out, sea_error *err)
 {

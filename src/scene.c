@@ -204,6 +204,8 @@ typedef enum {
     K_SKY_TABLE, K_AIR_TEMPERATURE, K_EXTINCTION, K_ATMOSPHERE_TABLE,
     K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
     K_WAVELENGTH, K_BAND, K_RESPONSE, K_SAMPLES,
+    K_PSF_SIGMA, K_F_NUMBER, K_PITCH, K_MTF, K_FILL_FACTOR, K_NETD, K_NETD_TEMPERATURE,
+    K_NOISE_SEED, K_FPN_GAIN, K_FPN_OFFSET, K_FPN_SEED, K_GAIN, K_OFFSET, K_BIT_DEPTH,
     K_METHOD, K_N, K_FINEST, K_GRID, K_EMISSIVITY, K_EARTH, K_WINDOWS, K_TOLERANCE,
     K_REFLECTIONS, K_SHADOWING, K_SCALES,
     K_COUNT
@@ -262,6 +264,8 @@ typedef struct {
     { sec, name, KIND_PATH, 0, 0, 0, 1.0, "", AT(field), NULL, columns }
 #define CHOICE(sec, name, fn, names, field)                                                   \
     { sec, name, KIND_CHOICE, 0, 0, 0, 1.0, "", AT(field), fn, names }
+#define SEED(sec, name, field)                                                                \
+    { sec, name, KIND_SEED, 0, 4294967295.0, 0, 1.0, "", AT(field), NULL, NULL }
 
 /* Indexed by key_id.  "any finite" is (-inf, inf); ranges follow seabake.h. */
 static const key_spec SEA_KEYS[K_COUNT] = {
@@ -273,7 +277,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_SEA_TEMPERATURE] = REAL(SEC_SEA, "temperature", 271.0, 313.0, 0, 1.0, "K", temperature),
     [K_SALINITY] = REAL(SEC_SEA, "salinity", 0.0, SEA_SALINITY_MAX, 0, 1.0, "g/kg", salinity),
     [K_WATER] = { SEC_SEA, "water", KIND_WATER, 0, 0, 0, 1.0, "", AT(water_table), NULL, NULL },
-    [K_SEED] = { SEC_SEA, "seed", KIND_SEED, 0, 4294967295.0, 0, 1.0, "", AT(seed), NULL, NULL },
+    [K_SEED] = SEED(SEC_SEA, "seed", seed),
     [K_TIME] = REAL(SEC_SEA, "time", -SEA_TIME_MAX, SEA_TIME_MAX, 0, 1.0, "s", time),
     [K_LOOP_PERIOD] = REAL(SEC_SEA, "loop_period", 0.0, INF, HI_OPEN, 1.0, "s", loop_period),
 
@@ -326,6 +330,30 @@ static const key_spec SEA_KEYS[K_COUNT] = {
                  NULL },
     [K_RESPONSE] = CSV(SEC_SENSOR, "response", "wavelength_um,response", response_file),
     [K_SAMPLES] = INT(SEC_SENSOR, "samples", 1, SEA_SCENE_BAND_MAX, 0, "", band_samples),
+    /* the camera (imager.c): ranges from seabake.h's SEA_IMAGER_ macros */
+    [K_PSF_SIGMA] = REAL(SEC_SENSOR, "psf_sigma", 0.0, SEA_IMAGER_SIGMA_MAX, LO_OPEN, 1.0,
+                         "pixels", psf_sigma),
+    [K_F_NUMBER] = REAL(SEC_SENSOR, "f_number", SEA_IMAGER_F_NUMBER_MIN, SEA_IMAGER_F_NUMBER_MAX,
+                        0, 1.0, "", f_number),
+    [K_PITCH] = REAL(SEC_SENSOR, "pitch", SEA_IMAGER_PITCH_MIN_UM, SEA_IMAGER_PITCH_MAX_UM, 0,
+                     SEA_UM, "um", pitch),
+    [K_MTF] = CSV(SEC_SENSOR, "mtf", "cycles_per_pixel,mtf", mtf_file),
+    [K_FILL_FACTOR] = REAL(SEC_SENSOR, "fill_factor", 0.0, 1.0, LO_OPEN, 1.0, "", fill_factor),
+    [K_NETD] = REAL(SEC_SENSOR, "netd", 0.0, SEA_IMAGER_NETD_MAX, LO_OPEN, 1.0, "K", netd),
+    [K_NETD_TEMPERATURE] = REAL(SEC_SENSOR, "netd_temperature", SEA_IMAGER_T_MIN,
+                                SEA_IMAGER_T_MAX, 0, 1.0, "K", netd_temperature),
+    [K_NOISE_SEED] = SEED(SEC_SENSOR, "noise_seed", noise_seed),
+    [K_FPN_GAIN] = REAL(SEC_SENSOR, "fpn_gain", 0.0, SEA_IMAGER_FPN_GAIN_MAX, 0, 1.0, "",
+                        fpn_gain),
+    [K_FPN_OFFSET] = REAL(SEC_SENSOR, "fpn_offset", 0.0, SEA_IMAGER_FPN_OFFSET_MAX, 0, 1.0, "K",
+                          fpn_offset),
+    [K_FPN_SEED] = SEED(SEC_SENSOR, "fpn_seed", fpn_seed),
+    [K_GAIN] = REAL(SEC_SENSOR, "gain", 0.0, SEA_IMAGER_GAIN_MAX, LO_OPEN, 1.0,
+                    "counts per radiance unit", gain),
+    [K_OFFSET] = REAL(SEC_SENSOR, "offset", -SEA_IMAGER_OFFSET_MAX, SEA_IMAGER_OFFSET_MAX, 0, 1.0,
+                      "counts", offset),
+    [K_BIT_DEPTH] = INT(SEC_SENSOR, "bit_depth", SEA_IMAGER_BITS_MIN, SEA_IMAGER_BITS_MAX, 0,
+                        "bits", bit_depth),
 
     [K_METHOD] = CHOICE(SEC_MODEL, "method", sea_facet_method_from_name,
                         "variable-step, variable-step-2n, one-meter", method),
@@ -350,6 +378,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
 #undef INT
 #undef CHOICE
 #undef CSV
+#undef SEED
 
 /* "1e+06" reads worse than "1000000" in a range. */
 static void format_bound(char *buf, size_t size, double v)
@@ -627,7 +656,7 @@ static int set_value(loader *ld, key_id id, const char *value)
                             SEA_QUOTE_MAX, value);
         if (v > 4294967295ULL)
             return fail_key(ld, SEA_ERR_DOMAIN, line, id, "%llu is out of range", v);
-        ld->sc.seed = (unsigned long)v;
+        *(unsigned long *)(base + k->offset) = (unsigned long)v;
         return 1;
     }
     case KIND_CHOICE: {
@@ -695,7 +724,7 @@ static int on_key(void *user, const char *section, const char *name, const char 
         if ((int)SEA_KEYS[i].section == sec && strcmp(SEA_KEYS[i].name, name) == 0)
             id = i;
     if (id < 0) {
-        char keys[SEA_ERROR_MSG_MAX / 2];
+        char keys[SEA_ERROR_MSG_MAX - 128]; /* every key of [sensor]: 244 characters */
         section_keys(sec, keys, sizeof keys);
         return fail_line(ld, SEA_ERR_PARSE, line, "[%s] %.*s: unknown key (allowed: %s)",
                          SEA_SECTIONS[sec], SEA_QUOTE_MAX, name, keys);
@@ -763,6 +792,42 @@ static void check_required(loader *ld, key_id id)
                  SEA_SECTIONS[k->section]);
 }
 
+/* Key id, when given, needs one of the n keys `needs`, named by `keys`:
+ * "[section] key: needs KEYS: WHY (allowed: with KEYS)" at its line. */
+static void check_needs(loader *ld, key_id id, const key_id *needs, size_t n, const char *keys,
+                        const char *why)
+{
+    if (ld->status != SEA_OK || ld->key_line[id] == 0)
+        return;
+    for (size_t i = 0; i < n; i++)
+        if (ld->key_line[needs[i]] != 0)
+            return;
+    fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[id], "[%s] %s: needs %s: %s (allowed: with %s)",
+              SEA_SECTIONS[SEA_KEYS[id].section], SEA_KEYS[id].name, keys, why, keys);
+}
+
+/* The camera's keys (seabake-model(7), THE CAMERA): one optics, and each
+ * key that only qualifies another with it. */
+static void check_camera(loader *ld)
+{
+    static const char OPTICS[] = "one optics: psf_sigma, f_number (with pitch) or mtf";
+    check_conflict(ld, K_PSF_SIGMA, K_F_NUMBER, OPTICS);
+    check_conflict(ld, K_PSF_SIGMA, K_MTF, OPTICS);
+    check_conflict(ld, K_F_NUMBER, K_MTF, OPTICS);
+    static const key_id F_NUMBER[] = { K_F_NUMBER }, PITCH[] = { K_PITCH }, NETD[] = { K_NETD },
+                        FPN[] = { K_FPN_GAIN, K_FPN_OFFSET }, GAIN[] = { K_GAIN },
+                        AT_T[] = { K_NETD, K_FPN_OFFSET, K_F_NUMBER };
+    check_needs(ld, K_F_NUMBER, PITCH, 1, "pitch",
+                "the diffraction cutoff, pitch / (wavelength f_number), is in cycles per pixel");
+    check_needs(ld, K_PITCH, F_NUMBER, 1, "f_number", "pitch only scales the diffraction PSF");
+    check_needs(ld, K_NOISE_SEED, NETD, 1, "netd", "it seeds the temporal noise");
+    check_needs(ld, K_FPN_SEED, FPN, 2, "fpn_gain or fpn_offset", "it seeds their pattern");
+    check_needs(ld, K_OFFSET, GAIN, 1, "gain", "counts = offset + gain radiance");
+    check_needs(ld, K_BIT_DEPTH, GAIN, 1, "gain", "it bounds the counts");
+    check_needs(ld, K_NETD_TEMPERATURE, AT_T, 3, "netd, fpn_offset or f_number",
+                "they are stated (f_number: the band weighted) at this temperature");
+}
+
 /* Cross-key rules, once every key is read. */
 static void check_scene(loader *ld)
 {
@@ -827,6 +892,7 @@ static void check_scene(loader *ld)
             fail_line(ld, SEA_ERR_DOMAIN, ld->key_line[K_SAMPLES],
                       "[sensor] samples: needs a band (allowed: with band only)");
     }
+    check_camera(ld);
     for (int i = 0; i < K_COUNT; i++)
         if (SEA_KEYS[i].flags & REQUIRED)
             check_required(ld, (key_id)i);
@@ -919,6 +985,14 @@ static void check_files(loader *ld)
                       sea_text_format_real(lo / SEA_UM, t_lo),
                       sea_text_format_real(hi / SEA_UM, t_hi));
     }
+    /* the camera's MTF table */
+    if (ld->status == SEA_OK && sc->mtf_file[0] != '\0') {
+        sea_mtf_table t;
+        if ((st = sea_imager_mtf_load(sc->mtf_file, &t, &e)) != SEA_OK)
+            fail_line(ld, st, ld->key_line[K_MTF], "[sensor] mtf: %s", e.msg);
+        else
+            sea_imager_mtf_free(&t);
+    }
     if (ld->status != SEA_OK || sc->response_file[0] == '\0')
         return;
 
@@ -987,6 +1061,21 @@ void sea_scene_defaults(sea_scene *sc)
     sc->sky_zenith_emissivity = NAN;
     sc->air_temperature = NAN;
     sc->extinction = 0.0;
+    /* the camera: absent */
+    sc->psf_sigma = NAN;
+    sc->f_number = NAN;
+    sc->pitch = NAN;
+    sc->mtf_file[0] = '\0';
+    sc->fill_factor = NAN;
+    sc->netd = NAN;
+    sc->netd_temperature = 300.0;
+    sc->noise_seed = 1;
+    sc->fpn_gain = NAN;
+    sc->fpn_offset = NAN;
+    sc->fpn_seed = 1;
+    sc->gain = NAN;
+    sc->offset = NAN;
+    sc->bit_depth = 14;
 }
 
 /* Applies the overrides "section.key=value" through the file's own key
@@ -1063,6 +1152,7 @@ sea_status sea_scene_load_with(const char *path, const char *const *overrides, s
     apply_overrides(ld);
     check_scene(ld);
     check_files(ld);
+    ld->sc.tolerance_given = ld->key_line[K_TOLERANCE] != 0;
 
     st = ld->status;
     if (st == SEA_OK)

@@ -70,6 +70,7 @@
 
 #include <complex.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -211,6 +212,29 @@ double sea_planck_radiance(double wavelength, double temperature);
 double sea_planck_radiance_dT(double wavelength, double temperature);
 /* Its inverse: brightness temperature (K) of a spectral radiance > 0. */
 double sea_planck_brightness_temperature(double wavelength, double radiance);
+
+/* A band as an image measures it: n >= 1 spectral samples at wavelength[i]
+ * (m, > 0) with weights weight[i] (>= 0, not all 0: a band's quadrature
+ * weight times the response, m, or 1 for one wavelength), and unit, the
+ * image's radiance unit per SI unit (1e-6 for one wavelength, whose images
+ * are per um; 1 for a band, in-band W m^-2 sr^-1).  sea_render_band gives
+ * a render's.  The arrays are the caller's (no call keeps them). */
+typedef struct {
+    size_t n;
+    const double *wavelength;
+    const double *weight;
+    double unit;
+} sea_band;
+/* The band's radiance of a black body at T (K, > 0) in the image's units,
+ * L(T) = unit sum_i weight[i] B(wavelength[i], T), and its derivative
+ * dL/dT (per K).  Pure. */
+double sea_band_radiance(const sea_band *b, double temperature);
+double sea_band_radiance_dT(const sea_band *b, double temperature);
+/* The brightness temperature of a radiance L in the image's units: the T
+ * with sea_band_radiance(b, T) = L, to 1e-12 relative (Newton's method,
+ * safeguarded by bisection over [1, 1e5] K; the closed form for one
+ * sample); 0 for L <= 0 or NaN, which no temperature gives.  Pure. */
+double sea_band_temperature(const sea_band *b, double radiance);
 
 /* ------------------------------------------------ Elfouhaily 1997 spectrum */
 
@@ -1027,6 +1051,26 @@ typedef struct {
                                   the band, 0 outside its rows; "" = flat */
     int band_samples;          /* samples, [1, SEA_SCENE_BAND_MAX], band only; 0 = chosen
                                   by tolerance */
+    /* [sensor]: the camera (seabake-model(7), THE CAMERA; sea_imager).  All
+     * optional: NAN (or "") means the key is absent, and a scene without
+     * any of them renders the ideal radiance alone
+     * (sea_imager_params_from_scene).  Ranges: the SEA_IMAGER_ macros. */
+    double psf_sigma;          /* psf_sigma, pixels (0, 64]; not with f_number or mtf */
+    double f_number;           /* f_number, [0.5, 100], with pitch; not with mtf */
+    double pitch;              /* pitch, um [0.1, 1000] -> m, with f_number */
+    char mtf_file[SEA_SCENE_PATH_MAX]; /* mtf = CSV (cycles_per_pixel,mtf), resolved like
+                                          response; "" */
+    double fill_factor;        /* fill_factor, (0, 1] (absent: 1) */
+    double netd;               /* netd, K (0, 10] */
+    double netd_temperature;   /* netd_temperature, K [150, 500]; 300 (with netd,
+                                  fpn_offset or f_number) */
+    unsigned long noise_seed;  /* noise_seed, [0, 2^32 - 1], with netd; 1 */
+    double fpn_gain;           /* fpn_gain, relative std [0, 0.1] */
+    double fpn_offset;         /* fpn_offset, K [0, 10] */
+    unsigned long fpn_seed;    /* fpn_seed, [0, 2^32 - 1], with fpn_gain or fpn_offset; 1 */
+    double gain;               /* gain, counts per radiance unit (0, 1e12] */
+    double offset;             /* offset, counts [-1e9, 1e9], with gain (absent: 0) */
+    int bit_depth;             /* bit_depth, [8, 16], with gain; 14 */
     /* [model] */
     int method;                /* method = variable-step | variable-step-2n | one-meter:
                                   a sea_facet_method; variable-step (the paper's model) */
@@ -1050,6 +1094,10 @@ typedef struct {
      * approximation the tolerance allows replaced by its exact form
      * (seabake(1), REFERENCE), with at least two surface hits. */
     int reference;
+    /* Not a key either: 1 when the file or an override gave [model]
+     * tolerance, 0 when it is the default, which a program may then
+     * derive from the camera's netd (sea_imager_scene_tolerance). */
+    int tolerance_given;
 } sea_scene;
 
 enum { SEA_GRID_AUTO = 0, SEA_GRID_AUTO_MAX = 4096 };
@@ -1293,6 +1341,15 @@ size_t sea_render_levels(const sea_render *r, const sea_clip_level **levels);
  * quadrature weight times response), n of them.  Reads r; the arrays are
  * owned by r. */
 size_t sea_render_samples(const sea_render *r, const double **wavelength, const double **weight);
+/* The same as a sea_band (the arrays owned by r) with the images' radiance
+ * unit: what converts the images' radiances to temperatures and back
+ * (sea_band_temperature, sea_band_radiance).  Reads r, fills out. */
+void sea_render_band(const sea_render *r, sea_band *out);
+/* The brightness temperature (K) of a radiance in the images' units,
+ * computed exactly as sea_render_frame computes its temperature plane (a
+ * table, then Newton's method to 1e-9); 0 for a radiance <= 0 or NaN.
+ * Reads r. */
+double sea_render_brightness_temperature(const sea_render *r, double radiance);
 
 /* A rendered frame, width x height, row 0 at the top.  radiance: spectral
  * W m^-2 sr^-1 um^-1 for one wavelength, in-band W m^-2 sr^-1 for a band;
@@ -1390,6 +1447,189 @@ typedef struct {
  * Reads r, fills out. */
 sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
                                    sea_dir sun, sea_facet_optics *out, sea_error *err);
+
+/* ------------------------------------------------------ the camera (imager.c)
+ *
+ * What a camera makes of a rendered radiance image (seabake-model(7), THE
+ * CAMERA): the optics' blur, the detector's footprint, temporal and
+ * fixed-pattern noise, and counts.  The render's pixel already averages
+ * the radiance over its whole footprint (a detector of fill factor 1):
+ * the camera adds what a real one changes.  In order, per frame:
+ *  1. the transfer function H(nu_x, nu_y) = MTF_optics(|nu|) D(nu_x) D(nu_y)
+ *     (nu in cycles per pixel, |nu| = sqrt(nu_x^2 + nu_y^2)), applied by
+ *     one pair of FFTW transforms: a 2-D DCT-II and its inverse, which is
+ *     the DFT of the image mirrored across its four edges (half-sample
+ *     symmetric, a pad as wide as the image), so the edges see their own
+ *     mirror image rather than the opposite edge.  MTF_optics is
+ *      - gaussian:    exp(-2 pi^2 sigma^2 nu^2), sigma in pixels;
+ *      - diffraction: sum_i w^_i M(nu / nu_c,i), the circular pupil's
+ *                     M(s) = (2/pi)(acos s - s sqrt(1 - s^2)) (0 for s >= 1),
+ *                     nu_c,i = pitch / (lambda_i N) cycles per pixel, w^_i the
+ *                     band's weights times B(lambda_i, netd_temperature),
+ *                     normalised: the MTF of the band's mean Airy pattern
+ *                     for a scene near that temperature;
+ *      - table:       a measured MTF(nu), interpolated linearly, its last
+ *                     value beyond its last row;
+ *     and D(nu) = sinc(a nu) / sinc(nu), sinc x = sin(pi x)/(pi x), a =
+ *     sqrt(fill_factor): the square active area of side a pitch replaces
+ *     the full pixel the render averaged (1 for a fill factor of 1; at
+ *     most 1 / sinc(1/2) = 1.57 up to Nyquist, so never a division by 0).
+ *  2. fixed-pattern noise: L <- g_q L + o_q, g_q = 1 + fpn_gain z1_q,
+ *     o_q = fpn_offset (dL/dT at netd_temperature) z2_q, z standard normal
+ *     drawn from fpn_seed alone: the same pattern in every frame;
+ *  3. temporal noise: L <- L + netd (dL/dT at netd_temperature) z3_q, z3
+ *     drawn from noise_seed and the frame index: a new draw every frame;
+ *  4. outputs: that radiance, its apparent brightness temperature for the
+ *     band (sea_band_temperature's, to 1e-9 relative; 0 where L <= 0) and,
+ *     with a gain, counts c_q = round(offset + gain L_q) clipped to
+ *     [0, 2^bits - 1]; a pixel whose offset + gain L_q is above 2^bits - 1
+ *     or below 0 is counted as saturated (high or low).
+ * The normal draws are a function of (seed, frame, pixel) only, so the
+ * image does not depend on the number of threads (seabake-model(7) gives
+ * the hash).  The temperature comes from the radiance, not the counts: it
+ * carries no quantisation. */
+typedef enum {
+    SEA_PSF_NONE = 0,    /* no optics blur */
+    SEA_PSF_GAUSSIAN,    /* psf_sigma */
+    SEA_PSF_DIFFRACTION, /* f_number, pitch, the band's wavelengths */
+    SEA_PSF_TABLE        /* mtf */
+} sea_psf_kind;
+
+/* A measured optics MTF: n >= 2 rows of frequency (cycles per pixel,
+ * strictly increasing from exactly 0, at most SEA_IMAGER_MTF_FREQ_MAX) and
+ * value ([0, 1], exactly 1 at frequency 0: an MTF is normalised). */
+#define SEA_IMAGER_MTF_FREQ_MAX 100.0
+typedef struct {
+    size_t n;
+    double *frequency, *value;
+} sea_mtf_table;
+/* Reads one from a CSV with '#' comments and a header naming the columns
+ * cycles_per_pixel,mtf (either order).  Errors name FILE:LINE and the
+ * rule (SEA_ERR_PARSE, SEA_ERR_DOMAIN; SEA_ERR_IO).  Thread-safe (reads
+ * the file; LC_NUMERIC); fills t, released with sea_imager_mtf_free(). */
+sea_status sea_imager_mtf_load(const char *path, sea_mtf_table *t, sea_error *err);
+void sea_imager_mtf_free(sea_mtf_table *t);
+
+/* The ranges of the parameters (and of the scene keys that give them). */
+#define SEA_IMAGER_SIGMA_MAX 64.0      /* psf_sigma, pixels: (0, 64] */
+#define SEA_IMAGER_F_NUMBER_MIN 0.5    /* f_number: [0.5, 100] (0.5: the aplanatic limit */
+#define SEA_IMAGER_F_NUMBER_MAX 100.0  /*   in air) */
+#define SEA_IMAGER_PITCH_MIN_UM 0.1    /* pitch, um: [0.1, 1000] (the parameter */
+#define SEA_IMAGER_PITCH_MAX_UM 1000.0 /*   is in m: these times 1e-6) */
+#define SEA_IMAGER_NETD_MAX 10.0       /* netd, K: (0, 10] */
+#define SEA_IMAGER_T_MIN 150.0         /* netd_temperature, K: [150, 500] */
+#define SEA_IMAGER_T_MAX 500.0
+#define SEA_IMAGER_FPN_GAIN_MAX 0.1    /* fpn_gain, relative std: [0, 0.1] (g_q > 0
+                                          to 10 sigma) */
+#define SEA_IMAGER_FPN_OFFSET_MAX 10.0 /* fpn_offset, K: [0, 10] */
+#define SEA_IMAGER_GAIN_MAX 1e12       /* gain, counts per radiance unit: (0, 1e12] */
+#define SEA_IMAGER_OFFSET_MAX 1e9      /* offset, counts: [-1e9, 1e9] */
+#define SEA_IMAGER_BITS_MIN 8          /* bit_depth: [8, 16] */
+#define SEA_IMAGER_BITS_MAX 16
+/* The fraction of the NETD the model's error may take when the tolerance
+ * follows from the camera (sea_imager_tolerance_from_netd). */
+#define SEA_IMAGER_NETD_FRACTION 0.1
+
+typedef struct {
+    sea_psf_kind psf;          /* SEA_PSF_NONE */
+    double psf_sigma;          /* gaussian: pixels, (0, SEA_IMAGER_SIGMA_MAX] */
+    double f_number;           /* diffraction: [SEA_IMAGER_F_NUMBER_MIN, _MAX] */
+    double pitch;              /* diffraction: m, [SEA_IMAGER_PITCH_MIN_UM, _MAX_UM] 1e-6 */
+    const sea_mtf_table *mtf;  /* table: as sea_imager_mtf_load checks it (copied) */
+    double fill_factor;        /* active area / pixel area, (0, 1]; 1 */
+    double netd;               /* K at netd_temperature, [0, SEA_IMAGER_NETD_MAX]; 0 = none */
+    double netd_temperature;   /* K, [SEA_IMAGER_T_MIN, SEA_IMAGER_T_MAX]; 300 */
+    uint64_t noise_seed;       /* 1 */
+    double fpn_gain;           /* relative std, [0, SEA_IMAGER_FPN_GAIN_MAX]; 0 */
+    double fpn_offset;         /* K at netd_temperature, [0, SEA_IMAGER_FPN_OFFSET_MAX]; 0 */
+    uint64_t fpn_seed;         /* 1 */
+    double gain;               /* counts per radiance unit, [0, SEA_IMAGER_GAIN_MAX];
+                                  0 = no counts */
+    double offset;             /* counts at zero radiance, [-SEA_IMAGER_OFFSET_MAX, _MAX]; 0 */
+    int bit_depth;             /* [SEA_IMAGER_BITS_MIN, _MAX]; 14 */
+} sea_imager_params;
+/* The defaults above: a camera that changes nothing but adds the
+ * temperature of its radiance.  Fills p. */
+void sea_imager_params_default(sea_imager_params *p);
+/* The parameters the scene's [sensor] camera keys give (p->mtf NULL: the
+ * table is sc->mtf_file's).  Returns 1 when the scene gives any of them,
+ * 0 when it gives none (then the ideal radiance image is the only one).
+ * Pure. */
+int sea_imager_params_from_scene(const sea_scene *sc, sea_imager_params *p);
+
+/* The plan: the transfer function on the image's DCT grid, the FFTW plans
+ * (made once, under the library's planner lock: see Threads), the
+ * fixed-pattern maps, the band's temperature table.  width, height in
+ * [1, 16384]; band as sea_band says.  SEA_ERR_DOMAIN naming the parameter,
+ * its value and its range; SEA_ERR_NOMEM.  Thread-safe; *out is the
+ * caller's, freed with sea_imager_free(); sea_imager_apply only reads it.
+ * Memory: 16 bytes a pixel with a PSF or a fill factor below 1 (the
+ * transfer function, and the transform's buffer in each apply), 8 with
+ * fixed-pattern noise. */
+typedef struct sea_imager sea_imager;
+sea_status sea_imager_alloc(const sea_imager_params *p, const sea_band *band, int width,
+                            int height, sea_imager **out, sea_error *err);
+void sea_imager_free(sea_imager *im);
+/* The scene's camera for the render r (its band and size, its [sensor]
+ * keys, the mtf file read): *out NULL (and SEA_OK) when the scene gives no
+ * camera key.  Errors as sea_imager_alloc and sea_imager_mtf_load.
+ * Thread-safe (reads r and the file). */
+sea_status sea_imager_from_render(const sea_render *r, sea_imager **out, sea_error *err);
+/* sea_imager_filters: 1 when the imager filters (a PSF, or a fill factor
+ * below 1), else 0; sea_imager_counts: 1 when it makes counts (a gain),
+ * else 0.  Reads im. */
+int sea_imager_filters(const sea_imager *im);
+int sea_imager_counts(const sea_imager *im);
+/* The temporal noise's radiance, netd dL/dT at netd_temperature, in the
+ * images' units (0 without netd).  Reads im. */
+double sea_imager_noise_radiance(const sea_imager *im);
+/* The transfer function the imager applies at (nu_x, nu_y), cycles per
+ * pixel: MTF_optics(|nu|) D(nu_x) D(nu_y), computed exactly (the plan
+ * reads the optics' part from a table: within 1e-6 for a diffraction
+ * cutoff above 0.3 cycles per pixel, imager.c).  Reads im. */
+double sea_imager_mtf(const sea_imager *im, double nu_x, double nu_y);
+
+/* A camera's frame: width x height, row 0 at the top, as sea_image. */
+typedef struct {
+    int width, height;
+    float *radiance;    /* after optics, detector and noise; the images' units */
+    float *temperature; /* apparent brightness temperature of radiance, K */
+    uint16_t *counts;   /* NULL when the imager has no gain */
+    size_t saturated_high, saturated_low; /* pixels clipped at 2^bits - 1, at 0 */
+} sea_imager_image;
+/* Fills out with zeroed planes for im's size (counts only when im has a
+ * gain), released with sea_imager_image_free(). */
+sea_status sea_imager_image_alloc(const sea_imager *im, sea_imager_image *out, sea_error *err);
+void sea_imager_image_free(sea_imager_image *out);
+
+/* The camera's frame `frame` (any index; the temporal noise's stream) of
+ * the rendered img (its radiance plane; img's size must be im's, else
+ * SEA_ERR_DOMAIN).  Same im, img, seeds and frame: the same out, bit for
+ * bit, whatever the number of threads.  One DCT pair when im filters
+ * (FFTW's new-array execute on a buffer of its own, allocated per call:
+ * SEA_ERR_NOMEM).  Reads im, fills out: any number of threads may apply
+ * one im at once, each into its own out.  Runs on OpenMP threads. */
+sea_status sea_imager_apply(const sea_imager *im, const sea_image *img, uint64_t frame,
+                            sea_imager_image *out, sea_error *err);
+
+/* The relative radiance tolerance that keeps the model's error within
+ * fraction of the NETD: the NETD's radiance, netd dL/dT at
+ * netd_temperature, over the radiance of a black body at the scene's
+ * temperature, times fraction:
+ *     tol = fraction netd L'(T_netd) / L(T_scene)
+ * (at T_scene = T_netd: fraction netd (dL/dT) / L).  netd > 0, both
+ * temperatures > 0, fraction > 0 (SEA_IMAGER_NETD_FRACTION by default).
+ * The [model] tolerance's range is (0, 0.1]: a caller clamps to it.  Pure. */
+double sea_imager_tolerance_from_netd(const sea_band *b, double netd, double netd_temperature,
+                                      double scene_temperature, double fraction);
+/* The same for a scene before it is prepared (the tolerance decides the
+ * render's spectral samples): its wavelength, or its band by a 64-node
+ * Gauss-Legendre rule weighted by its response (read from its file), its
+ * netd and netd_temperature, and its sea's temperature.  SEA_ERR_DOMAIN
+ * when the scene gives no netd; errors of sea_response_load.
+ * Thread-safe (reads the response file). */
+sea_status sea_imager_scene_tolerance(const sea_scene *sc, double fraction, double *tol,
+                                      sea_error *err);
 
 /* ---------------------------------------------------------------- baking */
 

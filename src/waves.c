@@ -83,6 +83,17 @@ struct sea_waves {
 /* FFTW's planner is not thread-safe; execution is. */
 static pthread_mutex_t fftw_planner_lock = PTHREAD_MUTEX_INITIALIZER;
 
+/* The same lock for the library's other plans (imager.c). */
+void sea_fftw_planner_lock(void)
+{
+    pthread_mutex_lock(&fftw_planner_lock);
+}
+
+void sea_fftw_planner_unlock(void)
+{
+    pthread_mutex_unlock(&fftw_planner_lock);
+}
+
 void sea_waves_params_default(sea_waves_params *p)
 {
     p->kind = SEA_WAVES_SINUSOIDS;

@@ -108,8 +108,29 @@ static void test_full_file(void)
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_FAST);
     CU_ASSERT(sc.earth == SEA_EARTH_SPHERICAL);
     CU_ASSERT(sc.windows == SEA_WINDOWS_CLIPMAP);
-    CU_ASSERT(sc.tolerance == 1e-4);
+    CU_ASSERT(sc.tolerance == 1e-4 && sc.tolerance_given == 1);
     CU_ASSERT(sc.reflections == 2);
+    CU_ASSERT(sc.f_number == 2.5);
+    CU_ASSERT(sc.pitch == 15 * 1e-6);
+    CU_ASSERT(isnan(sc.psf_sigma) && sc.mtf_file[0] == '\0');
+    CU_ASSERT(sc.fill_factor == 0.8);
+    CU_ASSERT(sc.netd == 0.025);
+    CU_ASSERT(sc.netd_temperature == 295.0);
+    CU_ASSERT(sc.noise_seed == 4000000000UL);
+    CU_ASSERT(sc.fpn_gain == 0.002);
+    CU_ASSERT(sc.fpn_offset == 0.03);
+    CU_ASSERT(sc.fpn_seed == 12);
+    CU_ASSERT(sc.gain == 1500.0);
+    CU_ASSERT(sc.offset == -250.5);
+    CU_ASSERT(sc.bit_depth == 16);
+    /* ... which the camera takes as they are */
+    sea_imager_params p;
+    CU_ASSERT(sea_imager_params_from_scene(&sc, &p) == 1);
+    CU_ASSERT(p.psf == SEA_PSF_DIFFRACTION && p.f_number == 2.5 && p.pitch == 15 * 1e-6);
+    CU_ASSERT(p.fill_factor == 0.8 && p.netd == 0.025 && p.netd_temperature == 295.0);
+    CU_ASSERT(p.noise_seed == 4000000000ULL && p.fpn_seed == 12);
+    CU_ASSERT(p.fpn_gain == 0.002 && p.fpn_offset == 0.03);
+    CU_ASSERT(p.gain == 1500.0 && p.offset == -250.5 && p.bit_depth == 16);
 }
 
 /* Spectral quantities: W m^-2 um^-1 -> W m^-2 m^-1 and per sr likewise. */
@@ -167,9 +188,17 @@ static void test_defaults(void)
     CU_ASSERT(sc.finest == 1.0 && sc.grid == SEA_GRID_AUTO);
     CU_ASSERT(sc.emissivity_method == SEA_EMIS_AUTO && sc.earth == SEA_EARTH_FLAT);
     CU_ASSERT(sc.windows == SEA_WINDOWS_VIEW);
-    CU_ASSERT(sc.tolerance == 1e-3);
+    CU_ASSERT(sc.tolerance == 1e-3 && sc.tolerance_given == 0);
     CU_ASSERT(sc.reflections == SEA_REFLECTIONS_AUTO);
     CU_ASSERT(sc.reference == 0);
+    /* no camera: every key absent, the image is the radiance alone */
+    CU_ASSERT(isnan(sc.psf_sigma) && isnan(sc.f_number) && isnan(sc.pitch));
+    CU_ASSERT(sc.mtf_file[0] == '\0' && isnan(sc.fill_factor) && isnan(sc.netd));
+    CU_ASSERT(sc.netd_temperature == 300.0 && sc.noise_seed == 1 && sc.fpn_seed == 1);
+    CU_ASSERT(isnan(sc.fpn_gain) && isnan(sc.fpn_offset) && isnan(sc.gain) && isnan(sc.offset));
+    CU_ASSERT(sc.bit_depth == 14);
+    sea_imager_params p;
+    CU_ASSERT(sea_imager_params_from_scene(&sc, &p) == 0);
     /* Every optional field of the loaded scene is the default's. */
     def.wind_speed = sc.wind_speed;
     def.altitude = sc.altitude;
@@ -397,6 +426,66 @@ static const error_case CASES[] = {
     { "[sea]\nwind_speed = 10\n[sensor]\naltitude = 500\nhfov = 30\nwidth = 64\nheight = 48\n"
       "band = 3:5\nresponse = sub/missing.csv\n",
       SEA_ERR_IO, 9, "[sensor] response: ", "/sub/missing.csv: cannot open" },
+    /* the camera: its keys are [sensor]'s */
+    { BASE "psf = 1\n", SEA_ERR_PARSE, 9, "[sensor] psf: unknown key",
+      "samples, psf_sigma, f_number, pitch, mtf, fill_factor, netd, netd_temperature, "
+      "noise_seed, fpn_gain, fpn_offset, fpn_seed, gain, offset, bit_depth)" },
+    /* the camera: ranges */
+    { BASE "psf_sigma = 0\n", SEA_ERR_DOMAIN, 9, "[sensor] psf_sigma: 0 is out of range",
+      "(allowed: (0, 64] pixels)" },
+    { BASE "psf_sigma = 65\n", SEA_ERR_DOMAIN, 9, "[sensor] psf_sigma: 65 is out of range",
+      "(allowed: (0, 64] pixels)" },
+    { BASE "f_number = 0.3\npitch = 15\n", SEA_ERR_DOMAIN, 9,
+      "[sensor] f_number: 0.3 is out of range", "(allowed: [0.5, 100])" },
+    { BASE "f_number = 2\npitch = 0.05\n", SEA_ERR_DOMAIN, 10,
+      "[sensor] pitch: 0.05 is out of range", "(allowed: [0.1, 1000] um)" },
+    { BASE "fill_factor = 1.2\n", SEA_ERR_DOMAIN, 9, "[sensor] fill_factor: 1.2 is out",
+      "(allowed: (0, 1])" },
+    { BASE "netd = 0\n", SEA_ERR_DOMAIN, 9, "[sensor] netd: 0 is out of range",
+      "(allowed: (0, 10] K)" },
+    { BASE "netd = 0.05\nnetd_temperature = 600\n", SEA_ERR_DOMAIN, 10,
+      "[sensor] netd_temperature: 600 is out of range", "(allowed: [150, 500] K)" },
+    { BASE "netd = 0.05\nnoise_seed = -3\n", SEA_ERR_PARSE, 10,
+      "[sensor] noise_seed: '-3' is not an unsigned", "(allowed: an integer in [0, 4294967295])" },
+    { BASE "fpn_gain = 0.5\n", SEA_ERR_DOMAIN, 9, "[sensor] fpn_gain: 0.5 is out of range",
+      "(allowed: [0, 0.1])" },
+    { BASE "fpn_offset = 20\n", SEA_ERR_DOMAIN, 9, "[sensor] fpn_offset: 20 is out of range",
+      "(allowed: [0, 10] K)" },
+    { BASE "gain = 0\n", SEA_ERR_DOMAIN, 9, "[sensor] gain: 0 is out of range",
+      "(allowed: (0, 1e+12] counts per radiance unit)" },
+    { BASE "gain = 100\noffset = 2e9\n", SEA_ERR_DOMAIN, 10, "[sensor] offset: 2e9 is out of",
+      "(allowed: [-1000000000, 1000000000] counts)" },
+    { BASE "gain = 100\nbit_depth = 20\n", SEA_ERR_DOMAIN, 10,
+      "[sensor] bit_depth: 20 is out of range", "(allowed: an integer in [8, 16] bits)" },
+    { BASE "gain = 100\nbit_depth = 12.5\n", SEA_ERR_PARSE, 10,
+      "[sensor] bit_depth: '12.5' is not an integer", "(allowed: an integer in [8, 16] bits)" },
+    /* the camera: one optics, and each key with the key it qualifies */
+    { BASE "psf_sigma = 1.5\nf_number = 2\npitch = 15\n", SEA_ERR_DOMAIN, 10,
+      "[sensor] f_number: conflicts with psf_sigma on line 9",
+      "(allowed: one optics: psf_sigma, f_number (with pitch) or mtf)" },
+    { BASE "mtf = m.csv\npsf_sigma = 1.5\n", SEA_ERR_DOMAIN, 10,
+      "[sensor] psf_sigma: conflicts with mtf on line 9", "(allowed: one optics" },
+    { BASE "f_number = 2\npitch = 15\nmtf = m.csv\n", SEA_ERR_DOMAIN, 11,
+      "[sensor] mtf: conflicts with f_number on line 9", "(allowed: one optics" },
+    { BASE "f_number = 2\n", SEA_ERR_DOMAIN, 9, "[sensor] f_number: needs pitch",
+      "(allowed: with pitch)" },
+    { BASE "pitch = 15\n", SEA_ERR_DOMAIN, 9, "[sensor] pitch: needs f_number",
+      "(allowed: with f_number)" },
+    { BASE "psf_sigma = 1\npitch = 15\n", SEA_ERR_DOMAIN, 10, "[sensor] pitch: needs f_number",
+      "(allowed: with f_number)" },
+    { BASE "noise_seed = 3\n", SEA_ERR_DOMAIN, 9, "[sensor] noise_seed: needs netd",
+      "(allowed: with netd)" },
+    { BASE "netd = 0.05\nfpn_seed = 3\n", SEA_ERR_DOMAIN, 10,
+      "[sensor] fpn_seed: needs fpn_gain or fpn_offset", "(allowed: with fpn_gain or fpn_offset)" },
+    { BASE "offset = 10\n", SEA_ERR_DOMAIN, 9, "[sensor] offset: needs gain",
+      "(allowed: with gain)" },
+    { BASE "bit_depth = 12\n", SEA_ERR_DOMAIN, 9, "[sensor] bit_depth: needs gain",
+      "(allowed: with gain)" },
+    { BASE "netd_temperature = 290\n", SEA_ERR_DOMAIN, 9,
+      "[sensor] netd_temperature: needs netd, fpn_offset or f_number",
+      "(allowed: with netd, fpn_offset or f_number)" },
+    /* the camera's MTF file: read at load, its errors at their own line */
+    { BASE "mtf = none.csv\n", SEA_ERR_IO, 9, "[sensor] mtf: ", "/none.csv: cannot open" },
 };
 
 static void check_error(const char *text, sea_status want, long line, const char *key,
@@ -523,6 +612,17 @@ static void test_relative_paths(void)
     check_error("[sea]\nwind_speed = 10\n[sensor]\naltitude = 500\nhfov = 30\nwidth = 64\n"
                 "height = 48\nband = 3.6:4.4\nresponse = data/bad.csv\n",
                 SEA_ERR_PARSE, 9, "[sensor] response: ", want, 0);
+    /* ... and so do errors inside the camera's MTF table, resolved as the
+     * response is. */
+    write_file("data/mtf.csv", "cycles_per_pixel,mtf\n0,1\n0.5,0.4\n0.8,0.1\n");
+    path = write_file("mtf.ini", BASE "mtf = data/mtf.csv\n");
+    snprintf(scene, sizeof scene, "%s", path);
+    CU_ASSERT_FATAL(sea_scene_load(scene, &sc, &err) == SEA_OK);
+    snprintf(want, sizeof want, "%s/data/mtf.csv", tmpdir);
+    CU_ASSERT(strcmp(sc.mtf_file, want) == 0);
+    write_file("data/badmtf.csv", "cycles_per_pixel,mtf\n0,1\n0.5,1.5\n");
+    snprintf(want, sizeof want, "%s/data/badmtf.csv:3: mtf: 1.5 is outside [0, 1]", tmpdir);
+    check_error(BASE "mtf = data/badmtf.csv\n", SEA_ERR_DOMAIN, 9, "[sensor] mtf: ", want, 0);
     /* ... and so do errors inside the water table. */
     write_file("data/badnk.csv", "wavelength_um,n\n3.0,1.40\n5.0,1.30\n");
     snprintf(want, sizeof want, "%s/data/badnk.csv:1: header", tmpdir);
@@ -595,6 +695,7 @@ static void test_overrides(void)
     CU_ASSERT_FATAL(sea_scene_load_with(path, ok, 4, &sc, &err) == SEA_OK);
     CU_ASSERT(sc.wind_speed == 12.5 && sc.width == 32 && sc.height == 48);
     CU_ASSERT(sc.tolerance == 1e-2 && sc.sky_temperature == 250.0);
+    CU_ASSERT(sc.tolerance_given == 1); /* by an override */
     /* a required key may come from an override alone */
     const char *nofile = write_file("over_missing.ini", "[sea]\n[sensor]\naltitude = 500\n"
                                     "hfov = 30\nwidth = 64\nheight = 48\nwavelength = 4\n");
