@@ -1,9 +1,9 @@
 /* all_hits.h - the every-hit table of the ray tracer over sea-spectrum
  * surfaces (tests/data/mc_sea_all_hits.csv, tests/mc_sea_oracle.c -f means)
  * and the models as they are held against it: by the unit test
- * (tests/test_mc.c, test_default_all_hits) and by the benchmark of the
- * physics choices (bench/physics_truth.c), so that both compute the same
- * figures.
+ * (tests/test_mc.c, test_default_all_hits and test_models_all_hits) and by
+ * the benchmark of the physics choices (bench/physics_truth.c,
+ * scripts/bench-physics), so that both compute the same figures.
  *
  * The surfaces lack the waves shorter than 0.32 m (and longer than their
  * period, 328 m), so a model of two scales made for the wind's spectrum
