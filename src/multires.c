@@ -1677,7 +1677,7 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         if ((st = (expr)) != SEA_OK)                                                              \
             goto fail;                                                                            \
     } while (0)
-    TRY(sea_spectrum_init(&mr->spec, sc->wind_speed, sc->fetch, sc->wind_dir, err));
+    TRY(sea_scene_spectrum(sc, &mr->spec, err));
     sea_cov2 lr;
     TRY(sea_spectrum_slope_cov(&mr->spec, 0.0, &lr, err));
     const sea_slope_stats lrs = { { 0.0, 0.0 }, lr };

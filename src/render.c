@@ -591,7 +591,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     if (sc->wavelength <= 0.0 && sc->response_file[0])
         TRY(sea_response_load(sc->response_file, &resp, err));
     sea_spectrum spec;
-    TRY(sea_spectrum_init(&spec, sc->wind_speed, sc->fetch, sc->wind_dir, err));
+    TRY(sea_scene_spectrum(sc, &spec, err));
     const sea_moments lrm = sea_multires_lr_moments(r->mr);
     const sea_slope_stats lrs = sea_moments_stats(&lrm);
     size_t k = 1;

@@ -172,10 +172,11 @@ void sea_response_free(sea_response *r)
 /* ---------------------------------------------------------- key table */
 
 typedef enum {
-    SEC_SEA, SEC_SUN, SEC_SKY, SEC_ATMOSPHERE, SEC_SENSOR, SEC_MODEL, SEC_COUNT
+    SEC_SEA, SEC_SWELL, SEC_SUN, SEC_SKY, SEC_ATMOSPHERE, SEC_SENSOR, SEC_MODEL, SEC_COUNT
 } sea_section;
-static const char *const SEA_SECTIONS[SEC_COUNT] = { "sea", "sun", "sky", "atmosphere", "sensor",
-                                                     "model" };
+static const char *const SEA_SECTIONS[SEC_COUNT] = { "sea", "swell", "sun", "sky", "atmosphere",
+                                                     "sensor", "model" };
+#define SEA_SECTION_LIST "sea, swell, sun, sky, atmosphere, sensor, model"
 
 typedef enum {
     KIND_REAL,   /* a number, range [lo, hi] (see flags), times scale */
@@ -198,6 +199,8 @@ enum {
 typedef enum {
     K_WIND_SPEED, K_WIND_DIRECTION, K_FETCH, K_SEA_TEMPERATURE, K_SALINITY, K_WATER, K_SEED,
     K_TIME, K_LOOP_PERIOD,
+    K_SWELL_HEIGHT, K_SWELL_PERIOD, K_SWELL_DIRECTION, K_SWELL_SPREAD, K_SWELL_GAMMA,
+    K_SWELL_DOUGLAS,
     K_SUN_ZENITH, K_SUN_AZIMUTH, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, K_SUN_SOLID_ANGLE,
     K_SUN_TRANSMITTANCE, K_SUN_ANGULAR_RADIUS,
     K_SKY_RADIANCE, K_SKY_TEMPERATURE, K_SKY_MODEL, K_SKY_ZENITH_EMISSIVITY,
@@ -280,6 +283,20 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_SEED] = SEED(SEC_SEA, "seed", seed),
     [K_TIME] = REAL(SEC_SEA, "time", -SEA_TIME_MAX, SEA_TIME_MAX, 0, 1.0, "s", time),
     [K_LOOP_PERIOD] = REAL(SEC_SEA, "loop_period", 0.0, INF, HI_OPEN, 1.0, "s", loop_period),
+
+    /* [swell]: the offsets are swell[0]'s; a later section's are shifted by
+     * its index times sizeof(sea_scene_swell) */
+    [K_SWELL_HEIGHT] = REAL(SEC_SWELL, "height", SEA_SWELL_HS_MIN, SEA_SWELL_HS_MAX, 0, 1.0, "m",
+                            swell[0].sw.hs),
+    [K_SWELL_PERIOD] = REAL(SEC_SWELL, "period", SEA_SWELL_TP_MIN, SEA_SWELL_TP_MAX, 0, 1.0, "s",
+                            swell[0].sw.tp),
+    [K_SWELL_DIRECTION] = REAL(SEC_SWELL, "direction", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG,
+                               "deg", swell[0].sw.dir),
+    [K_SWELL_SPREAD] = REAL(SEC_SWELL, "spread", SEA_SWELL_SPREAD_MIN_DEG,
+                            SEA_SWELL_SPREAD_MAX_DEG, 0, SEA_DEG, "deg", swell[0].sw.spread),
+    [K_SWELL_GAMMA] = REAL(SEC_SWELL, "gamma", SEA_SWELL_GAMMA_MIN, SEA_SWELL_GAMMA_MAX, 0, 1.0,
+                           "", swell[0].sw.gamma),
+    [K_SWELL_DOUGLAS] = INT(SEC_SWELL, "douglas", 1, 8, 0, "", swell[0].douglas),
 
     [K_SUN_ZENITH] = REAL(SEC_SUN, "zenith", 0.0, 180.0, 0, SEA_DEG, "deg", sun_zenith),
     [K_SUN_AZIMUTH] = REAL(SEC_SUN, "azimuth", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG, "deg",
@@ -455,6 +472,7 @@ typedef struct {
     sea_error err;
     const char *const *overrides; /* "section.key=value", applied after the file */
     size_t n_overrides;
+    long swell_line[SEA_SWELL_MAX]; /* each [swell] section's line */
 } loader;
 
 /* Override i stands at "line" SEA_OVERRIDE_LINE + i: after every line of the
@@ -533,6 +551,56 @@ static void section_keys(int sec, char *buf, size_t size)
                                      SEA_KEYS[i].name);
 }
 
+static const double SEA_SWELL_SPREAD_DEFAULT_DEG = 15.0, SEA_SWELL_GAMMA_DEFAULT = 3.3;
+
+/* The [swell] section being read: its height and period, from its keys or
+ * its Douglas code; returns 0 (an error recorded) or 1. */
+static int finish_swell(loader *ld)
+{
+    if (ld->sc.n_swell == 0 || ld->status != SEA_OK)
+        return ld->status == SEA_OK;
+    sea_scene_swell *s = &ld->sc.swell[ld->sc.n_swell - 1];
+    const long line = ld->swell_line[ld->sc.n_swell - 1];
+    double hs, tp;
+    if (s->douglas != 0 && sea_swell_douglas(s->douglas, &hs, &tp) == 0) {
+        if (ld->key_line[K_SWELL_HEIGHT] == 0)
+            s->sw.hs = hs;
+        if (ld->key_line[K_SWELL_PERIOD] == 0)
+            s->sw.tp = tp;
+        return 1;
+    }
+    if (ld->key_line[K_SWELL_HEIGHT] == 0 || ld->key_line[K_SWELL_PERIOD] == 0)
+        return fail_key(ld, SEA_ERR_DOMAIN, line,
+                        ld->key_line[K_SWELL_HEIGHT] == 0 ? K_SWELL_HEIGHT : K_SWELL_PERIOD,
+                        "missing required key (a [swell] needs height and period, or douglas)");
+    return 1;
+}
+
+/* A [swell] header at `line`: the previous swell is complete, a new one
+ * starts with the defaults and its keys unseen.  Returns 0 (an error
+ * recorded) or 1. */
+static int begin_swell(loader *ld, long line)
+{
+    if (!finish_swell(ld))
+        return 0;
+    if (ld->sc.n_swell >= SEA_SWELL_MAX) {
+        fail_line(ld, SEA_ERR_DOMAIN, line, "[swell]: too many swells (allowed: at most %d "
+                  "[swell] sections)", SEA_SWELL_MAX);
+        return 0;
+    }
+    sea_scene_swell *s = &ld->sc.swell[ld->sc.n_swell];
+    memset(s, 0, sizeof *s);
+    s->sw.dir = NAN; /* the wind's, once it is known */
+    s->sw.spread = SEA_SWELL_SPREAD_DEFAULT_DEG * SEA_DEG;
+    s->sw.gamma = SEA_SWELL_GAMMA_DEFAULT;
+    ld->swell_line[ld->sc.n_swell] = line;
+    ld->sc.n_swell++;
+    for (int i = 0; i < K_COUNT; i++)
+        if (SEA_KEYS[i].section == SEC_SWELL)
+            ld->key_line[i] = 0;
+    return 1;
+}
+
 /* inih's fgets-like reader over the file text: one line per call, counted,
  * cleaned of indentation and '#' comments, section names checked. */
 static char *read_line(char *str, int num, void *stream)
@@ -577,12 +645,14 @@ static char *read_line(char *str, int num, void *stream)
             int sec = section_index(name);
             if (sec < 0) {
                 fail_line(ld, SEA_ERR_PARSE, ld->lineno,
-                          "[%.*s]: unknown section (allowed: sea, sun, sky, atmosphere, sensor, model)",
+                          "[%.*s]: unknown section (allowed: " SEA_SECTION_LIST ")",
                           SEA_QUOTE_MAX, name);
                 return NULL;
             }
             if (ld->section_line[sec] == 0)
                 ld->section_line[sec] = ld->lineno;
+            if (sec == SEC_SWELL && !begin_swell(ld, ld->lineno))
+                return NULL;
         }
     }
     memmove(str, s, strlen(s) + 1);
@@ -613,6 +683,8 @@ static int set_value(loader *ld, key_id id, const char *value)
 {
     const key_spec *k = &SEA_KEYS[id];
     char *base = (char *)&ld->sc;
+    if (k->section == SEC_SWELL) /* the current [swell] */
+        base += (size_t)(ld->sc.n_swell - 1) * sizeof(sea_scene_swell);
     long line = ld->lineno;
     switch (k->kind) {
     case KIND_REAL: {
@@ -716,8 +788,8 @@ static int on_key(void *user, const char *section, const char *name, const char 
     int sec = section_index(section);
     if (sec < 0) /* the reader has refused every unknown section */
         return fail_line(ld, SEA_ERR_PARSE, line,
-                         "%.*s: key outside any section (allowed: after a [sea], [sun], [sky], "
-                         "[sensor] or [model] line)",
+                         "%.*s: key outside any section (allowed: after a [sea], [swell], "
+                         "[sun], [sky], [atmosphere], [sensor] or [model] line)",
                          SEA_QUOTE_MAX, name);
     int id = -1;
     for (int i = 0; i < K_COUNT && id < 0; i++)
@@ -832,6 +904,10 @@ static void check_camera(loader *ld)
 static void check_scene(loader *ld)
 {
     const sea_scene *sc = &ld->sc;
+    finish_swell(ld);
+    for (int i = 0; i < sc->n_swell; i++)
+        if (isnan(sc->swell[i].sw.dir))
+            ld->sc.swell[i].sw.dir = sc->wind_dir;
     static const char SUN_RULE[] =
         "irradiance alone, or any of temperature, solid_angle, transmittance";
     check_conflict(ld, K_SUN_IRRADIANCE, K_SUN_TEMPERATURE, SUN_RULE);
@@ -1078,6 +1154,14 @@ void sea_scene_defaults(sea_scene *sc)
     sc->bit_depth = 14;
 }
 
+sea_status sea_scene_spectrum(const sea_scene *sc, sea_spectrum *s, sea_error *err)
+{
+    sea_status st = sea_spectrum_init(s, sc->wind_speed, sc->fetch, sc->wind_dir, err);
+    for (int i = 0; i < sc->n_swell && st == SEA_OK; i++)
+        st = sea_spectrum_add_swell(s, &sc->swell[i].sw, err);
+    return st;
+}
+
 /* Applies the overrides "section.key=value" through the file's own key
  * handler, so that each is validated exactly as the same line in the file. */
 static void apply_overrides(loader *ld)
@@ -1103,10 +1187,14 @@ static void apply_overrides(loader *ld)
         snprintf(value, sizeof value, "%s", eq + 1);
         if (section_index(sea_text_trim(section)) < 0) {
             fail_line(ld, SEA_ERR_PARSE, ld->lineno,
-                      "[%.*s]: unknown section (allowed: sea, sun, sky, atmosphere, sensor, model)",
+                      "[%.*s]: unknown section (allowed: " SEA_SECTION_LIST ")",
                       SEA_QUOTE_MAX, sea_text_trim(section));
             return;
         }
+        /* swell.KEY: the file's last [swell], or a new one */
+        if (strcmp(sea_text_trim(section), "swell") == 0 && ld->sc.n_swell == 0 &&
+            !begin_swell(ld, ld->lineno))
+            return;
         on_key(ld, sea_text_trim(section), sea_text_trim(key), sea_text_trim(value));
     }
 }

@@ -238,8 +238,43 @@ double sea_band_temperature(const sea_band *b, double radiance);
 
 /* ------------------------------------------------ Elfouhaily 1997 spectrum */
 
+/* A swell (seabake-model(7), SWELL): waves from a distant storm, added to
+ * the wind sea.  A JONSWAP frequency spectrum (Hasselmann et al. 1973) of
+ * peak period tp and peak enhancement gamma, peak widths 0.07 below the peak
+ * and 0.09 above, on the band [0.4, 3] times the peak frequency (below, the
+ * shape is under e^-48 of its peak; above, the f^-5 tail would give a slope
+ * variance that grows with the log of any cut, and the wind sea holds those
+ * waves), scaled so that 4 sqrt(m0) = hs; deep-water waves, omega^2 = g k;
+ * a wrapped normal distribution of directions of width `spread` around the
+ * azimuth `dir` the swell travels toward. */
+typedef struct {
+    double hs;     /* significant height 4 sqrt(m0), m, [SEA_SWELL_HS_MIN, SEA_SWELL_HS_MAX] */
+    double tp;     /* peak period, s, [SEA_SWELL_TP_MIN, SEA_SWELL_TP_MAX] */
+    double dir;    /* rad, azimuth the swell travels toward (from the x axis), finite */
+    double spread; /* rad, the directions' standard deviation, [SEA_SWELL_SPREAD_MIN_DEG,
+                      SEA_SWELL_SPREAD_MAX_DEG] deg */
+    double gamma;  /* JONSWAP peak enhancement, [1, 10] (3.3: the JONSWAP mean) */
+    /* derived by sea_spectrum_add_swell */
+    double omega_p; /* peak angular frequency 2 pi / tp, rad/s */
+    double alpha;   /* the shape's scale: 4 sqrt(m0) = hs */
+} sea_swell;
+
+#define SEA_SWELL_MAX 4
+#define SEA_SWELL_HS_MIN 0.01
+#define SEA_SWELL_HS_MAX 20.0
+#define SEA_SWELL_TP_MIN 3.0
+#define SEA_SWELL_TP_MAX 30.0
+#define SEA_SWELL_SPREAD_MIN_DEG 1.0
+#define SEA_SWELL_SPREAD_MAX_DEG 60.0
+#define SEA_SWELL_GAMMA_MIN 1.0
+#define SEA_SWELL_GAMMA_MAX 10.0
+/* The swell's band in frequency, in units of its peak frequency. */
+#define SEA_SWELL_BAND_LO 0.4
+#define SEA_SWELL_BAND_HI 3.0
+
 /* Sea state and the derived constants of the Elfouhaily et al. (1997)
- * directional spectrum, as written out in seabake-model(7), THE SEA SPECTRUM.
+ * directional spectrum, as written out in seabake-model(7), THE SEA SPECTRUM,
+ * and the swells added to it (none after sea_spectrum_init).
  * A plain struct: nothing to free. */
 typedef struct {
     double wind_speed; /* U10, m/s */
@@ -255,6 +290,8 @@ typedef struct {
     double alpha_m;   /* short-wave parameter, with the low-wind continuation */
     double gamma;     /* JONSWAP peak enhancement */
     double delta;     /* JONSWAP peak width */
+    int n_swell;      /* swells added by sea_spectrum_add_swell, 0..SEA_SWELL_MAX */
+    sea_swell swell[SEA_SWELL_MAX];
 } sea_spectrum;
 
 /* Allowed ranges: wind_speed in [SEA_WIND_MIN, SEA_WIND_MAX] m/s, fetch in
@@ -262,9 +299,26 @@ typedef struct {
 #define SEA_WIND_MIN 0.5
 #define SEA_WIND_MAX 40.0
 #define SEA_FETCH_MIN 1000.0
-/* Fills s. */
+/* Fills s: the wind sea alone. */
 sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch,
                              double wind_dir, sea_error *err);
+/* Adds a swell of hs, tp, dir, spread, gamma (the rest of *sw is derived)
+ * to s.  SEA_ERR_DOMAIN for a value outside its range (messages name it)
+ * or a swell beyond SEA_SWELL_MAX; SEA_ERR_NUMERIC if the normalising
+ * integral fails.  Every function below counts the swells, except where
+ * it says "the wind sea's". */
+sea_status sea_spectrum_add_swell(sea_spectrum *s, const sea_swell *sw, sea_error *err);
+/* The swell's curvature spectrum k^3 S(k) (0 outside its band) and its
+ * directions' density D(phi) over phi in radians, integrating to 1 over a
+ * turn (the wrapped normal of standard deviation spread around dir).
+ * Pure, after sea_spectrum_add_swell derived sw. */
+double sea_swell_curvature(const sea_swell *sw, double k);
+double sea_swell_direction_density(const sea_swell *sw, double phi);
+/* The wavenumber band [k_lo, k_hi] of a swell, rad/m. */
+void sea_swell_band(const sea_swell *sw, double *k_lo, double *k_hi);
+/* The lowest wavenumber that holds any of the sea's waves, rad/m: k_p/40
+ * for the wind sea, lower for a long swell. */
+double sea_spectrum_k_low(const sea_spectrum *s);
 
 /* The spectrum's formulas, sea_spectrum_alpha_m to sea_spectrum_omega, are pure. */
 
@@ -278,15 +332,19 @@ double sea_spectrum_alpha_m(double u_star_over_c_m);
 /* 1 when s uses that low-wind continuation instead of the 1997 formula
  * (u_star / c_m < exp(-0.9)), 0 otherwise. */
 int sea_spectrum_alpha_m_continued(const sea_spectrum *s);
-/* Curvature spectrum B(k) = k^3 S(k) = B_l + B_h (dimensionless), k > 0. */
+/* The wind sea's curvature spectrum B(k) = k^3 S(k) = B_l + B_h
+ * (dimensionless), k > 0. */
 double sea_spectrum_curvature(const sea_spectrum *s, double k);
-/* Omnidirectional height spectrum S(k) = B(k)/k^3, m^3. */
+/* The wind sea's omnidirectional height spectrum S(k) = B(k)/k^3, m^3. */
 double sea_spectrum_omni(const sea_spectrum *s, double k);
-/* Spreading Delta(k) in [0, 1): Phi(k, phi) = (1 + Delta cos 2 phi) / (2 pi). */
+/* The wind sea's spreading Delta(k) in [0, 1): Phi(k, phi) = (1 + Delta cos 2 phi) / (2 pi). */
 double sea_spectrum_spreading(const sea_spectrum *s, double k);
 /* Directional height spectrum Psi(k, phi) = S(k) Phi(k, phi - wind_dir) / k,
- * m^4, phi the azimuth of the wave vector in the x, y frame. */
+ * m^4, phi the azimuth of the wave vector in the x, y frame, plus every
+ * swell's S_i(k) D_i(phi) / k. */
 double sea_spectrum_directional(const sea_spectrum *s, double k, double phi);
+/* The swells' share of it, sum of S_i(k) D_i(phi) / k (0 without swell). */
+double sea_spectrum_directional_swell(const sea_spectrum *s, double k, double phi);
 /* Angular frequency with capillarity, omega = sqrt(g k (1 + (k/k_m)^2)). */
 double sea_spectrum_omega(double k);
 
@@ -294,7 +352,10 @@ double sea_spectrum_omega(double k);
 #define SEA_SPECTRUM_REL_TOL 1e-8
 /* Slope covariance of the waves with |k| >= kc (Eq 15, 17) in the x, y frame:
  * along the wind sigma_u^2 = int_kc^inf B(k)/k (1 + Delta/2)/2 dk, across it
- * sigma_c^2 = int B/k (1 - Delta/2)/2 dk, then rotated by wind_dir.
+ * sigma_c^2 = int B/k (1 - Delta/2)/2 dk, then rotated by wind_dir; each
+ * swell adds m = int_kc^inf B_i(k)/k dk times (1 + c cos 2 dir, 1 - c cos 2 dir,
+ * c sin 2 dir)/2 to (xx, yy, xy), c = exp(-2 spread^2) (the wrapped normal's
+ * mean of cos 2 (phi - dir)).
  * kc = 0 gives the low-resolution (total) covariance; kc = pi/L the part
  * below a facet of size L.  kc >= 0, finite.  Thread-safe (a GSL workspace
  * per call); SEA_ERR_NUMERIC if the quadrature fails, given sea_init(). */
@@ -988,6 +1049,25 @@ typedef enum { SEA_WINDOWS_VIEW = 0, SEA_WINDOWS_CLIPMAP } sea_windows;
 
 enum { SEA_SCENE_PATH_MAX = 4096, SEA_SCENE_BAND_MAX = 4096 };
 
+/* A [swell] section: the swell (sw.hs .. sw.gamma set, the rest derived by
+ * sea_spectrum_add_swell) and the Douglas swell code it was given, 0 if none. */
+typedef struct {
+    sea_swell sw;   /* height, period (required unless douglas), direction (default the
+                       wind's), spread (15 deg), gamma (3.3) */
+    int douglas;    /* douglas = 1 .. 8: height and period not given taken from
+                       sea_swell_douglas(); 0 */
+} sea_scene_swell;
+
+/* The Douglas swell code d in [1, 8] (H. P. Douglas, 1921, as the Met Office's
+ * Marine Observer's Handbook gives it: low swell < 2 m, moderate 2-4 m, heavy
+ * > 4 m; short < 100 m, average 100-200 m, long > 200 m) as one swell:
+ * low 1 m, moderate 3 m, heavy 5 m; short 75 m, average 150 m, long 300 m
+ * of peak wavelength, the peak period of deep water sqrt(2 pi lambda / g).
+ * 1 low (average), 2 low long, 3 moderate short, 4 moderate average,
+ * 5 moderate long, 6 heavy short, 7 heavy average, 8 heavy long.  Returns 0
+ * and sets *hs (m) and *tp (s), or -1 for a d outside [1, 8].  Pure. */
+int sea_swell_douglas(int d, double *hs, double *tp);
+
 typedef struct {
     /* [sea] */
     double wind_speed;        /* wind_speed, m/s, [SEA_WIND_MIN, SEA_WIND_MAX], required */
@@ -1004,6 +1084,9 @@ typedef struct {
     unsigned long seed;       /* seed, integer [0, 2^32 - 1]; 1 */
     double time;              /* time, s, [-SEA_TIME_MAX, SEA_TIME_MAX]; 0 */
     double loop_period;       /* loop_period, s, >= 0; 0 = none */
+    /* [swell] sections, each a swell added to the wind sea, in file order */
+    int n_swell;              /* 0 .. SEA_SWELL_MAX; 0 */
+    sea_scene_swell swell[SEA_SWELL_MAX];
     /* [sun] */
     double sun_zenith;        /* zenith, deg [0, 180] -> rad; > 90 deg: below the
                                  horizon; 40 (the paper's sun) */
@@ -1106,6 +1189,9 @@ enum { SEA_GRID_AUTO = 0, SEA_GRID_AUTO_MAX = 4096 };
  * (wind_speed, altitude, hfov NAN; width, height 0; wavelength, band -1).
  * Fills sc, a plain struct (nothing to free). */
 void sea_scene_defaults(sea_scene *sc);
+/* The scene's sea: its wind sea (sea_spectrum_init) and every [swell]
+ * (sea_spectrum_add_swell).  Errors as theirs. */
+sea_status sea_scene_spectrum(const sea_scene *sc, sea_spectrum *s, sea_error *err);
 /* Reads and validates a scene file.  Errors name the place and the rule:
  * "FILE:LINE: [section] key: message (allowed: RANGE)" with SEA_ERR_PARSE
  * (syntax, unknown section or key, duplicate key, not a number, unknown

@@ -1,5 +1,6 @@
-/* spectrum.c - the Elfouhaily et al. (1997) directional wave spectrum and
- * the slope covariance of the waves above a cutoff (Eq 15, 17).
+/* spectrum.c - the Elfouhaily et al. (1997) directional wave spectrum, the
+ * swells added to it, and the slope covariance of the waves above a cutoff
+ * (Eq 15, 17).
  *
  * Formulas and constants as in seabake-model(7), THE SEA SPECTRUM.  The short-wave
  * curvature uses F_m = L_PM J_p exp(-(k/k_m - 1)^2 / 4), the variant that
@@ -100,7 +101,163 @@ sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch, d
     const double z0 = 3.7e-5 * (U * U / SEA_G) * pow(U / s->c_p, 0.9);
     s->u_star = SEA_KAPPA * U / log(10.0 / z0);
     s->alpha_m = sea_spectrum_alpha_m(s->u_star / SEA_C_M);
+    s->n_swell = 0;
     return SEA_OK;
+}
+
+/* ------------------------------------------------------------- swell */
+
+/* JONSWAP peak widths below and above the peak (Hasselmann et al. 1973). */
+static const double SEA_SWELL_SIGMA_LO = 0.07, SEA_SWELL_SIGMA_HI = 0.09;
+
+/* The JONSWAP shape in x = omega / omega_p without its scale: S(omega) =
+ * alpha g^2 omega_p^-5 jonswap_shape(x), and x^pow times it. */
+static double jonswap_shape(double x, double gamma)
+{
+    const double sg = x <= 1.0 ? SEA_SWELL_SIGMA_LO : SEA_SWELL_SIGMA_HI;
+    const double r = exp(-(x - 1.0) * (x - 1.0) / (2.0 * sg * sg));
+    const double x4 = x * x * x * x;
+    return exp(-1.25 / x4) * pow(gamma, r) / (x4 * x);
+}
+
+typedef struct {
+    double gamma;
+    int power;
+} shape_args;
+
+static double shape_moment(double x, void *params)
+{
+    const shape_args *a = params;
+    return pow(x, a->power) * jonswap_shape(x, a->gamma);
+}
+
+/* int_{x0}^{SEA_SWELL_BAND_HI} x^power shape(x) dx, with a break at the peak. */
+static sea_status shape_integral(double gamma, int power, double x0, double *out, sea_error *err)
+{
+    *out = 0.0;
+    if (!(x0 < SEA_SWELL_BAND_HI))
+        return SEA_OK;
+    gsl_integration_workspace *ws = gsl_integration_workspace_alloc(SEA_QUAD_LIMIT);
+    if (ws == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    shape_args a = { gamma, power };
+    gsl_function F = { shape_moment, &a };
+    double pts[3], abserr;
+    size_t np = 0;
+    pts[np++] = x0;
+    if (x0 < 1.0)
+        pts[np++] = 1.0;
+    pts[np++] = SEA_SWELL_BAND_HI;
+    int rc = gsl_integration_qagp(&F, pts, np, 0.0, SEA_SPECTRUM_REL_TOL, SEA_QUAD_LIMIT, ws,
+                                  out, &abserr);
+    gsl_integration_workspace_free(ws);
+    if (rc != GSL_SUCCESS)
+        return sea_fail(err, SEA_ERR_NUMERIC, "swell spectrum integral did not converge: %s",
+                        gsl_strerror(rc));
+    return SEA_OK;
+}
+
+sea_status sea_spectrum_add_swell(sea_spectrum *s, const sea_swell *sw, sea_error *err)
+{
+    if (s->n_swell < 0 || s->n_swell >= SEA_SWELL_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "swell %d: at most %d swells", s->n_swell + 1,
+                        SEA_SWELL_MAX);
+    if (!(sw->hs >= SEA_SWELL_HS_MIN && sw->hs <= SEA_SWELL_HS_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN, "swell height %g m is outside [%g, %g] m", sw->hs,
+                        SEA_SWELL_HS_MIN, SEA_SWELL_HS_MAX);
+    if (!(sw->tp >= SEA_SWELL_TP_MIN && sw->tp <= SEA_SWELL_TP_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN, "swell peak period %g s is outside [%g, %g] s",
+                        sw->tp, SEA_SWELL_TP_MIN, SEA_SWELL_TP_MAX);
+    if (!isfinite(sw->dir))
+        return sea_fail(err, SEA_ERR_DOMAIN, "swell direction is not finite");
+    const double deg = 180.0 / M_PI;
+    /* a hair of slack: a spread given in degrees comes back through pi/180 */
+    if (!(sw->spread * deg >= SEA_SWELL_SPREAD_MIN_DEG * (1.0 - 1e-12) &&
+          sw->spread * deg <= SEA_SWELL_SPREAD_MAX_DEG * (1.0 + 1e-12)))
+        return sea_fail(err, SEA_ERR_DOMAIN, "swell spread %g deg is outside [%g, %g] deg",
+                        sw->spread * deg, SEA_SWELL_SPREAD_MIN_DEG, SEA_SWELL_SPREAD_MAX_DEG);
+    if (!(sw->gamma >= SEA_SWELL_GAMMA_MIN && sw->gamma <= SEA_SWELL_GAMMA_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN, "swell peak enhancement %g is outside [%g, %g]",
+                        sw->gamma, SEA_SWELL_GAMMA_MIN, SEA_SWELL_GAMMA_MAX);
+    sea_swell w = *sw;
+    w.omega_p = 2.0 * M_PI / w.tp;
+    double i0;
+    sea_status st = shape_integral(w.gamma, 0, SEA_SWELL_BAND_LO, &i0, err);
+    if (st != SEA_OK)
+        return st;
+    /* m0 = alpha g^2 omega_p^-4 i0 = (hs/4)^2 */
+    const double q = w.hs / 4.0, wp2 = w.omega_p * w.omega_p;
+    w.alpha = q * q * wp2 * wp2 / (SEA_G * SEA_G * i0);
+    s->swell[s->n_swell++] = w;
+    return SEA_OK;
+}
+
+int sea_swell_douglas(int d, double *hs, double *tp)
+{
+    /* height class low, moderate, heavy; length class short, average, long */
+    static const double height[3] = { 1.0, 3.0, 5.0 }, length[3] = { 75.0, 150.0, 300.0 };
+    static const int code[8][2] = { { 0, 1 }, { 0, 2 }, { 1, 0 }, { 1, 1 },
+                                    { 1, 2 }, { 2, 0 }, { 2, 1 }, { 2, 2 } };
+    if (d < 1 || d > 8)
+        return -1;
+    *hs = height[code[d - 1][0]];
+    *tp = sqrt(2.0 * M_PI * length[code[d - 1][1]] / SEA_G);
+    return 0;
+}
+
+void sea_swell_band(const sea_swell *sw, double *k_lo, double *k_hi)
+{
+    const double lo = SEA_SWELL_BAND_LO * sw->omega_p, hi = SEA_SWELL_BAND_HI * sw->omega_p;
+    *k_lo = lo * lo / SEA_G;
+    *k_hi = hi * hi / SEA_G;
+}
+
+double sea_swell_curvature(const sea_swell *sw, double k)
+{
+    if (!(k > 0.0))
+        return 0.0;
+    const double omega = sqrt(SEA_G * k), x = omega / sw->omega_p;
+    if (x < SEA_SWELL_BAND_LO || x > SEA_SWELL_BAND_HI)
+        return 0.0;
+    /* S(k) = S(omega) d omega / d k = S(omega) g / (2 omega), with
+     * S(omega) = alpha g^2 omega_p^-5 shape(x) */
+    const double wp = sw->omega_p, wp5 = wp * wp * wp * wp * wp;
+    const double S_omega = sw->alpha * SEA_G * SEA_G / wp5 * jonswap_shape(x, sw->gamma);
+    return k * k * k * S_omega * SEA_G / (2.0 * omega);
+}
+
+double sea_swell_direction_density(const sea_swell *sw, double phi)
+{
+    const double d = remainder(phi - sw->dir, 2.0 * M_PI), sg = sw->spread;
+    double sum = 0.0;
+    for (int n = -3; n <= 3; n++) {
+        const double u = (d + 2.0 * M_PI * n) / sg;
+        sum += exp(-0.5 * u * u);
+    }
+    return sum / (sg * sqrt(2.0 * M_PI));
+}
+
+double sea_spectrum_k_low(const sea_spectrum *s)
+{
+    double k = s->k_p * SEA_K_LOW_OVER_KP;
+    for (int i = 0; i < s->n_swell; i++) {
+        double lo, hi;
+        sea_swell_band(&s->swell[i], &lo, &hi);
+        k = fmin(k, lo);
+    }
+    return k;
+}
+
+/* Slope variance int_kc^inf B_i(k)/k dk of a swell: with k = omega^2/g,
+ * k^2 S(k) dk = omega^4/g^2 S(omega) d omega = alpha x^4 shape(x) dx. */
+static sea_status swell_slope_variance(const sea_swell *sw, double kc, double *out,
+                                       sea_error *err)
+{
+    const double xc = sqrt(SEA_G * kc) / sw->omega_p;
+    double m;
+    sea_status st = shape_integral(sw->gamma, 4, fmax(xc, SEA_SWELL_BAND_LO), &m, err);
+    *out = sw->alpha * m;
+    return st;
 }
 
 double sea_spectrum_curvature(const sea_spectrum *s, double k)
@@ -138,7 +295,18 @@ double sea_spectrum_directional(const sea_spectrum *s, double k, double phi)
 {
     const double Phi = (1.0 + sea_spectrum_spreading(s, k) * cos(2.0 * (phi - s->wind_dir))) /
                        (2.0 * M_PI);
-    return sea_spectrum_omni(s, k) * Phi / k;
+    return sea_spectrum_omni(s, k) * Phi / k + sea_spectrum_directional_swell(s, k, phi);
+}
+
+double sea_spectrum_directional_swell(const sea_spectrum *s, double k, double phi)
+{
+    double sum = 0.0;
+    for (int i = 0; i < s->n_swell; i++) {
+        const double B = sea_swell_curvature(&s->swell[i], k);
+        if (B > 0.0)
+            sum += B / (k * k * k * k) * sea_swell_direction_density(&s->swell[i], phi);
+    }
+    return sum;
 }
 
 typedef struct {
@@ -203,5 +371,17 @@ sea_status sea_spectrum_slope_cov(const sea_spectrum *s, double kc, sea_cov2 *ou
     out->xx = var[0] * c * c + var[1] * sn * sn;
     out->yy = var[0] * sn * sn + var[1] * c * c;
     out->xy = (var[0] - var[1]) * c * sn;
+    for (int i = 0; i < s->n_swell; i++) {
+        const sea_swell *sw = &s->swell[i];
+        double m;
+        sea_status st = swell_slope_variance(sw, kc, &m, err);
+        if (st != SEA_OK)
+            return st;
+        /* the wrapped normal's mean of cos 2(phi - dir) */
+        const double c2 = exp(-2.0 * sw->spread * sw->spread);
+        out->xx += 0.5 * m * (1.0 + c2 * cos(2.0 * sw->dir));
+        out->yy += 0.5 * m * (1.0 - c2 * cos(2.0 * sw->dir));
+        out->xy += 0.5 * m * c2 * sin(2.0 * sw->dir);
+    }
     return SEA_OK;
 }

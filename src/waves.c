@@ -78,6 +78,8 @@ struct sea_waves {
     double *amp, *phs;
     uint32_t *modes;   /* indices of the modes with amp > 0, for sea_waves_get */
     size_t nmodes;
+    uint8_t *swell_mode; /* with swell: 1 where a swell holds most of the mode (it travels
+                            along its own k), else NULL */
 };
 
 /* FFTW's planner is not thread-safe; execution is. */
@@ -214,6 +216,27 @@ static double wave_omega(const sea_waves_params *p, const sea_spectrum *s, doubl
     return along >= 0.0 ? om : -om;
 }
 
+static void fft_mode_k(const sea_waves *w, size_t idx, double *kx, double *ky);
+
+/* A swell's wave travels along its own k: omega > 0, rounded as above. */
+static double swell_omega(const sea_waves_params *p, double k)
+{
+    double om = sea_spectrum_omega(k);
+    if (p->loop_period > 0.0) {
+        const double w0 = 2.0 * M_PI / p->loop_period;
+        om = w0 * fmax(1.0, round(om / w0));
+    }
+    return om;
+}
+
+/* The angular frequency of FFT mode idx at (kx, ky). */
+static double mode_omega(const sea_waves *w, size_t idx, double kx, double ky)
+{
+    if (w->swell_mode != NULL && w->swell_mode[idx])
+        return swell_omega(&w->p, hypot(kx, ky));
+    return wave_omega(&w->p, &w->s, kx, ky);
+}
+
 static int compare_component(const void *a, const void *b)
 {
     const component *x = a, *y = b;
@@ -236,6 +259,91 @@ static void bin_integrals(const sea_spectrum *s, const gsl_integration_glfixed_t
     }
 }
 
+/* The swells' components, after the wind sea's: for each swell, bins on the
+ * same edges pi 2^(j/B) over its band, each with `directions` components
+ * spread over 10 standard deviations of its directions (a whole turn for a
+ * wider spread), from a random offset, each carrying the bin's slope
+ * variance times its direction's weight (the density at its direction,
+ * normalised to sum 1); a random log-uniform k in the bin and a random
+ * phase, from a stream per (seed, swell, bin).  The bins of the wind sea
+ * keep their streams: a scene with a swell has the same wind sea. */
+static sea_status add_swell_components(sea_waves *w, sea_error *err)
+{
+    const sea_waves_params *p = &w->p;
+    const double B = p->bins_per_octave;
+    const size_t ndir = (size_t)p->directions;
+    size_t total = 0;
+    long jl[SEA_SWELL_MAX], jh[SEA_SWELL_MAX];
+    for (int i = 0; i < w->s.n_swell; i++) {
+        double klo, khi;
+        sea_swell_band(&w->s.swell[i], &klo, &khi);
+        jl[i] = (long)floor(B * log2(klo / M_PI));
+        jh[i] = (long)ceil(B * log2(fmin(khi, w->k_max) / M_PI) - 1e-9) - 1;
+        if (jh[i] >= jl[i])
+            total += (size_t)(jh[i] - jl[i] + 1) * ndir;
+    }
+    if (total == 0)
+        return SEA_OK;
+    sea_status st = sea_check_size(w->ncomp + total, sizeof(component), "wave components", err);
+    if (st != SEA_OK)
+        return st;
+    component *grown = realloc(w->comp, (w->ncomp + total) * sizeof(component));
+    double *weight = malloc(ndir * sizeof(double));
+    gsl_integration_glfixed_table *gl = gsl_integration_glfixed_table_alloc(BIN_GL_ORDER);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    if (grown != NULL)
+        w->comp = grown;
+    if (grown == NULL || weight == NULL || gl == NULL || rng == NULL) {
+        free(weight);
+        gsl_rng_free(rng);
+        gsl_integration_glfixed_table_free(gl);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu swell components", total);
+    }
+    size_t n = w->ncomp;
+    for (int i = 0; i < w->s.n_swell; i++) {
+        const sea_swell *sw = &w->s.swell[i];
+        double klo, khi;
+        sea_swell_band(sw, &klo, &khi);
+        const double width = fmin(10.0 * sw->spread, 2.0 * M_PI), dphi = width / (double)ndir;
+        for (long j = jl[i]; j <= jh[i]; j++) {
+            const double k1 = M_PI * exp2((double)j / B), k2 = M_PI * exp2((double)(j + 1) / B);
+            /* the bin's share of the band, the cut at the band's edges kept
+             * out of the quadrature */
+            const double a = log(fmax(k1, klo)), b = log(fmin(k2, khi));
+            double i0 = 0.0;
+            for (size_t q = 0; b > a && q < gl->n; q++) {
+                double x, wq;
+                gsl_integration_glfixed_point(a, b, q, &x, &wq, gl);
+                i0 += wq * sea_swell_curvature(sw, exp(x));
+            }
+            gsl_rng_set(rng, stream_seed(p->seed, j + ((int64_t)(i + 1) << 40)));
+            const double first = sw->dir - 0.5 * width + dphi * gsl_rng_uniform(rng);
+            double wsum = 0.0;
+            for (size_t d = 0; d < ndir; d++)
+                wsum += weight[d] = sea_swell_direction_density(sw, first + dphi * (double)d);
+            for (size_t d = 0; d < ndir; d++) {
+                const double u = gsl_rng_uniform(rng), phase = 2.0 * M_PI * gsl_rng_uniform(rng);
+                const double k = k1 * pow(k2 / k1, u);
+                if (k > w->k_max || !(i0 > 0.0))
+                    continue;
+                const double var = i0 * weight[d] / wsum, az = first + dphi * (double)d;
+                component *c = &w->comp[n++];
+                c->k = k;
+                c->kx = k * cos(az);
+                c->ky = k * sin(az);
+                c->amplitude = sqrt(2.0 * var) / k;
+                c->phase = phase;
+                c->omega = swell_omega(p, k);
+            }
+        }
+    }
+    free(weight);
+    gsl_rng_free(rng);
+    gsl_integration_glfixed_table_free(gl);
+    w->ncomp = n;
+    return SEA_OK;
+}
+
 static sea_status create_sinusoids(sea_waves *w, sea_error *err)
 {
     const sea_waves_params *p = &w->p;
@@ -246,7 +354,7 @@ static sea_status create_sinusoids(sea_waves *w, sea_error *err)
     const long j_hi = (long)ceil(B * log2(w->k_max / M_PI) - 1e-9) - 1;
     if (j_hi < j_lo) {
         w->ncomp = 0;
-        return SEA_OK;
+        return w->s.n_swell > 0 ? add_swell_components(w, err) : SEA_OK;
     }
     const size_t nbins = (size_t)(j_hi - j_lo + 1), ndir = (size_t)p->directions;
     sea_status st = sea_check_size(nbins * ndir, sizeof(component), "wave components", err);
@@ -292,6 +400,9 @@ static sea_status create_sinusoids(sea_waves *w, sea_error *err)
     gsl_rng_free(rng);
     gsl_integration_glfixed_table_free(gl);
     w->ncomp = n;
+    if (w->s.n_swell > 0 && (st = add_swell_components(w, err)) != SEA_OK)
+        return st;
+    n = w->ncomp;
     /* Stable order for equal k (not expected with random k): qsort is not
      * stable, but ties have equal k, so any order gives the same prefixes. */
     qsort(w->comp, n, sizeof(component), compare_component);
@@ -347,6 +458,20 @@ static sea_status create_fft(sea_waves *w, sea_error *err)
         if (w->amp[i] > 0.0)
             w->modes[n++] = (uint32_t)i;
     w->nmodes = n;
+    if (w->s.n_swell > 0) {
+        w->swell_mode = calloc(N * N, 1);
+        if (w->swell_mode == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu FFT patch", N,
+                            N);
+        for (size_t m = 0; m < n; m++) {
+            const size_t idx = w->modes[m];
+            double kx, ky;
+            fft_mode_k(w, idx, &kx, &ky);
+            const double k = hypot(kx, ky), phi = atan2(ky, kx);
+            const double psw = sea_spectrum_directional_swell(&w->s, k, phi);
+            w->swell_mode[idx] = psw > sea_spectrum_directional(&w->s, k, phi) - psw;
+        }
+    }
     return SEA_OK;
 }
 
@@ -427,6 +552,7 @@ void sea_waves_free(sea_waves *w)
     free(w->amp);
     free(w->phs);
     free(w->modes);
+    free(w->swell_mode);
     free(w);
 }
 
@@ -462,7 +588,7 @@ sea_wave sea_waves_get(const sea_waves *w, size_t i)
         fft_mode_k(w, idx, &o.kx, &o.ky);
         o.amplitude = w->amp[idx];
         o.phase = w->phs[idx];
-        o.omega = wave_omega(&w->p, &w->s, o.kx, o.ky);
+        o.omega = mode_omega(w, idx, o.kx, o.ky);
     }
     return o;
 }
@@ -693,8 +819,8 @@ static sea_status fft_sample_level(const sea_waves *w, double step, size_t M, do
                  * the coefficient at k gathers the wave k and its mirror -k. */
                 const size_t ip = wrap_index(iy, N) * N + wrap_index(ix, N);
                 const size_t im = wrap_index(-iy, N) * N + wrap_index(-ix, N);
-                const double om = wave_omega(&w->p, &w->s, kx, ky);
-                const double omm = wave_omega(&w->p, &w->s, -kx, -ky);
+                const double om = mode_omega(w, ip, kx, ky);
+                const double omm = mode_omega(w, im, -kx, -ky);
                 H = 0.5 * (w->amp[ip] * cexp(I * (w->phs[ip] - om * t)) +
                            w->amp[im] * cexp(-I * (w->phs[im] - omm * t)));
                 H *= cexp(I * 0.5 * step * (kx + ky)); /* to the cell centres */

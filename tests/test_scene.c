@@ -251,7 +251,27 @@ typedef struct {
 static const error_case CASES[] = {
     /* syntax and names: SEA_ERR_PARSE */
     { BASE "[seas]\n", SEA_ERR_PARSE, 9, "[seas]: unknown section",
-      "(allowed: sea, sun, sky, atmosphere, sensor, model)" },
+      "(allowed: sea, swell, sun, sky, atmosphere, sensor, model)" },
+    /* swells */
+    { BASE "[swell]\nheight = 2\n", SEA_ERR_DOMAIN, 9, "[swell] period: missing required key",
+      "(allowed: [3, 30] s)" },
+    { BASE "[swell]\nperiod = 9\n[swell]\ndouglas = 3\n", SEA_ERR_DOMAIN, 9,
+      "[swell] height: missing required key", "(allowed: [0.01, 20] m)" },
+    { BASE "[swell]\nheight = 25\n", SEA_ERR_DOMAIN, 10, "[swell] height: 25 is out of range",
+      "(allowed: [0.01, 20] m)" },
+    { BASE "[swell]\nheight = 2\nperiod = 2.5\n", SEA_ERR_DOMAIN, 11,
+      "[swell] period: 2.5 is out of range", "(allowed: [3, 30] s)" },
+    { BASE "[swell]\ndouglas = 9\n", SEA_ERR_DOMAIN, 10, "[swell] douglas: 9 is out of range",
+      "(allowed: an integer in [1, 8])" },
+    { BASE "[swell]\ndouglas = 2\nspread = 70\n", SEA_ERR_DOMAIN, 11,
+      "[swell] spread: 70 is out of range", "(allowed: [1, 60] deg)" },
+    { BASE "[swell]\ndouglas = 2\ngamma = 0.5\n", SEA_ERR_DOMAIN, 11,
+      "[swell] gamma: 0.5 is out of range", "(allowed: [1, 10])" },
+    { BASE "[swell]\ndouglas = 2\ndouglas = 3\n", SEA_ERR_PARSE, 11,
+      "[swell] douglas: duplicate key", "first given on line 10" },
+    { BASE "[swell]\ndouglas = 1\n[swell]\ndouglas = 2\n[swell]\ndouglas = 3\n"
+           "[swell]\ndouglas = 4\n[swell]\ndouglas = 5\n",
+      SEA_ERR_DOMAIN, 17, "[swell]: too many swells", "(allowed: at most 4 [swell] sections)" },
     { BASE "[sun]\nzenit = 40\n", SEA_ERR_PARSE, 10, "[sun] zenit: unknown key",
       "(allowed: zenith, azimuth, irradiance, temperature, solid_angle, transmittance, "
       "angular_radius)" },
@@ -728,6 +748,55 @@ static void test_overrides(void)
                                 "first by --set sea.wind_speed=3"));
 }
 
+/* [swell] sections: several, each complete, the Douglas code filling what
+ * is not given, the direction the wind's unless given; --set swell.KEY
+ * reaches the last one (or makes one). */
+static void test_swells(void)
+{
+    char path[300];
+    snprintf(path, sizeof path, "%s",
+             write_file("swell.ini", "[sea]\nwind_speed = 10\nwind_direction = 30\n"
+                                     "[swell]\nheight = 2.5\nperiod = 11\ndirection = -90\n"
+                                     "spread = 10\ngamma = 5\n"
+                                     "[sensor]\naltitude = 500\nhfov = 30\nwidth = 64\n"
+                                     "height = 48\nwavelength = 4\n"
+                                     "[swell]\ndouglas = 7\nperiod = 13\n"));
+    sea_scene sc;
+    sea_error err = { "" };
+    sea_status st = sea_scene_load(path, &sc, &err);
+    if (st != SEA_OK)
+        fprintf(stderr, "\n  %s\n", err.msg);
+    CU_ASSERT_FATAL(st == SEA_OK);
+    CU_ASSERT_FATAL(sc.n_swell == 2);
+    CU_ASSERT(sc.swell[0].sw.hs == 2.5 && sc.swell[0].sw.tp == 11.0);
+    ASSERT_ABS(sc.swell[0].sw.dir, -90.0 * DEG, 1e-15);
+    ASSERT_ABS(sc.swell[0].sw.spread, 10.0 * DEG, 1e-15);
+    CU_ASSERT(sc.swell[0].sw.gamma == 5.0 && sc.swell[0].douglas == 0);
+    /* Douglas 7: heavy (5 m), average (150 m) -- the period given wins */
+    CU_ASSERT(sc.swell[1].douglas == 7 && sc.swell[1].sw.hs == 5.0 && sc.swell[1].sw.tp == 13.0);
+    ASSERT_ABS(sc.swell[1].sw.dir, 30.0 * DEG, 1e-15); /* the wind's */
+    ASSERT_ABS(sc.swell[1].sw.spread, 15.0 * DEG, 1e-15);
+    CU_ASSERT(sc.swell[1].sw.gamma == 3.3);
+    /* the scene's sea carries both */
+    sea_spectrum sp;
+    CU_ASSERT_FATAL(sea_scene_spectrum(&sc, &sp, &err) == SEA_OK);
+    CU_ASSERT(sp.n_swell == 2 && sp.swell[1].hs == 5.0 && sp.wind_speed == 10.0);
+    /* an override reaches the last [swell] */
+    const char *set[] = { "swell.height=1.5" };
+    CU_ASSERT_FATAL(sea_scene_load_with(path, set, 1, &sc, &err) == SEA_OK);
+    CU_ASSERT(sc.n_swell == 2 && sc.swell[0].sw.hs == 2.5 && sc.swell[1].sw.hs == 1.5);
+    /* ... or makes one in a scene without */
+    snprintf(path, sizeof path, "%s", write_file("noswell.ini", BASE));
+    CU_ASSERT_FATAL(sea_scene_load(path, &sc, &err) == SEA_OK);
+    CU_ASSERT(sc.n_swell == 0);
+    const char *make[] = { "swell.height=1", "swell.period=8" };
+    CU_ASSERT_FATAL(sea_scene_load_with(path, make, 2, &sc, &err) == SEA_OK);
+    CU_ASSERT(sc.n_swell == 1 && sc.swell[0].sw.hs == 1.0 && sc.swell[0].sw.tp == 8.0);
+    const char *half[] = { "swell.height=1" };
+    CU_ASSERT(sea_scene_load_with(path, half, 1, &sc, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(contains(err.msg, "[swell] period: missing required key"));
+}
+
 static void test_manual_example(void)
 {
     const char *man = SEA_TOP_SRCDIR "/man/seabake-scene.5";
@@ -804,5 +873,6 @@ int test_scene_register(void)
            !CU_add_test(s, "relative paths and referenced files", test_relative_paths) ||
            !CU_add_test(s, "response curves and their errors", test_response_load) ||
            !CU_add_test(s, "overrides (--set)", test_overrides) ||
+           !CU_add_test(s, "swells", test_swells) ||
            !CU_add_test(s, "manual example (Fig. 8)", test_manual_example);
 }

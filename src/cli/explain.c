@@ -89,8 +89,30 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
             sc->finest);
     /* The fallbacks of seabake(1), LIMITS AND FALLBACKS, that this scene takes. */
     sea_spectrum sp;
-    if (sea_spectrum_init(&sp, sc->wind_speed, sc->fetch, sc->wind_dir, NULL) == SEA_OK &&
-        sea_spectrum_alpha_m_continued(&sp))
+    const int sp_ok = sea_scene_spectrum(sc, &sp, NULL) == SEA_OK;
+    /* the swells (seabake-model(7), SWELL) and what they add to the slopes */
+    for (int i = 0; sp_ok && i < sp.n_swell; i++) {
+        const sea_swell *w = &sp.swell[i];
+        sea_spectrum one = sp, none = sp;
+        one.n_swell = 0;
+        none.n_swell = 0;
+        one.swell[0] = *w;
+        one.n_swell = 1;
+        sea_cov2 c1, c0;
+        if (sea_spectrum_slope_cov(&one, 0.0, &c1, NULL) != SEA_OK ||
+            sea_spectrum_slope_cov(&none, 0.0, &c0, NULL) != SEA_OK)
+            continue;
+        fprintf(stderr,
+                "%s: swell %d: Hs %g m, peak period %g s (peak wavelength %.0f m), toward %g deg, "
+                "spread %g deg, gamma %g%s: slope variance %.3g, %.3g %% of the wind sea's "
+                "%.3g\n",
+                what, i + 1, w->hs, w->tp, 9.81 * w->tp * w->tp / (2.0 * M_PI),
+                w->dir * 180.0 / M_PI, w->spread * 180.0 / M_PI, w->gamma,
+                sc->swell[i].douglas ? " (Douglas code)" : "",
+                (c1.xx + c1.yy) - (c0.xx + c0.yy),
+                100.0 * ((c1.xx + c1.yy) - (c0.xx + c0.yy)) / (c0.xx + c0.yy), c0.xx + c0.yy);
+    }
+    if (sp_ok && sea_spectrum_alpha_m_continued(&sp))
         fprintf(stderr,
                 "%s: fallback: at %g m/s u*/c_m is below exp(-0.9): the short-wave "
                 "alpha_m = %.3g comes from the positive low-wind continuation, not Elfouhaily's "
