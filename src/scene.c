@@ -125,6 +125,12 @@ sea_status sea_response_load(const char *path, sea_response *r, sea_error *err)
             goto fail;
         }
         double wl = wl_um * SEA_UM;
+        if (!isnormal(wl)) { /* a positive number of micrometres too small for metres */
+            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: wavelength_um: %s is outside (0, %s]",
+                          path, lineno, sea_text_format_real(wl_um, v_txt),
+                          sea_text_format_real(SEA_RESPONSE_WAVELENGTH_MAX_UM, max_txt));
+            goto fail;
+        }
         if (r->n > 0 && !(wl > r->wavelength[r->n - 1])) {
             char prev_txt[SEA_TEXT_REAL_CHARS];
             st = sea_fail(err, SEA_ERR_PARSE,

@@ -1230,7 +1230,7 @@ check_match render.tolerance_emissivity "$SB_ERR" "emissivity: auto rule, orders
 check_match render.tolerance_waves "$SB_ERR" "waves: [0-9]+ sinusoids, 8 bins per octave x 32 directions \(the same"
 check_match render.tolerance_skipped "$SB_ERR" \
     "level +[0-9]+: sub-facets of [0-9.]+ m resolve [0-9.e-]+ of the slope variance: skipped, less than the tolerance \(n = 0\)"
-check_match render.tolerance_lr "$SB_ERR" "less than the tolerance 0.1$"
+check_match render.tolerance_lr "$SB_ERR" "less than a thousandth of the tolerance \(0.0001\)$"
 sb_run render "$RDIR/sea2n.ini" -o "$RDIR/tol2.exr" --explain --quiet --png none
 check_match render.tolerance_computed "$SB_ERR" "of the slope variance: computed, at least the tolerance"
 check_match render.tolerance_default_emissivity "$SB_ERR" "emissivity: auto rule, orders x 1 \(the full rule"

@@ -680,6 +680,9 @@ static void test_response_load(void)
         { "wavelength_um,response\n3,1\n4,-0.1\n", SEA_ERR_DOMAIN, ":3: ", "-0.1 is outside [0, 1000000]" },
         { "wavelength_um,response\n3,1\n4,1e300\n", SEA_ERR_DOMAIN, ":3: ", "1e+300 is outside [0, 1000000]" },
         { "wavelength_um,response\n3,1\n4e7,1\n", SEA_ERR_DOMAIN, ":3: ", "40000000 is outside (0, 1000]" },
+        /* positive in micrometres, but 0 (or subnormal) in metres */
+        { "wavelength_um,response\n1e-320,1\n4,1\n", SEA_ERR_DOMAIN, ":2: ",
+          "1e-320 is outside (0, 1000]" },
         { "wavelength_um,response\n3,1\n4,1\n4,1\n", SEA_ERR_PARSE, ":4: ", "does not increase" },
         { "wavelength_um,response\n3,1\n", SEA_ERR_PARSE, ": ", "at least two rows (found 1)" },
         { "# only comments\n", SEA_ERR_PARSE, ": ", "no header" },

@@ -723,11 +723,13 @@ sea_status sea_cli_opt_threads(const sea_cli_args *args, sea_error *err)
     return SEA_OK;
 }
 
+#ifdef _OPENMP
 /* A thread that does nothing: sea_cli_threads_start's probe. */
 static void *idle_thread(void *arg)
 {
     return arg;
 }
+#endif
 
 sea_status sea_cli_threads_start(sea_error *err)
 {

@@ -445,7 +445,8 @@ static sea_status check_replaceable(const sea_cli_out_dir *od, sea_error *err)
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         goto done;
     }
-    qsort(names, n, sizeof *names, compare_names);
+    if (n > 1) /* (qsort takes no NULL, even for no elements) */
+        qsort(names, n, sizeof *names, compare_names);
     size_t nbad = 0; /* entries the manifest does not account for */
     if (!has_manifest) {
         if (n == 0)

@@ -125,7 +125,7 @@ static void use_args(const sea_cli_args *args)
     fuzz_check_error(st, &err);
     if (st == SEA_OK)
         FUZZ_ASSERT((isnan(model.tolerance) || (model.tolerance > 0.0 && model.tolerance <= 0.1)) &&
-                    model.reflections >= 0 && model.reflections <= SEA_REFLECTIONS_MAX);
+                    model.reflections >= -1 && model.reflections <= SEA_REFLECTIONS_MAX);
     const char *scene;
     fuzz_check_error(sea_cli_scene_arg(args, &scene, &err), &err);
     sea_emis_method em;

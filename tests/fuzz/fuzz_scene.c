@@ -9,11 +9,13 @@
  *
  * Each execution must take milliseconds, so an accepted scene is shrunk
  * before sea_render_prepare: at most 8 x 6 pixels (2 x 2 with the adaptive
- * emissivity), grid 16, sub-facet exponent <= 3, at most 4 band samples
- * when given, and for one-meter a finest size whose FFT patch stays small.
- * Everything else (geometry, sea state, sun, sky, water, band, response,
- * tolerance, earth, windows, time) is rendered as loaded.  The API's
- * promises are checked: emissivity in [0, 1], finite radiance and
+ * emissivity), grid 16, sub-facet exponent <= 3, at most 2 band samples,
+ * a tolerance of at least 1e-3, one scale (two build a table of what they
+ * add per spectral sample, or integrate it per texel: seconds under the
+ * sanitizers; tests/test_optics.c and test_mc.c cover them), and for one-meter a
+ * finest size whose FFT patch stays small.  Everything else (geometry, sea
+ * state, sun, sky, water, band, response, earth, windows, time) is rendered
+ * as loaded.  The API's promises are checked: emissivity in [0, 1], finite radiance and
  * temperature, levels finest first. */
 #include <math.h>
 
@@ -30,7 +32,7 @@ static int first_lr_level(const sea_scene *sc, double finest)
 {
     sea_spectrum s;
     sea_cov2 lr, c;
-    if (sea_spectrum_init(&s, sc->wind_speed, sc->fetch, sc->wind_dir, NULL) != SEA_OK ||
+    if (sea_scene_spectrum(sc, &s, NULL) != SEA_OK ||
         sea_spectrum_slope_cov(&s, 0.0, &lr, NULL) != SEA_OK)
         return 0;
     for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++) {
@@ -53,9 +55,16 @@ static void shrink(sea_scene *sc)
     sc->grid = 16;
     if (sc->n > 3)
         sc->n = 3;
-    if (sc->band_samples > 4)
-        sc->band_samples = 4;
-    if (sc->wavelength <= 0.0 && sc->band_samples == 0 && full)
+    /* below 2e-4 every pixel takes the second hits at full orders and two
+     * scales by quadrature: seconds a pixel under the sanitizers (the unit
+     * and shell tests render those tolerances) */
+    if (sc->tolerance < 1e-3)
+        sc->tolerance = 1e-3;
+    sc->scales = 1;
+    /* each spectral sample has its own two-scale table to build */
+    if (sc->band_samples > 2)
+        sc->band_samples = 2;
+    if (sc->wavelength <= 0.0 && sc->band_samples == 0)
         sc->band_samples = 2;
     /* The finest levels are the costly ones: sums of sinusoids up to
      * pi/finest rad/m, or an FFT patch of 16 << level cells per side. */
