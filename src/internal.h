@@ -146,6 +146,14 @@ SEA_INTERNAL void sea_temp_abort(sea_temp_file *t);
 SEA_INTERNAL size_t sea_temp_clean(const char *dir, const char *prefix,
                                    void (*removed)(void *ctx, const char *path), void *ctx);
 
+/* tempfile.c, paths: "dir/name" and the directory part of path ("." for a
+ * bare name), malloc'ed (NULL without memory); sea_remove_tree removes a
+ * directory tree that seabake made, best effort, following no link
+ * (0 or -1). */
+SEA_INTERNAL char *sea_path_join(const char *dir, const char *name);
+SEA_INTERNAL char *sea_path_parent(const char *path);
+SEA_INTERNAL int sea_remove_tree(const char *path);
+
 /* waves.c: SEA_ERR_DOMAIN "time T s is outside [-1000000000, 1000000000] s" unless
  * |t| <= SEA_TIME_MAX (NaN included). */
 SEA_INTERNAL sea_status sea_time_check(double t, sea_error *err);

@@ -37,6 +37,7 @@
 
 #include "cli.h"
 #include "config.h"
+#include "bakedir.h"
 #include "blender.h"
 #include "exr.h"
 #include "povray.h"
@@ -2310,16 +2311,32 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     return st;
 }
 
+/* The bake directory's notes on standard error, "bake: TEXT" (the wait
+ * for another bake's lock not with --quiet: ctx a bool, quiet). */
+static void bake_note(void *ctx, sea_bake_note kind, const char *text)
+{
+    if (kind == SEA_BAKE_NOTE_WAITING && *(const bool *)ctx)
+        return;
+    fprintf(stderr, "bake: %s\n", text);
+}
+
+/* The bake directory gives up waiting for the lock once a signal came. */
+static int bake_cancel(void *ctx, double fraction)
+{
+    (void)ctx;
+    (void)fraction;
+    return sea_cli_interrupted() != 0;
+}
+
 static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
 {
     (void)out; /* files go to DIR, the summary to standard error */
     const double start = sea_cli_seconds();
     bake_setup s;
     sea_render *r = NULL;
-    sea_cli_out_dir od;
+    sea_bake_dir *od = NULL;
     bake_stats stats = {0};
     double prepare = 0.0;
-    sea_cli_out_dir_init(&od);
     /* under MPI rank 0 alone owns the directory (see bake_send_frames) */
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_status st = bake_parse(args, &s, err);
@@ -2331,8 +2348,10 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     sea_cli_signals_catch();
     /* The temporary directory first: an unwritable or missing parent, or a
      * DIR that cannot be replaced, must not cost a whole bake. */
-    if (st == SEA_OK && rank == 0)
-        st = sea_cli_out_dir_begin(&od, s.dir, s.quiet, err);
+    if (st == SEA_OK && rank == 0) {
+        const sea_bake_dir_hooks hooks = {"-o", bake_note, bake_cancel, &s.quiet};
+        st = sea_bake_dir_begin(s.dir, &hooks, &od, err);
+    }
     if (st == SEA_OK) {
         const double t0 = sea_cli_seconds();
         st = sea_render_prepare(&s.sc, &r, err);
@@ -2346,7 +2365,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     if (st == SEA_OK && s.explain && rank == 0)
         sea_cli_explain("bake", s.scene_path, r);
     if (st == SEA_OK)
-        st = rank == 0   ? bake_all(&s, r, od.tmp, &stats, err)
+        st = rank == 0   ? bake_all(&s, r, sea_bake_dir_path(od), &stats, err)
              : s.framed ? bake_send_frames(&s, r, err)
                         : bake_send_rows(&s, r, err);
     if (st == SEA_OK && sea_cli_interrupted() != 0)
@@ -2354,8 +2373,8 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     /* rank 0's error first: it holds the first failure of any rank */
     st = sea_cli_mpi_agree(st, rank, NULL, err);
     if (st == SEA_OK && rank == 0)
-        st = sea_cli_out_dir_commit(&od, s.quiet, err);
-    sea_cli_out_dir_end(&od);
+        st = sea_bake_dir_commit(od, err);
+    sea_bake_dir_free(od);
     st = sea_cli_mpi_agree(st, rank, NULL, err);
     /* Under MPI the job ends together: the error is reported, not died of. */
     if (sea_cli_interrupted() != 0 && st != SEA_OK && size == 1) {
