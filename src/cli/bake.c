@@ -2298,7 +2298,7 @@ static sea_status bake_all(const bake_setup *s, const sea_render *r, const char 
     }
     free(w.height_lo);
     if (st == SEA_OK && s->blender)
-        st = write_text(tmp, SEA_BLENDER_SCRIPT, sea_blender_import_text, err);
+        st = sea_blender_write_script(tmp, err);
     sea_cli_progress_end(&prog.bar);
     const double t0 = sea_cli_seconds();
     if (st == SEA_OK)
