@@ -289,7 +289,8 @@ static sea_status check_replaceable(const sea_bake_dir *d, sea_error *err)
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
         goto done;
     }
-    qsort(names, n, sizeof *names, compare_names);
+    if (n > 1) /* (qsort takes no NULL, even for no elements) */
+        qsort(names, n, sizeof *names, compare_names);
     size_t nbad = 0; /* entries the manifest does not account for */
     if (!has_manifest) {
         if (n == 0)
