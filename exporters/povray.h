@@ -1,4 +1,8 @@
 /* povray.h - POV-Ray 3.7 scenes of a baked sea (issue 5; seabake(1), bake).
+ * Installed as <seabake/povray.h>; ownership and the thread-safety words
+ * follow seabake.h.  sea_bake_write (<seabake/bakedir.h>) writes these
+ * files with the maps they read; a program that writes maps of its own can
+ * call sea_pov_write directly.
  *
  * A scene is a directory holding scene.pov, sea.inc, scene.ini, seabake.inc (the
  * macros of exporters/povray/seabake.inc) and the level maps the caller
@@ -21,8 +25,11 @@
 
 #include <stddef.h>
 
-#include "internal.h"
 #include "seabake.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* One clipmap level of the exported sea. */
 typedef struct {
@@ -120,13 +127,14 @@ typedef struct {
  * The four files are written to temporary names and renamed only when all
  * are written; on failure none of them is created or changed.  Returns
  * SEA_ERR_DOMAIN for invalid arguments (naming the level), SEA_ERR_IO
- * naming the file and the system error, SEA_ERR_NOMEM. */
-SEA_INTERNAL sea_status sea_pov_write(const char *dir, const sea_camera *cam,
-                                      const sea_pov_level *levels, size_t n, double sky_scaled,
-                                      double scale, const sea_pov_options *opt, sea_error *err);
+ * naming the file and the system error, SEA_ERR_NOMEM.  Thread-safe:
+ * reads its arguments; threads writing into one dir at once each write
+ * temporaries of their own, and the last renames win. */
+sea_status sea_pov_write(const char *dir, const sea_camera *cam, const sea_pov_level *levels,
+                         size_t n, double sky_scaled, double scale, const sea_pov_options *opt,
+                         sea_error *err);
 
-/* The text of exporters/povray/seabake.inc, NUL-terminated (defined in the generated
- * povray_inc.c). */
-SEA_INTERNAL extern const char sea_pov_include_text[];
-
+#ifdef __cplusplus
+}
+#endif
 #endif /* SEABAKE_POVRAY_H */

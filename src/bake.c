@@ -7,8 +7,9 @@
  * low-resolution levels are constants.  The derived renderer maps (normal,
  * roughness) are small total functions of the moments.
  *
- * Nothing here writes files: the command line (src/cli/bake.c) turns a
- * sea_bake into EXR maps, previews and a manifest. */
+ * Nothing here writes files: the bake directory's writer (bakedir.c,
+ * <seabake/bakedir.h>) turns a sea_bake into EXR maps, previews and a
+ * manifest. */
 #include "config.h"
 
 #include <math.h>

@@ -156,6 +156,22 @@ SEA_INTERNAL void sea_temp_abort(sea_temp_file *t);
 SEA_INTERNAL size_t sea_temp_clean(const char *dir, const char *prefix,
                                    void (*removed)(void *ctx, const char *path), void *ctx);
 
+/* tempfile.c, paths: "dir/name" and the directory part of path ("." for a
+ * bare name), malloc'ed (NULL without memory); sea_remove_tree removes a
+ * directory tree that seabake made, best effort, following no link
+ * (0 or -1). */
+SEA_INTERNAL char *sea_path_join(const char *dir, const char *name);
+SEA_INTERNAL char *sea_path_parent(const char *path);
+SEA_INTERNAL int sea_remove_tree(const char *path);
+
+/* The text of exporters/povray/seabake.inc and of
+ * exporters/blender/seabake_import.py, NUL-terminated (the generated
+ * povray_inc.c and blender_py.c; the Blender script's public face is
+ * sea_blender_script(): a function, so that the text's size is no part of
+ * the library's interface). */
+SEA_INTERNAL extern const char sea_pov_include_text[];
+SEA_INTERNAL extern const char sea_blender_import_text[];
+
 /* waves.c: SEA_ERR_DOMAIN "time T s is outside [-1000000000, 1000000000] s" unless
  * |t| <= SEA_TIME_MAX (NaN included). */
 SEA_INTERNAL sea_status sea_time_check(double t, sea_error *err);

@@ -3,7 +3,9 @@
  * Applied Optics 46, 5471).  Formulas are written out in seabake-model(7); the
  * equation numbers (Eq N) below are the paper's.  Compile and link with
  * `pkg-config --cflags --libs seabake`; examples/emissivity.c (installed in
- * share/seabake/examples) is a short program that uses it.
+ * share/seabake/examples) is a short program that uses it.  The bake
+ * directory that `seabake bake` writes is <seabake/bakedir.h>'s
+ * (examples/bake.c writes one).
  *
  * Conventions.  SI units and radians everywhere; units appear in names only
  * at the edges.  Axes: x along the wind axis of the spectrum frame rotated by

@@ -23,9 +23,11 @@
  * write, or between the marker's removal and rmdir (microseconds, against
  * the milliseconds of the data's write), leaves an empty directory that
  * nothing proves seabake's; it is left alone, as any other. */
+#define _GNU_SOURCE /* nftw (XSI) beside flock (BSD) */
 #include "config.h"
 
 #include <dirent.h>
+#include <ftw.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -48,6 +50,41 @@ static char *join(const char *dir, const char *name, size_t nlen)
     if (p != NULL)
         snprintf(p, dlen + nlen + 2, "%s/%.*s", dir, (int)nlen, name);
     return p;
+}
+
+/* ------------------------------------------------------------ paths */
+
+char *sea_path_join(const char *dir, const char *name)
+{
+    return join(dir, name, strlen(name));
+}
+
+char *sea_path_parent(const char *path)
+{
+    size_t len = strlen(path);
+    while (len > 1 && path[len - 1] == '/')
+        --len;
+    while (len > 0 && path[len - 1] != '/')
+        --len;
+    if (len == 0)
+        return strdup(".");
+    while (len > 1 && path[len - 1] == '/')
+        --len;
+    return strndup(path, len);
+}
+
+static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
+{
+    (void)sb;
+    (void)flag;
+    (void)ftw;
+    return remove(path);
+}
+
+int sea_remove_tree(const char *path)
+{
+    /* FTW_PHYS: a symbolic link inside is removed, never followed */
+    return nftw(path, remove_entry, 16, FTW_DEPTH | FTW_PHYS);
 }
 
 int sea_temp_marker_write(const char *dir, const char *kind, const char *target, size_t tlen)

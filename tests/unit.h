@@ -40,6 +40,7 @@ int test_scene_register(void);
 int test_sensor_register(void);
 int test_render_register(void);
 int test_bake_register(void);
+int test_bakedir_register(void);
 int test_preview_register(void);
 int test_exr_register(void);
 int test_stability_register(void);

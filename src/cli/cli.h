@@ -271,9 +271,6 @@ char *sea_cli_parent_dir(const char *path);
 sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_error *err);
 /* SEA_ERR_IO "cannot write to standard output" when a write to out failed. */
 sea_status sea_cli_check_written(FILE *out, sea_error *err);
-/* The process's umask, read without changing it: a new file or directory
- * gets 0666 or 0777 less it. */
-mode_t sea_cli_umask(void);
 
 /* A file written into seabake's marked temporary "<path>.tmp.XXXXXX/"
  * next to its destination (as the EXR writer does; src/tempfile.c) and
@@ -306,44 +303,6 @@ size_t sea_cli_clean_stale_files(const char *who, const char *stem);
  * whether this call made it (the caller removes it on failure). */
 sea_status sea_cli_make_dir(const char *opt, const char *dir, bool *created, sea_error *err);
 
-/* "DIR.<what>.XXXXXX", malloc'ed. */
-char *sea_cli_sibling_template(const char *dir, const char *what);
-/* Removes a directory tree we created; best effort. */
-int sea_cli_remove_tree(const char *path);
-
-/* The atomic output directory of bake.  Files go into a fresh sibling
- * DIR.tmp.XXXXXX, which the commit puts in place of DIR (an existing DIR
- * is renamed aside to DIR.old.XXXXXX, then removed).
- *
- * Concurrency.  Creating the temporary directory and the commit happen
- * under an flock on PARENT/.BASE.lock (created once, left in place: empty),
- * so two bakes into one DIR both succeed, the later commit winning; a bake
- * that finds the lock taken says so on standard error (unless quiet) and
- * waits.  Each bake holds an flock on its own temporary directory while it
- * lives: under the lock, a DIR.tmp.XXXXXX whose flock can be taken belongs
- * to a bake that was killed and is removed, as is any DIR.old.XXXXXX (one
- * exists only inside a commit), each with a note on standard error; if DIR
- * is missing, its old copy is put back instead.
- *
- * -o naming '.', '..' or '/' (or a mount point) is refused: it cannot be
- * renamed.  A symbolic link to a directory is followed: the directory it
- * points to is replaced and the link kept. */
-typedef struct {
-    char *user;   /* -o as given, without trailing slashes */
-    char *target; /* the directory replaced (the link's target, resolved) */
-    char *parent; /* its parent directory */
-    char *lock;   /* PARENT/.BASE.lock */
-    char *tmp;    /* the temporary directory, NULL once committed */
-    int lock_fd, tmp_fd;
-    bool made;    /* tmp was created by this bake */
-} sea_cli_out_dir;
-void sea_cli_out_dir_init(sea_cli_out_dir *od);
-/* Checks -o and creates the temporary directory, before any computation. */
-sea_status sea_cli_out_dir_begin(sea_cli_out_dir *od, const char *dir, bool quiet,
-                                 sea_error *err);
-sea_status sea_cli_out_dir_commit(sea_cli_out_dir *od, bool quiet, sea_error *err);
-/* Removes the temporary directory unless committed; frees od. */
-void sea_cli_out_dir_end(sea_cli_out_dir *od);
 
 /* ------------------------------------------------ signals (progress.c) */
 

@@ -1,0 +1,55 @@
+/* render.h - what the files of seabake render share: render.c (options,
+ * help, the setup and the run) and render_frames.c (the frame loop, the
+ * files of each frame, their previews, and the MPI sharing of frames and
+ * rows). */
+#ifndef SEABAKE_CLI_RENDER_H
+#define SEABAKE_CLI_RENDER_H
+
+#include <stdbool.h>
+
+#include "cli.h"
+#include "exr.h"
+
+/* Arbitrary output variables, each in its own file OUT.<name>.exr. */
+typedef enum { AOV_LEVEL, AOV_EMISSIVITY, AOV_REFLECTIVITY, AOV_TEMPERATURE, AOV_COUNT } render_aov;
+
+typedef struct {
+    const char *name;
+    const char *unit;
+    const char *quantity;
+} render_aov_info;
+extern const render_aov_info RENDER_AOVS[AOV_COUNT];
+
+/* The render's setup from its options and scene file. */
+typedef struct {
+    const char *scene_path;
+    sea_scene sc;
+    /* OUT.exr as stem + extension; the preview likewise (png false: none) */
+    char *out_stem, *png_stem;
+    const char *out_ext, *png_ext;
+    bool png;
+    int png_depth;
+    bool png_range; /* --png-range given: png_lo:png_hi, K */
+    double png_lo, png_hi;
+    bool aov[AOV_COUNT];
+    bool framed;
+    long frame_a, frame_b;
+    double rate;
+    sea_exr_options exr;
+    bool quiet, explain, progress;
+} sea_cli_render;
+
+/* render_frames.c.  The directories of the outputs, checked before the
+ * rendering: a typing mistake in -o must not cost a whole render. */
+sea_status sea_cli_render_check_outputs(const sea_cli_render *s, sea_error *err);
+/* Every frame, written as it is done, then the summary line: in one
+ * process, or under MPI frames shared among the ranks (--frames) or the
+ * row blocks of the one frame. */
+sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, double start,
+                                 sea_error *err);
+sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *r, double start,
+                                     sea_error *err);
+sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r, double start,
+                                   sea_error *err);
+
+#endif /* SEABAKE_CLI_RENDER_H */

@@ -1,0 +1,673 @@
+/* render_frames.c - the frames of seabake render (render.h): each frame's
+ * files (the radiance, the AOVs, the previews, whose tone curves the first
+ * frame or --png-range fixes), all of a frame or none of it, the summary
+ * line, and under MPI the frames or the row blocks of one frame shared
+ * among the ranks. */
+#include <errno.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "preview.h"
+#include "render.h"
+
+const render_aov_info RENDER_AOVS[AOV_COUNT] = {
+    {"level", "m", "facet size of the clipmap level (0: sky)"},
+    {"emissivity", "1", "effective emissivity"},
+    {"reflectivity", "sr^-1", "effective reflectivity sun -> sensor"},
+    {"temperature", "K", "brightness temperature"},
+};
+
+/* ------------------------------------------------------------------ files */
+
+/* "STEM[_FFFF][MIDDLE]EXT", malloc'ed. */
+static char *frame_path(const char *stem, bool framed, long frame, const char *middle,
+                        const char *ext)
+{
+    char num[32] = "";
+    if (framed)
+        snprintf(num, sizeof num, "_%0*ld", SEA_CLI_FRAME_DIGITS, frame);
+    const size_t len = strlen(stem) + strlen(num) + strlen(middle) + strlen(ext) + 1;
+    char *p = malloc(len);
+    if (p != NULL)
+        snprintf(p, len, "%s%s%s%s", stem, num, middle, ext);
+    return p;
+}
+
+/* ------------------------------------------------------------- reporting */
+
+/* "1,2,512(LR) m": facet sizes of the levels prepare chose, finest first,
+ * and the pixels on coarser facets than they ask, if any. */
+static void levels_text(const sea_render *r, char *buf, size_t size)
+{
+    const sea_clip_level *lv;
+    const size_t n = sea_render_levels(r, &lv);
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < n && used < size; ++i) {
+        int w = snprintf(buf + used, size - used, "%s%.10g%s", i ? "," : "", lv[i].facet,
+                         lv[i].low_res ? "(LR)" : "");
+        if (w < 0)
+            break;
+        used += (size_t)w;
+    }
+    /* the pixels that read coarser facets than their footprint asks, for
+     * want of a larger grid: said in the summary, with the grid */
+    size_t grid_needed = 0;
+    const size_t fb = sea_multires_fallback(sea_render_multires(r), &grid_needed);
+    if (used < size)
+        used += (size_t)snprintf(buf + used, size - used, " m");
+    if (fb > 0 && used < size)
+        snprintf(buf + used, size - used,
+                 " (%zu pixel%s on coarser facets than they ask: grid = %zu would hold them)", fb,
+                 fb == 1 ? "" : "s", grid_needed);
+}
+
+/* -------------------------------------------------------------- previews */
+
+/* The previews' mappings, fixed by the first frame (or --png-range) for
+ * the whole run, so that a sequence does not flicker. */
+typedef struct {
+    bool ready;
+    sea_png_tone tone[AOV_COUNT]; /* AOV_TEMPERATURE also the main preview */
+    char text[AOV_COUNT][160];    /* the tEXt "seabake:tone" of each */
+    char range[AOV_COUNT][64];    /* the tEXt "seabake:range[_K]": LO:HI */
+    const sea_clip_level *levels; /* the level AOV's palette */
+    size_t n_levels;
+    char palette[SEA_CLIP_MAX_LEVELS * 32];
+} render_previews;
+
+/* The colour of facet size f (m) in the level preview, in [0, 1]: hue =
+ * the fractional part of 0.618034 log2(f / 1 m) turns (the golden ratio:
+ * successive sizes far apart on the colour wheel; 1 m red), saturation
+ * 0.85, value 1; a low-resolution level in stripes of that colour and
+ * grey 0.4 (low_res; x + y picks the stripe); the sky (0) black. */
+static void level_colour(double f, bool low_res, int x, int y, float rgb[3])
+{
+    if (!(f > 0.0)) {
+        rgb[0] = rgb[1] = rgb[2] = 0.0f;
+        return;
+    }
+    if (low_res && ((x + y) / 4) % 2 == 1) {
+        rgb[0] = rgb[1] = rgb[2] = 0.4f;
+        return;
+    }
+    const double turns = 0.6180339887498949 * log2(f);
+    const double h = 6.0 * (turns - floor(turns)), s = 0.85, v = 1.0;
+    const int i = (int)h % 6;
+    const double fr = h - floor(h), p = v * (1 - s), q = v * (1 - s * fr);
+    const double t = v * (1 - s * (1 - fr));
+    const double c[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)c[i][k];
+}
+
+/* The tone curve of one grey AOV (or the main preview: AOV_TEMPERATURE)
+ * from the first frame: temperature over every pixel (or --png-range),
+ * emissivity and reflectivity over the sea pixels (the sky has 0). */
+static sea_status preview_tone(const sea_cli_render *s, const sea_image *img, int k,
+                               render_previews *pv, sea_error *err)
+{
+    const size_t npix = (size_t)img->width * (size_t)img->height;
+    sea_png_tone *t = &pv->tone[k];
+    const bool kelvin = k == AOV_TEMPERATURE;
+    if (kelvin && s->png_range) {
+        sea_png_tone_linear(s->png_lo, s->png_hi, t, NULL);
+    } else if (kelvin) {
+        sea_png_tone_auto(img->temperature, npix, t);
+    } else {
+        const float *plane = k == AOV_EMISSIVITY ? img->emissivity : img->reflectivity;
+        float *sea = malloc((npix > 0 ? npix : 1) * sizeof *sea);
+        if (sea == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        size_t m = 0;
+        for (size_t q = 0; q < npix; q++)
+            if (img->level[q] > 0.0f)
+                sea[m++] = plane[q];
+        sea_png_tone_auto(sea, m, t);
+        free(sea);
+    }
+    const char *unit = kelvin ? " K" : "";
+    if (t->knee < t->hi)
+        snprintf(pv->text[k], sizeof pv->text[k],
+                 "%s: linear %.6g%s black, %.6g%s %.0f %% grey; linear to %.6g%s white",
+                 RENDER_AOVS[k].quantity, t->lo, unit, t->knee, unit, 100.0 * SEA_PNG_KNEE_GREY,
+                 t->hi, unit);
+    else
+        snprintf(pv->text[k], sizeof pv->text[k], "%s: linear %.6g%s black to %.6g%s white",
+                 RENDER_AOVS[k].quantity, t->lo, unit, t->hi, unit);
+    snprintf(pv->range[k], sizeof pv->range[k], "%.6g:%.6g", t->lo, t->hi);
+    return SEA_OK;
+}
+
+/* Every mapping, from the first frame. */
+static sea_status previews_setup(const sea_cli_render *s, const sea_image *img,
+                                 render_previews *pv, sea_error *err)
+{
+    sea_status st = SEA_OK;
+    for (int k = AOV_EMISSIVITY; k < AOV_COUNT && st == SEA_OK; k++)
+        if (k == AOV_TEMPERATURE || s->aov[k])
+            st = preview_tone(s, img, k, pv, err);
+    size_t used = 0;
+    pv->palette[0] = '\0';
+    for (size_t l = 0; l < pv->n_levels && used < sizeof pv->palette; l++) {
+        float c[3];
+        level_colour(pv->levels[l].facet, false, 0, 0, c);
+        int w = snprintf(pv->palette + used, sizeof pv->palette - used, "%s%.10g m%s #%02x%02x%02x",
+                         l ? ", " : "", pv->levels[l].facet, pv->levels[l].low_res ? " (LR)" : "",
+                         (unsigned)lround(255 * c[0]), (unsigned)lround(255 * c[1]),
+                         (unsigned)lround(255 * c[2]));
+        if (w < 0)
+            break;
+        used += (size_t)w;
+    }
+    pv->ready = st == SEA_OK;
+    return st;
+}
+
+/* The preview of AOV k (k < 0: the main preview) of one frame. */
+static sea_status write_preview(const sea_cli_render *s, const sea_image *img, int k,
+                                const render_previews *pv, const char *path, sea_error *err)
+{
+    const int w = img->width, h = img->height;
+    if (k == AOV_LEVEL) {
+        const size_t npix = (size_t)w * (size_t)h;
+        float *rgb = malloc(3 * npix * sizeof *rgb);
+        if (rgb == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                const size_t q = (size_t)y * (size_t)w + (size_t)x;
+                const double f = img->level[q];
+                bool lr = false;
+                for (size_t l = 0; l < pv->n_levels; l++)
+                    if (fabs(pv->levels[l].facet - f) <= 1e-6 * f)
+                        lr = pv->levels[l].low_res != 0;
+                level_colour(f, lr, x, y, rgb + 3 * q);
+            }
+        const sea_png_text text[] = {{"seabake:quantity", RENDER_AOVS[k].quantity},
+                                     {"seabake:palette", pv->palette}};
+        sea_status st = sea_png_write_rgb(path, w, h, rgb, s->png_depth, text, 2, err);
+        free(rgb);
+        return st;
+    }
+    const int t = k < 0 ? AOV_TEMPERATURE : k;
+    const float *plane = t == AOV_EMISSIVITY     ? img->emissivity
+                         : t == AOV_REFLECTIVITY ? img->reflectivity
+                                                 : img->temperature;
+    const sea_png_text text[] = {{"seabake:quantity", RENDER_AOVS[t].quantity},
+                                 {t == AOV_TEMPERATURE ? "seabake:range_K" : "seabake:range",
+                                  pv->range[t]},
+                                 {"seabake:tone", pv->text[t]}};
+    return sea_png_write_toned(path, w, h, plane, &pv->tone[t], s->png_depth, text, 3, err);
+}
+
+/* ---------------------------------------------------------------- frames */
+
+/* Widens [*t_min, *t_max] to the frame's brightness temperatures. */
+static void temperature_range(const sea_image *img, size_t npix, double *t_min, double *t_max)
+{
+    for (size_t q = 0; q < npix; ++q) {
+        *t_min = fmin(*t_min, img->temperature[q]);
+        *t_max = fmax(*t_max, img->temperature[q]);
+    }
+}
+
+/* Writes every file of one frame; on a failure removes those it wrote. */
+static sea_status write_frame(const sea_cli_render *s, const sea_image *img, long frame, double t,
+                              const char *levels, render_previews *pv, sea_error *err)
+{
+    const sea_scene *sc = &s->sc;
+    char *written[2 + 2 * AOV_COUNT];
+    size_t n_written = 0;
+    sea_status st = s->png && !pv->ready ? previews_setup(s, img, pv, err) : SEA_OK;
+    if (st != SEA_OK)
+        return st;
+    char time_s[32], seed[32], frame_s[32];
+    snprintf(time_s, sizeof time_s, "%.10g", t);
+    snprintf(seed, sizeof seed, "%lu", sc->seed);
+    snprintf(frame_s, sizeof frame_s, "%ld", frame);
+    sea_exr_attr attrs[] = {{"seabake:quantity", "radiance"},
+                            {"seabake:unit", sc->wavelength > 0.0 ? "W m^-2 sr^-1 um^-1"
+                                                                  : "W m^-2 sr^-1"},
+                            {"seabake:scene", s->scene_path},
+                            {"seabake:time_s", time_s},
+                            {"seabake:seed", seed},
+                            {"seabake:levels", levels},
+                            {"seabake:frame", frame_s}};
+    const size_t n_attrs = sizeof attrs / sizeof attrs[0] - (s->framed ? 0 : 1);
+    const sea_exr_options opt = s->exr;
+    const sea_exr_options opt_float = {SEA_EXR_FLOAT, s->exr.compression};
+
+    char *path = frame_path(s->out_stem, s->framed, frame, "", s->out_ext);
+    if (path == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    sea_exr_channel ch = {"Y", img->radiance};
+    st = sea_exr_write(path, img->width, img->height, &ch, 1, attrs, n_attrs, &opt, err);
+    if (st == SEA_OK)
+        written[n_written++] = path;
+    else
+        free(path);
+
+    const float *planes[AOV_COUNT] = {img->level, img->emissivity, img->reflectivity,
+                                      img->temperature};
+    for (int k = 0; k < AOV_COUNT && st == SEA_OK; ++k) {
+        if (!s->aov[k])
+            continue;
+        char middle[32];
+        snprintf(middle, sizeof middle, ".%s", RENDER_AOVS[k].name);
+        if ((path = frame_path(s->out_stem, s->framed, frame, middle, s->out_ext)) == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+            break;
+        }
+        attrs[0].value = RENDER_AOVS[k].name;
+        attrs[1].value = RENDER_AOVS[k].unit;
+        ch.data = planes[k];
+        /* Level sizes reach L0 2^23 m, beyond HALF's 65504: always FLOAT. */
+        st = sea_exr_write(path, img->width, img->height, &ch, 1, attrs, n_attrs,
+                           k == AOV_LEVEL ? &opt_float : &opt, err);
+        if (st == SEA_OK)
+            written[n_written++] = path;
+        else
+            free(path);
+        /* its preview beside it: OUT.<aov>.png */
+        if (st != SEA_OK || !s->png)
+            continue;
+        if ((path = frame_path(s->out_stem, s->framed, frame, middle, ".png")) == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+            break;
+        }
+        st = write_preview(s, img, k, pv, path, err);
+        if (st == SEA_OK)
+            written[n_written++] = path;
+        else
+            free(path);
+    }
+
+    if (st == SEA_OK && s->png) {
+        if ((path = frame_path(s->png_stem, s->framed, frame, "", s->png_ext)) == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        } else {
+            st = write_preview(s, img, -1, pv, path, err);
+            if (st == SEA_OK)
+                written[n_written++] = path;
+            else
+                free(path);
+        }
+    }
+
+    for (size_t i = 0; i < n_written; ++i) {
+        if (st != SEA_OK)
+            unlink(written[i]);
+        free(written[i]);
+    }
+    return st;
+}
+
+/* The directories of the outputs, before the rendering: a typing mistake
+ * in -o must not cost a whole render. */
+sea_status sea_cli_render_check_outputs(const sea_cli_render *s, sea_error *err)
+{
+    char *probe = frame_path(s->out_stem, s->framed, s->frame_a, "", s->out_ext);
+    if (probe == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    sea_status st = sea_cli_check_parent_writable("-o", probe, err);
+    /* A scene file called x.exr would be its own default output. */
+    struct stat a, b;
+    if (st == SEA_OK && stat(probe, &a) == 0 && stat(s->scene_path, &b) == 0 &&
+        a.st_dev == b.st_dev && a.st_ino == b.st_ino)
+        st = sea_fail(err, SEA_ERR_DOMAIN, "-o: '%s' is the scene file", probe);
+    free(probe);
+    if (st != SEA_OK || !s->png)
+        return st;
+    if ((probe = frame_path(s->png_stem, false, 0, "", s->png_ext)) == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    st = sea_cli_check_parent_writable("--png", probe, err);
+    free(probe);
+    return st;
+}
+
+/* The library's progress callback: the bar on a terminal, and a stop as
+ * soon as a signal came (sea_cli_signals_catch). */
+typedef struct {
+    sea_cli_progress bar;
+    bool on;
+} render_progress;
+
+static int render_progress_fn(void *ctx, double fraction)
+{
+    render_progress *p = ctx;
+    return sea_cli_progress_if(&p->bar, p->on, fraction);
+}
+
+/* The closing line on standard error: files, size, levels, frames, the
+ * seconds since start, the brightness temperatures of all frames. */
+static sea_status render_summary(const sea_cli_render *s, const char *levels, double start,
+                                 double t_min, double t_max, sea_error *err)
+{
+    const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
+    char *a = frame_path(s->out_stem, s->framed, first, "", s->out_ext);
+    char *b = frame_path(s->out_stem, s->framed, last, "", s->out_ext);
+    if (a != NULL && b != NULL)
+        fprintf(stderr,
+                "render: %s%s%s: %d x %d, levels %s, %ld frame%s, %.3g s, brightness "
+                "temperature %.2f to %.2f K\n",
+                a, last > first ? " to " : "", last > first ? b : "", s->sc.width, s->sc.height,
+                levels, last - first + 1, last > first ? "s" : "", sea_cli_seconds() - start, t_min,
+                t_max);
+    free(a);
+    free(b);
+    return a != NULL && b != NULL ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+}
+
+/* Every frame, written as it is done; then the summary line.  A signal
+ * stops the frame being rendered within a row: its files are not written
+ * (the frames before it are complete and stay). */
+sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, double start,
+                                sea_error *err)
+{
+    sea_image img;
+    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    if (st != SEA_OK)
+        return st;
+    char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
+    levels_text(r, levels, sizeof levels);
+    const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
+    render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1}, s->progress};
+    const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
+    double t_min = INFINITY, t_max = -INFINITY;
+    render_previews pv;
+    memset(&pv, 0, sizeof pv);
+    pv.n_levels = sea_render_levels(r, &pv.levels);
+    long done = 0;
+    for (long f = first; f <= last && st == SEA_OK; ++f) {
+        const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
+        prog.bar.index = (size_t)(f - first);
+        st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
+        bool wrote = false;
+        if (st == SEA_OK && sea_cli_interrupted() == 0) {
+            st = write_frame(s, &img, f, t, levels, &pv, err);
+            wrote = st == SEA_OK;
+        }
+        /* a frame written before the signal was seen is complete: counted */
+        if (wrote)
+            ++done;
+        if (sea_cli_interrupted() != 0) {
+            st = done == 0 ? sea_fail(err, SEA_ERR_CANCELLED,
+                                      "interrupted by signal %d: no file written",
+                                      sea_cli_interrupted())
+                           : sea_fail(err, SEA_ERR_CANCELLED,
+                                      "interrupted by signal %d: %ld frame%s written (%ld to %ld), "
+                                      "the rest not",
+                                      sea_cli_interrupted(), done, done > 1 ? "s" : "", first,
+                                      first + done - 1);
+        }
+        if (st != SEA_OK)
+            break;
+        temperature_range(&img, npix, &t_min, &t_max);
+        if (prog.on)
+            sea_cli_progress_bar(&prog.bar, 1.0);
+    }
+    /* The bar's line is ended whatever happened: an error or an interrupt
+     * message starts on a line of its own. */
+    sea_cli_progress_end(&prog.bar);
+    sea_image_free(&img);
+    if (st != SEA_OK || s->quiet)
+        return st;
+    return render_summary(s, levels, start, t_min, t_max, err);
+}
+
+/* ------------------------------------------------------------------ MPI
+ *
+ * Under mpirun or srun with N > 1 ranks (mpi.c; seabake(1), PARALLEL RUNS
+ * WITH MPI) the work is shared and the files are those of one process,
+ * byte for byte:
+ *  - --frames A:B: in rounds of N frames, rank k renders and writes frame
+ *    A + N round + k with the same atomic writes as one process (the
+ *    output's directory must then be one that every rank sees).  The
+ *    previews' tone curves are the first frame's: rank 0 renders frame A
+ *    in round 0 and broadcasts what previews_setup made of it before any
+ *    rank writes.  After each round the ranks agree on the first failed
+ *    frame (sea_cli_mpi_agree); the frames after it that the round wrote
+ *    are removed, so that what stays is what one process leaves: the
+ *    frames before the failure.
+ *  - one frame: rank k renders the blocks of SEA_RENDER_ROW_BLOCK rows
+ *    k, k + N, ... (sea_render_rows, interleaved so that sky and sea rows
+ *    are shared evenly) and sends them to rank 0, which writes every file.
+ * Rank 0 alone shows progress and prints the summary, whose temperatures
+ * are reduced over the ranks. */
+
+/* Removes the files write_frame wrote for frame (a frame after a failed
+ * one). */
+static void remove_frame(const sea_cli_render *s, long frame)
+{
+    char *paths[2 + 2 * AOV_COUNT];
+    size_t n = 0;
+    paths[n++] = frame_path(s->out_stem, s->framed, frame, "", s->out_ext);
+    for (int k = 0; k < AOV_COUNT; ++k) {
+        if (!s->aov[k])
+            continue;
+        char middle[32];
+        snprintf(middle, sizeof middle, ".%s", RENDER_AOVS[k].name);
+        paths[n++] = frame_path(s->out_stem, s->framed, frame, middle, s->out_ext);
+        if (s->png)
+            paths[n++] = frame_path(s->out_stem, s->framed, frame, middle, ".png");
+    }
+    if (s->png)
+        paths[n++] = frame_path(s->png_stem, s->framed, frame, "", s->png_ext);
+    for (size_t i = 0; i < n; i++) {
+        if (paths[i] != NULL)
+            unlink(paths[i]);
+        free(paths[i]);
+    }
+}
+
+/* previews_setup's result on rank 0 to every rank. */
+static void previews_bcast(render_previews *pv)
+{
+    sea_cli_mpi_bcast(pv->tone, sizeof pv->tone, 0);
+    sea_cli_mpi_bcast(pv->text, sizeof pv->text, 0);
+    sea_cli_mpi_bcast(pv->range, sizeof pv->range, 0);
+    sea_cli_mpi_bcast(pv->palette, sizeof pv->palette, 0);
+    pv->ready = true;
+}
+
+/* A signal under MPI, seen by the rank whose frames before `kept` are all
+ * written (the agreement picks the smallest). */
+static sea_status interrupted_mpi(long first, long kept, sea_error *err)
+{
+    const int sig = sea_cli_interrupted();
+    if (kept <= first)
+        return sea_fail(err, SEA_ERR_CANCELLED, "interrupted by signal %d: no file written", sig);
+    return sea_fail(err, SEA_ERR_CANCELLED,
+                    "interrupted by signal %d: %ld frame%s written (%ld to %ld), the rest not", sig,
+                    kept - first, kept - first > 1 ? "s" : "", first, kept - 1);
+}
+
+/* --frames A:B shared among the ranks (see above). */
+sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *r, double start,
+                                    sea_error *err)
+{
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    sea_image img;
+    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) != SEA_OK) {
+        sea_image_free(&img);
+        return st;
+    }
+    char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
+    levels_text(r, levels, sizeof levels);
+    const long first = s->frame_a, last = s->frame_b;
+    render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1},
+                            s->progress && rank == 0};
+    const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
+    double t_min = INFINITY, t_max = -INFINITY;
+    render_previews pv;
+    memset(&pv, 0, sizeof pv);
+    pv.n_levels = sea_render_levels(r, &pv.levels);
+    for (long base = first; base <= last; base += size) {
+        const long f = base + rank;
+        const bool mine = f <= last;
+        const double t = s->sc.time + (double)f / s->rate;
+        long key = f, failed;
+        bool wrote = false, write = mine;
+        prog.bar.index = (size_t)(base - first);
+        if (mine)
+            st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
+        /* as sea_cli_render_frames: a signal's message, whatever stopped the frame */
+        if (sea_cli_interrupted() != 0)
+            st = interrupted_mpi(first, f, err);
+        if (s->png && base == first) {
+            /* Frame A is rank 0's: its tone curves to every rank before
+             * anyone writes.  Without them (rank 0 failed) no rank writes,
+             * and the agreement below reports rank 0's failure. */
+            int ready = 0;
+            if (rank == 0 && st == SEA_OK)
+                ready = (st = previews_setup(s, &img, &pv, err)) == SEA_OK;
+            sea_cli_mpi_bcast(&ready, sizeof ready, 0);
+            if (ready)
+                previews_bcast(&pv);
+            write = write && ready;
+        }
+        if (write && st == SEA_OK) {
+            st = write_frame(s, &img, f, t, levels, &pv, err);
+            wrote = st == SEA_OK;
+        }
+        /* a frame written before the signal was seen is complete: kept */
+        if (st == SEA_OK && sea_cli_interrupted() != 0) {
+            key = f + 1;
+            st = interrupted_mpi(first, key, err);
+        }
+        if ((st = sea_cli_mpi_agree(st, key, &failed, err)) != SEA_OK) {
+            if (wrote && f >= failed)
+                remove_frame(s, f);
+            break;
+        }
+        if (wrote)
+            temperature_range(&img, npix, &t_min, &t_max);
+        if (prog.on)
+            sea_cli_progress_bar(&prog.bar, 1.0);
+    }
+    sea_cli_progress_end(&prog.bar);
+    sea_image_free(&img);
+    if (st != SEA_OK || s->quiet)
+        return st;
+    sea_cli_mpi_minmax(&t_min, &t_max);
+    return rank == 0 ? render_summary(s, levels, start, t_min, t_max, err) : SEA_OK;
+}
+
+/* The five planes of img, in the order rows are packed. */
+enum { RENDER_PLANES = 5 };
+static void image_planes(const sea_image *img, float *planes[RENDER_PLANES])
+{
+    planes[0] = img->radiance;
+    planes[1] = img->temperature;
+    planes[2] = img->level;
+    planes[3] = img->emissivity;
+    planes[4] = img->reflectivity;
+}
+
+/* The image rows of rank k's row blocks (k, k + N, ...; sea_render_rows),
+ * top first, into rows (NULL: only counted); returns their number. */
+static size_t rank_rows(size_t H, int k, int size, size_t *rows)
+{
+    const size_t B = SEA_RENDER_ROW_BLOCK, nb = (H + B - 1) / B;
+    size_t n = 0;
+    for (size_t b = (size_t)k; b < nb; b += (size_t)size)
+        for (size_t j = b * B; j < b * B + B && j < H; j++) {
+            if (rows != NULL)
+                rows[n] = j;
+            n++;
+        }
+    return n;
+}
+
+/* The rows of rank k > 0 to rank 0, through pack (room for the largest
+ * share of rows, of every plane) and rows (its row numbers). */
+static void gather_rows(sea_image *img, float *pack, size_t *rows, int rank, int size)
+{
+    const size_t W = (size_t)img->width, H = (size_t)img->height;
+    float *planes[RENDER_PLANES];
+    image_planes(img, planes);
+    for (int k = 1; k < size; k++) {
+        if (rank != 0 && rank != k)
+            continue;
+        const size_t n = rank_rows(H, k, size, rows);
+        if (n == 0)
+            continue;
+        for (size_t i = 0; rank == k && i < n; i++)
+            for (int p = 0; p < RENDER_PLANES; p++)
+                memcpy(pack + (i * RENDER_PLANES + (size_t)p) * W, planes[p] + rows[i] * W,
+                       W * sizeof *pack);
+        const size_t bytes = n * RENDER_PLANES * W * sizeof *pack;
+        if (rank == k) {
+            sea_cli_mpi_send(pack, bytes, 0, k);
+            continue;
+        }
+        sea_cli_mpi_recv(pack, bytes, k, k);
+        for (size_t i = 0; i < n; i++)
+            for (int p = 0; p < RENDER_PLANES; p++)
+                memcpy(planes[p] + rows[i] * W, pack + (i * RENDER_PLANES + (size_t)p) * W,
+                       W * sizeof *pack);
+    }
+}
+
+/* One frame shared by rows among the ranks, written by rank 0 (see above). */
+sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r, double start,
+                                  sea_error *err)
+{
+    const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
+    const size_t W = (size_t)s->sc.width;
+    sea_image img;
+    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    float *pack = NULL;
+    size_t *rows = NULL, most = 0;
+    for (int k = 1; k < size; k++) {
+        const size_t n = rank_rows((size_t)s->sc.height, k, size, NULL);
+        most = n > most ? n : most;
+    }
+    if (st == SEA_OK &&
+        (st = sea_check_size(most * RENDER_PLANES, W * sizeof *pack, "the rows sent to rank 0",
+                             err)) == SEA_OK &&
+        ((pack = malloc((most * RENDER_PLANES * W + 1) * sizeof *pack)) == NULL ||
+         (rows = malloc((most + 1) * sizeof *rows)) == NULL))
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
+    char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
+    levels_text(r, levels, sizeof levels);
+    render_progress prog = {{"render", 0, 1, -1}, s->progress && rank == 0};
+    const double t = s->sc.time;
+    if (st == SEA_OK)
+        st = sea_render_rows(r, t, rank, size, &img, render_progress_fn, &prog, err);
+    if (st == SEA_OK && sea_cli_interrupted() != 0)
+        st = sea_fail(err, SEA_ERR_CANCELLED, "interrupted by signal %d: no file written",
+                      sea_cli_interrupted());
+    if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) == SEA_OK)
+        gather_rows(&img, pack, rows, rank, size);
+    double t_min = INFINITY, t_max = -INFINITY;
+    if (st == SEA_OK && rank == 0) {
+        render_previews pv;
+        memset(&pv, 0, sizeof pv);
+        pv.n_levels = sea_render_levels(r, &pv.levels);
+        st = write_frame(s, &img, 0, t, levels, &pv, err);
+        for (size_t q = 0; st == SEA_OK && q < W * (size_t)s->sc.height; ++q) {
+            t_min = fmin(t_min, img.temperature[q]);
+            t_max = fmax(t_max, img.temperature[q]);
+        }
+        if (prog.on && st == SEA_OK)
+            sea_cli_progress_bar(&prog.bar, 1.0);
+    }
+    sea_cli_progress_end(&prog.bar);
+    st = sea_cli_mpi_agree(st, 0, NULL, err);
+    free(pack);
+    free(rows);
+    sea_image_free(&img);
+    if (st != SEA_OK || s->quiet || rank != 0)
+        return st;
+    return render_summary(s, levels, start, t_min, t_max, err);
+}
+
