@@ -323,6 +323,12 @@ check_match error.help_hint "$SB_ERR" "\(see 'seabake help emissivity'\)$"
 
 # ------------------------------------------------------------- help
 
+# The help's accuracy of the auto rule is the manual's (seabake(1), REFERENCE:
+# within 1e-6 of the adaptive Eq 7), not an older, looser figure.
+sb_run help emissivity
+check_match help.emissivity_auto_figure "$SB_OUT" "within 1e-6 of full to 85 deg"
+check help.emissivity_auto_manual grep -q 'within 1e\\-6$' "$MANPAGE"
+
 for args in help --help -h; do
     sb_run $args
     check_rc "help.$args.rc" 0
@@ -1953,6 +1959,17 @@ SB_RC=$? SB_OUT=$(cat "$SB_TMP/out") SB_ERR=$(cat "$SB_TMP/err")
 check_error bake.disk_full 3 "cannot write .*: File too large"
 check_eq bake.disk_full_keeps "$(bake_state "$BDIR/inj/out")" "$inj_before"
 check_eq bake.disk_full_leftovers "$(find "$BDIR/inj" -maxdepth 1 -name 'out.*' | grep -c '')" 0
+
+# --png none: no previews (nor in the manifest); --threads as render's.
+sb_run bake "$RSCENE" -o "$BDIR/nopng" --png none --threads 1 --quiet
+check_rc bake.png_none 0
+check_eq bake.png_none_files "$(find "$BDIR/nopng" -name '*.png' | grep -c '')" 0
+check_no_match bake.png_none_manifest "$(cat "$BDIR/nopng/manifest.json")" "\\.png"
+sb_run bake "$RSCENE" -o "$BDIR/nopng2" --png out.png
+check_error bake.png_file 2 "--png: 'out.png' is not none"
+check bake.png_file_nothing [ ! -e "$BDIR/nopng2" ]
+sb_run bake "$RSCENE" -o "$BDIR/nopng2" --threads 0
+check_error bake.threads_range 2 "--threads: 0 is outside \\[1, "
 
 # bake_then_signal SIG: a long bake (many frames) into $BDIR/inj/out, sent
 # SIG once it has written frame 1 into its temporary directory (so it is

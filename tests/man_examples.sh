@@ -132,6 +132,22 @@ for cmd in $commands; do
     done
 done
 
+# seabake-scene(5) names every section the reader takes, and counts them
+# right: the list is the one the reader's error message gives.
+printf '[nosuch]\n' >"$SB_TMP/sections.ini"
+sb_run render "$SB_TMP/sections.ini" -o "$SB_TMP/sections.exr"
+sections=$(printf '%s\n' "$SB_ERR" | sed -n 's/.*unknown section (allowed: \([a-z, ]*\)).*/\1/p' |
+    tr -d ' ' | tr ',' ' ')
+check_match "scene sections listed" "$sections" "^sea swell sun"
+n=$(printf '%s\n' $sections | grep -c '')
+words="zero one two three four five six seven eight nine ten"
+nword=$(printf '%s\n' $words | sed -n "$((n + 1))p")
+scene5="$(dirname "$MANPAGE")/seabake-scene.5"
+check "scene(5) counts $n sections" grep -q "It is an INI file of $nword sections" "$scene5"
+for sec in $sections; do
+    check "scene(5) lists [$sec]" grep -q "^\.BR* \[$sec\]" "$scene5"
+done
+
 # Every page of the manual (those beside $MANPAGE: seabake.1,
 # seabake-scene.5, seabake-model.7) formats without warnings where a
 # formatter is installed, names only seabake pages that exist, and cites

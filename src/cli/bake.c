@@ -95,6 +95,9 @@ static const char BAKE_HELP[] =
     "                      overrides a key of the scene file (as in seabake\n"
     "                      render); repeatable\n"
     "  --explain           what is modelled and why (as seabake render --explain)\n"
+    "  --png none          no PNG previews (nor their names in the manifest)\n"
+    "  --threads N         OpenMP threads, 1 to 4 x the online CPUs (at most 1024);\n"
+    "                      default: the OpenMP default\n"
     "  --quiet             no progress bar and no summary line\n"
     "\n"
     "Under mpirun or srun (a build with MPI) the frames, or the texel rows of\n"
@@ -156,6 +159,16 @@ static sea_status bake_parse(const sea_cli_args *args, sea_cli_bake *s, sea_erro
         o->emission_space = SEA_BAKE_SPACE_MAP;
     s->explain = sea_cli_given(args, "explain");
     s->quiet = sea_cli_given(args, "quiet");
+    const char *png = sea_cli_args_get(args, "png");
+    if (png != NULL && strcmp(png, "none") != 0)
+        return sea_fail(err, SEA_ERR_PARSE,
+                        "--png: '%s' is not none (allowed: none, no previews; a bake's "
+                        "previews are named after their maps)",
+                        png);
+    if (png != NULL)
+        o->previews = 0;
+    if ((st = sea_cli_opt_threads(args, err)) != SEA_OK)
+        return st;
     sea_cli_model model;
     if ((st = sea_cli_opt_model(args, &model, err)) != SEA_OK)
         return st;
@@ -371,6 +384,8 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"shadowing", 0},
     {"scales", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},
+    {"png", 0},
+    {"threads", 0},
     {"quiet", SEA_CLI_OPT_FLAG}};
 
 const sea_cli_command sea_cli_cmd_bake = {

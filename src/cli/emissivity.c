@@ -11,7 +11,7 @@
 
 #define SEA_CLI_HELP_EMISSIVITY_RULE \
     "  --emissivity M      auto (default: Eq 7, Gauss rule sized from the slope\n" \
-    "                      spreads, within 1e-4 of full to 85 deg), fast (Eq 12)\n" \
+    "                      spreads, within 1e-6 of full to 85 deg), fast (Eq 12)\n" \
     "                      or full (Eq 7, adaptive reference quadrature)\n"
 
 #define SEA_CLI_HELP_GRID \
