@@ -1434,6 +1434,14 @@ elif have script bsdutils; then
     check_rc render.sigint 130
     tty_out=$(tr '\r' '\n' <"$SB_TMP/tty")
     check_match render.sigint_bar "$tty_out" "^render: \[[#.]+\] +[0-9]+% frame [0-9]+/100000"
+    # the time left, once a second and a hundredth of the work have passed:
+    # five frames of the mast view (seconds each)
+    timeout -s KILL 300 script -qec "$SEABAKE render '$top_srcdir/examples/mast.ini' \
+        -o '$RDIR/sig/eta.exr' --set sensor.width=480 --set sensor.height=270 --frames 0:4 \
+        --png none" /dev/null >"$SB_TMP/tty" 2>&1
+    check_match render.progress_time_left "$(tr '\r' '\n' <"$SB_TMP/tty")" \
+        "^render: \[[#.]+\] +[0-9]+% frame [1-5]/5, ([0-9]+ min [0-9]+|[0-9]+) s left"
+    rm -f "$RDIR"/sig/eta_*.exr
     # the message starts a line: the bar's line was ended
     check_match render.sigint_message "$tty_out" "^seabake: error: interrupted by signal 2: [0-9]+ frames written"
     check_no_match render.sigint_no_summary "$tty_out" "^render: .*brightness temperature"

@@ -249,7 +249,7 @@ static sea_status bake_all(const sea_cli_bake *s, const sea_render *r, const cha
 {
     const long first = s->opt.framed ? s->opt.first : 0, last = s->opt.framed ? s->opt.last : 0;
     memset(stats, 0, sizeof *stats);
-    sea_cli_bake_progress prog = {{"bake", 0, (size_t)(last - first + 1), -1},
+    sea_cli_bake_progress prog = {{"bake", 0, (size_t)(last - first + 1), -1, 0.0},
                                   !s->quiet && isatty(STDERR_FILENO)};
     sea_bake_writer *w = NULL;
     sea_status st = sea_bake_writer_alloc(r, &s->opt, tmp, bake_progress_whole, &prog, &w, err);

@@ -117,7 +117,7 @@ sea_status sea_cli_bake_send_frames(const sea_cli_bake *s, const sea_render *r, 
     sea_cli_mpi_queue_init(q);
     for (long f = first + rank; f <= last; f += size) {
         const double t = sea_bake_options_frame_time(&s->opt, s->sc.time, f);
-        sea_cli_bake_progress prog = {{"bake", 0, 1, -1}, false};
+        sea_cli_bake_progress prog = {{"bake", 0, 1, -1, 0.0}, false};
         sea_bake b;
         st = sea_bake_frame_each(r, t, s->opt.view_k, &b, sea_cli_bake_progress_compute, &prog,
                                  level_send, &out, err);
@@ -259,7 +259,7 @@ static sea_status rows_send(void *ctx, const sea_bake *b, size_t l, sea_error *e
 sea_status sea_cli_bake_send_rows(const sea_cli_bake *s, const sea_render *r, sea_error *err)
 {
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
-    sea_cli_bake_progress prog = {{"bake", 0, 1, -1}, false};
+    sea_cli_bake_progress prog = {{"bake", 0, 1, -1, 0.0}, false};
     sea_bake b;
     sea_status st = sea_bake_frame_rows(r, s->sc.time, s->opt.view_k, rank, size, &b,
                                         sea_cli_bake_progress_compute, &prog, rows_send, NULL, err);

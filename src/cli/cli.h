@@ -387,12 +387,15 @@ void sea_cli_mpi_drop(size_t bytes, int source, int tag);
 double sea_cli_seconds(void);
 
 /* A progress bar on standard error (callers show it only on a terminal):
- * "WHAT: [####....]  42% frame 2/5", redrawn when the percentage changes.
+ * "WHAT: [####....]  42% frame 2/5, 1 min 10 s left", redrawn when the
+ * percentage changes; the time left is the elapsed time's share of what
+ * remains, once a second and a hundredth of the work have passed.
  * index: the frame being done, of count. */
 typedef struct {
     const char *what;
     size_t index, count;
-    int shown; /* last percentage printed, -1 none */
+    int shown;    /* last percentage printed, -1 none */
+    double start; /* sea_cli_seconds() at the first call; 0 before it */
 } sea_cli_progress;
 /* A sea_progress_fn: fraction of the current frame done; ctx a
  * sea_cli_progress; stops the work once a signal was caught

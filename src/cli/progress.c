@@ -22,6 +22,9 @@ enum { PROGRESS_BAR = 30 };
 int sea_cli_progress_bar(void *ctx, double fraction)
 {
     sea_cli_progress *p = ctx;
+    const double now = sea_cli_seconds();
+    if (p->start <= 0.0)
+        p->start = now;
     const double done = ((double)p->index + fmin(fmax(fraction, 0.0), 1.0)) / (double)p->count;
     const int pct = (int)floor(100.0 * done);
     if (pct == p->shown)
@@ -32,11 +35,26 @@ int sea_cli_progress_bar(void *ctx, double fraction)
     for (int i = 0; i < PROGRESS_BAR; ++i)
         bar[i] = i < full ? '#' : '.';
     bar[PROGRESS_BAR] = '\0';
+    /* the time left, at the pace so far (blank until it means something;
+     * the trailing blanks wipe a longer line drawn before) */
+    char left[48] = "";
+    const double elapsed = now - p->start;
+    if (done >= 0.01 && done < 1.0 && elapsed >= 1.0) {
+        const double rest = elapsed * (1.0 - done) / done;
+        if (rest >= 3600.0)
+            snprintf(left, sizeof left, ", %.0f h %02.0f min left", floor(rest / 3600.0),
+                     floor(fmod(rest, 3600.0) / 60.0));
+        else if (rest >= 60.0)
+            snprintf(left, sizeof left, ", %.0f min %02.0f s left", floor(rest / 60.0),
+                     floor(fmod(rest, 60.0)));
+        else
+            snprintf(left, sizeof left, ", %.0f s left", ceil(rest));
+    }
     if (p->count > 1)
-        fprintf(stderr, "\r%s: [%s] %3d%% frame %zu/%zu", p->what, bar, pct, p->index + 1,
-                p->count);
+        fprintf(stderr, "\r%s: [%s] %3d%% frame %zu/%zu%s   ", p->what, bar, pct, p->index + 1,
+                p->count, left);
     else
-        fprintf(stderr, "\r%s: [%s] %3d%%", p->what, bar, pct);
+        fprintf(stderr, "\r%s: [%s] %3d%%%s   ", p->what, bar, pct, left);
     fflush(stderr);
     return sea_cli_interrupted() != 0;
 }

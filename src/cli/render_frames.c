@@ -378,7 +378,7 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
     char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
     levels_text(r, levels, sizeof levels);
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
-    render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1}, s->progress};
+    render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1, 0.0}, s->progress};
     const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
     double t_min = INFINITY, t_max = -INFINITY;
     render_previews pv;
@@ -503,7 +503,7 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *
     char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
     levels_text(r, levels, sizeof levels);
     const long first = s->frame_a, last = s->frame_b;
-    render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1},
+    render_progress prog = {{"render", 0, (size_t)(last - first + 1), -1, 0.0},
                             s->progress && rank == 0};
     const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
     double t_min = INFINITY, t_max = -INFINITY;
@@ -639,7 +639,7 @@ sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r,
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
     char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
     levels_text(r, levels, sizeof levels);
-    render_progress prog = {{"render", 0, 1, -1}, s->progress && rank == 0};
+    render_progress prog = {{"render", 0, 1, -1, 0.0}, s->progress && rank == 0};
     const double t = s->sc.time;
     if (st == SEA_OK)
         st = sea_render_rows(r, t, rank, size, &img, render_progress_fn, &prog, err);
