@@ -1579,7 +1579,12 @@ static void pixel_choice(const sea_multires *mr, const sea_pixel_geom *g, mr_pix
     p->need = (uint32_t)1 << p->level;
     if (p->neighbour >= 0)
         p->need |= (uint32_t)1 << p->neighbour;
-    if (isfinite(g->footprint) && p->level < mr->first_lr) {
+    /* (a pixel whose level is low-resolution but whose neighbour is not
+     * reads that neighbour's facets: its footprint is averaged as at any
+     * level, or the neighbour's mean slopes would be point-sampled) */
+    const int reads_facets = p->level < mr->first_lr ||
+                             (p->neighbour >= 0 && p->neighbour < mr->first_lr && p->alpha > 0.0);
+    if (isfinite(g->footprint) && reads_facets) {
         const double L = mr->lev[p->level].facet;
         const int fine = p->neighbour >= 0 && p->neighbour < p->level ? p->neighbour : p->level;
         const double Lf = mr->lev[fine].facet;

@@ -15,9 +15,13 @@ TEST_NAME=reference
 EX="$top_srcdir/examples"
 scale=1
 [ -n "$SEABAKE_WRAPPER" ] && scale=4
-# name scene width height
+# name scene width height.  midwave_small: pixels whose level is the first
+# low-resolution one but that blend in the facets of the level below (up to
+# alpha 1/2) must average their footprint as the reference does, not read
+# one point of it (image row 2 in the glint: 6.1e-3 off the reference when
+# they did).
 for case in "mast mast.ini 160 90" "fig8 fig8.ini 100 100" "midwave midwave.ini 80 64" \
-    "horizon horizon.ini 160 90"; do
+    "horizon horizon.ini 160 90" "midwave_small midwave.ini 20 16"; do
     set -- $case
     name=$1 scene=$EX/$2 w=$(($3 / scale)) h=$(($4 / scale))
     size="--set sensor.width=$w --set sensor.height=$h"
@@ -38,10 +42,14 @@ for case in "mast mast.ini 160 90" "fig8 fig8.ini 100 100" "midwave midwave.ini 
         mast) id="reference_mast" ;;
         fig8) id="reference_fig8" ;;
         midwave) id="reference_midwave" ;;
-        *) id="reference_horizon" ;;
+        horizon) id="reference_horizon" ;;
+        *) id="" ;; # (no figure stated: within T is the check)
         esac
-        limit=$(claim_limit "$id")
-        num_check "$name.claim" 'm <= l' m="$(printf '%s\n' "$row" | cut -d, -f2)" l="$limit"
+        if [ -n "$id" ]; then
+            limit=$(claim_limit "$id")
+            num_check "$name.claim" 'm <= l' m="$(printf '%s\n' "$row" | cut -d, -f2)" \
+                l="$limit"
+        fi
     fi
 done
 # The paper's model (one hit, one scale, Smith's shadowing) is far from the
