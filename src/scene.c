@@ -499,9 +499,11 @@ static void vrecord(loader *ld, sea_status st, long line, const char *fmt, va_li
         return;
     char what[SEA_ERROR_MSG_MAX];
     vsnprintf(what, sizeof what, fmt, ap);
-    if (is_override_line(ld, line))
-        sea_fail(&ld->err, st, "--set %.*s: %s", SEA_QUOTE_MAX,
-                 ld->overrides[line - SEA_OVERRIDE_LINE], what);
+    if (is_override_line(ld, line)) {
+        const char *o = ld->overrides[line - SEA_OVERRIDE_LINE];
+        sea_fail(&ld->err, st, "%s %.*s: %s", strchr(o, '=') ? "--set" : "--unset",
+                 SEA_QUOTE_MAX, o, what);
+    }
     else if (line > 0)
         sea_fail(&ld->err, st, "%s:%ld: %s", ld->path, line, what);
     else
@@ -1170,12 +1172,91 @@ sea_status sea_scene_spectrum(const sea_scene *sc, sea_spectrum *s, sea_error *e
 
 /* Applies the overrides "section.key=value" through the file's own key
  * handler, so that each is validated exactly as the same line in the file. */
+/* Override "section.key" (no '='): the key as if the file had not given
+ * it, its default back.  Returns 0 (an error recorded) or 1. */
+static int unset_key(loader *ld, const char *section, const char *name)
+{
+    const long line = ld->lineno;
+    const int sec = section_index(section);
+    int id = -1;
+    for (int i = 0; i < K_COUNT && id < 0; i++)
+        if ((int)SEA_KEYS[i].section == sec && strcmp(SEA_KEYS[i].name, name) == 0)
+            id = i;
+    if (id < 0) {
+        char keys[SEA_ERROR_MSG_MAX - 128];
+        section_keys(sec, keys, sizeof keys);
+        return fail_line(ld, SEA_ERR_PARSE, line, "[%s] %.*s: unknown key (allowed: %s)",
+                         SEA_SECTIONS[sec], SEA_QUOTE_MAX, name, keys);
+    }
+    if (sec == SEC_SWELL)
+        return fail_line(ld, SEA_ERR_PARSE, line,
+                         "[swell] %s: a swell's keys cannot be removed one by one (allowed: "
+                         "keys of the other sections)",
+                         name);
+    if (is_override_line(ld, ld->key_line[id]))
+        return fail_line(ld, SEA_ERR_PARSE, line,
+                         "[%s] %s: overridden twice, first by --set %.*s (allowed: once)",
+                         SEA_SECTIONS[sec], name, SEA_QUOTE_MAX,
+                         ld->overrides[ld->key_line[id] - SEA_OVERRIDE_LINE]);
+    sea_scene d;
+    sea_scene_defaults(&d);
+    const key_spec *k = &SEA_KEYS[id];
+    char *to = (char *)&ld->sc + k->offset;
+    const char *from = (const char *)&d + k->offset;
+    switch (k->kind) {
+    case KIND_REAL:
+        memcpy(to, from, sizeof(double));
+        break;
+    case KIND_INT:
+    case KIND_CHOICE:
+        memcpy(to, from, sizeof(int));
+        break;
+    case KIND_SEED:
+        memcpy(to, from, sizeof(unsigned long));
+        break;
+    case KIND_WATER:
+        ld->sc.water_table = d.water_table;
+        memcpy(ld->sc.water_file, d.water_file, sizeof d.water_file);
+        break;
+    case KIND_BAND:
+        ld->sc.band_min = d.band_min;
+        ld->sc.band_max = d.band_max;
+        break;
+    case KIND_PATH:
+        memcpy(to, from, SEA_SCENE_PATH_MAX);
+        break;
+    }
+    /* absent: the checks of keys that exclude or need each other, and the
+     * values derived from absent keys, see it so (a later --set of it sets
+     * it again) */
+    ld->key_line[id] = 0;
+    return 1;
+}
+
 static void apply_overrides(loader *ld)
 {
     for (size_t i = 0; i < ld->n_overrides && ld->status == SEA_OK; i++) {
         const char *o = ld->overrides[i];
         ld->lineno = SEA_OVERRIDE_LINE + (long)i;
         const char *dot = strchr(o, '.'), *eq = strchr(o, '=');
+        if (eq == NULL && dot != NULL && dot != o && dot[1] != '\0') { /* section.key: unset */
+            char section[32], key[64];
+            const size_t ls = (size_t)(dot - o), lk = strlen(dot + 1);
+            if (ls >= sizeof section || lk >= sizeof key) {
+                fail_line(ld, SEA_ERR_PARSE, ld->lineno, "not SECTION.KEY (too long)");
+                return;
+            }
+            snprintf(section, sizeof section, "%.*s", (int)ls, o);
+            snprintf(key, sizeof key, "%s", dot + 1);
+            if (section_index(sea_text_trim(section)) < 0) {
+                fail_line(ld, SEA_ERR_PARSE, ld->lineno,
+                          "[%.*s]: unknown section (allowed: " SEA_SECTION_LIST ")",
+                          SEA_QUOTE_MAX, sea_text_trim(section));
+                return;
+            }
+            unset_key(ld, sea_text_trim(section), sea_text_trim(key));
+            continue;
+        }
         if (dot == NULL || eq == NULL || dot > eq || dot == o || eq == dot + 1) {
             fail_line(ld, SEA_ERR_PARSE, ld->lineno,
                       "not SECTION.KEY=VALUE (allowed: e.g. sea.wind_speed=12)");

@@ -1207,7 +1207,9 @@ sea_status sea_scene_spectrum(const sea_scene *sc, sea_spectrum *s, sea_error *e
 sea_status sea_scene_load(const char *path, sea_scene *sc, sea_error *err);
 /* The same, then n_overrides strings "section.key=value" (e.g.
  * "sea.wind_speed=12"), each validated exactly as that key on a line of the
- * file and replacing the file's value; a key overridden twice is an error.
+ * file and replacing the file's value, or "section.key" (no '='), which
+ * removes the file's key: its default back, as if the file had not given it
+ * (not for [swell] keys); a key overridden twice is an error.
  * A path value is taken relative to the working directory, not the scene
  * file's.  Errors about an override read "--set TEXT: [section] key: message
  * (allowed: RANGE)".  The strings are only read during the call.  Thread-safe,

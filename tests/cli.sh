@@ -1394,6 +1394,32 @@ render_usage render.set_form "--set bogus: not SECTION.KEY=VALUE" "$RSCENE" -o "
 render_usage render.set_key "--set sea.wind=8: \[sea\] wind: unknown key" \
     "$RSCENE" -o "$RDIR/bad.exr" --set sea.wind=8
 
+# --unset SECTION.KEY removes a file's key, its default back, before any
+# --set: a band scene becomes one wavelength; the errors name the option.
+MW="$top_srcdir/examples/midwave.ini"
+render_usage render.unset_needed "--set sensor.wavelength=4: \[sensor\] wavelength: conflicts with band" \
+    "$MW" -o "$RDIR/bad.exr" --set sensor.wavelength=4
+sb_run render "$MW" -o "$RDIR/unset.exr" --png none --set sensor.width=16 --set sensor.height=12 \
+    --set sensor.wavelength=4 --unset sensor.band --explain
+check_rc render.unset_rc 0
+check_match render.unset_one_wavelength "$SB_ERR" "^render: 1 spectral sample, at 4 um"
+# the default back: unsetting wind_direction is the scene with wind_direction = 0
+sed 's/^wind_direction = .*/wind_direction = 0/' "$MW" >"$RDIR/mw0.ini"
+sb_run render "$RDIR/mw0.ini" -o "$RDIR/unset0.exr" --png none --quiet --set sensor.width=16 \
+    --set sensor.height=12
+sb_run render "$MW" -o "$RDIR/unset1.exr" --png none --quiet --set sensor.width=16 \
+    --set sensor.height=12 --unset sea.wind_direction
+sb_run compare "$RDIR/unset1.exr" "$RDIR/unset0.exr"
+check_match render.unset_default "$(printf '%s\n' "$SB_OUT" | tail -n 1)" "^192,0,"
+
+render_usage render.unset_form "--unset sensor.band=3: not SECTION.KEY" \
+    "$MW" -o "$RDIR/bad.exr" --unset sensor.band=3
+render_usage render.unset_key "--unset sensor.bogus: \[sensor\] bogus: unknown key" \
+    "$MW" -o "$RDIR/bad.exr" --unset sensor.bogus
+render_usage render.set_needs_value "--set sensor.band: not SECTION.KEY=VALUE" \
+    "$MW" -o "$RDIR/bad.exr" --set sensor.band
+check render.unset_no_output [ ! -e "$RDIR/bad.exr" ]
+
 # Signals.  SIGTERM (no terminal, no bar): the render stops within a row,
 # writes nothing for the frame in progress (earlier frames are complete),
 # says so and dies of the signal; no temporary file is left.

@@ -735,7 +735,8 @@ static void test_overrides(void)
         { "sea.wind=3", SEA_ERR_PARSE, "--set sea.wind=3: [sea] wind: unknown key (allowed:" },
         { "ocean.wind_speed=3", SEA_ERR_PARSE, "--set ocean.wind_speed=3: [ocean]: unknown section" },
         { "wind_speed=3", SEA_ERR_PARSE, "--set wind_speed=3: not SECTION.KEY=VALUE" },
-        { "sea.wind_speed", SEA_ERR_PARSE, "not SECTION.KEY=VALUE" },
+        /* no "=": removes the key, and wind_speed is required */
+        { "sea.wind_speed", SEA_ERR_DOMAIN, "[sea] wind_speed: missing required key" },
         { "sea.wind_speed=", SEA_ERR_PARSE, "--set sea.wind_speed=: [sea] wind_speed: empty value" },
         { "sensor.band=3.5:4.5", SEA_ERR_DOMAIN,
           "--set sensor.band=3.5:4.5: [sensor] band: conflicts with wavelength on line 8" },
@@ -754,6 +755,35 @@ static void test_overrides(void)
 /* [swell] sections: several, each complete, the Douglas code filling what
  * is not given, the direction the wind's unless given; --set swell.KEY
  * reaches the last one (or makes one). */
+/* An override "section.key" removes the file's key: its default back,
+ * before or after a --set of a key it excludes; not a swell's key. */
+static void test_unset(void)
+{
+    const char *path = SEA_TOP_SRCDIR "/examples/midwave.ini";
+    sea_scene sc, d;
+    sea_error err;
+    sea_scene_defaults(&d);
+    const char *a[] = { "sensor.wavelength=4", "sensor.band" };
+    CU_ASSERT_EQUAL_FATAL(sea_scene_load_with(path, a, 2, &sc, &err), SEA_OK);
+    ASSERT_ABS(sc.wavelength, 4e-6, 1e-18);
+    CU_ASSERT(sc.band_min == d.band_min && sc.band_max == d.band_max);
+    const char *b[] = { "sea.wind_direction" };
+    CU_ASSERT_EQUAL_FATAL(sea_scene_load_with(path, b, 1, &sc, &err), SEA_OK);
+    CU_ASSERT(sc.wind_dir == d.wind_dir);
+    const char *c[] = { "sensor.band" }; /* no wavelength left: as a file without */
+    sea_scene bare;
+    sea_error e2;
+    const sea_status sb = sea_scene_load_with(path, c, 1, &bare, &e2);
+    if (sb == SEA_OK)
+        CU_ASSERT(bare.band_min == d.band_min && bare.wavelength == d.wavelength);
+    const char *w[] = { "swell.height=2", "swell.period=10", "swell.spread" };
+    CU_ASSERT_EQUAL(sea_scene_load_with(path, w, 3, &sc, &err), SEA_ERR_PARSE);
+    CU_ASSERT(strstr(err.msg, "--unset swell.spread: [swell] spread") != NULL);
+    const char *u[] = { "sensor.nokey" };
+    CU_ASSERT_EQUAL(sea_scene_load_with(path, u, 1, &sc, &err), SEA_ERR_PARSE);
+    CU_ASSERT(strstr(err.msg, "--unset sensor.nokey: [sensor] nokey: unknown key") != NULL);
+}
+
 static void test_swells(void)
 {
     char path[300];
@@ -877,5 +907,6 @@ int test_scene_register(void)
            !CU_add_test(s, "response curves and their errors", test_response_load) ||
            !CU_add_test(s, "overrides (--set)", test_overrides) ||
            !CU_add_test(s, "swells", test_swells) ||
+           !CU_add_test(s, "unset", test_unset) ||
            !CU_add_test(s, "manual example (Fig. 8)", test_manual_example);
 }

@@ -94,6 +94,7 @@ static const char BAKE_HELP[] =
     "  --set SECTION.KEY=VALUE\n"
     "                      overrides a key of the scene file (as in seabake\n"
     "                      render); repeatable\n"
+    "  --unset SECTION.KEY removes a key of the scene file (as in seabake render)\n"
     "  --explain           what is modelled and why (as seabake render --explain)\n"
     "  --png none          no PNG previews (nor their names in the manifest)\n"
     "  --threads N         OpenMP threads, 1 to 4 x the online CPUs (at most 1024);\n"
@@ -384,6 +385,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"shadowing", 0},
     {"scales", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},
+    {"unset", SEA_CLI_OPT_ACCUMULATE},
     {"png", 0},
     {"threads", 0},
     {"quiet", SEA_CLI_OPT_FLAG}};

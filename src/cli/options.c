@@ -403,20 +403,40 @@ sea_status sea_cli_opt_exr(const sea_cli_args *args, sea_exr_options *out, sea_e
     return SEA_OK;
 }
 
-/* SCENE.ini with the --set overrides of render and bake. */
+/* SCENE.ini with the --unset and --set overrides of render and bake: the
+ * keys removed first (so that --unset sensor.band --set sensor.wavelength=4
+ * holds in either order), then the keys set. */
 sea_status sea_cli_load_scene(const sea_cli_args *args, const char *path, sea_scene *sc,
                               sea_error *err)
 {
-    const size_t n = sea_cli_args_count(args, "set");
-    if (n == 0)
+    const size_t nu = sea_cli_args_count(args, "unset"), ns = sea_cli_args_count(args, "set");
+    for (size_t i = 0; i < nu; ++i) {
+        const char *u = sea_cli_args_nth(args, "unset", i);
+        if (strchr(u, '=') != NULL || strchr(u, '.') == NULL)
+            return sea_fail(err, SEA_ERR_PARSE,
+                            "--unset %s: not SECTION.KEY (allowed: e.g. sensor.band; --set "
+                            "gives a value)",
+                            u);
+    }
+    for (size_t i = 0; i < ns; ++i) {
+        const char *o = sea_cli_args_nth(args, "set", i);
+        if (strchr(o, '=') == NULL)
+            return sea_fail(err, SEA_ERR_PARSE,
+                            "--set %s: not SECTION.KEY=VALUE (allowed: e.g. sea.wind_speed=12; "
+                            "--unset removes a key)",
+                            o);
+    }
+    if (nu + ns == 0)
         return sea_scene_load(path, sc, err);
-    const char **sets = malloc(n * sizeof *sets);
-    if (sets == NULL)
+    const char **over = malloc((nu + ns) * sizeof *over);
+    if (over == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    for (size_t i = 0; i < n; ++i)
-        sets[i] = sea_cli_args_nth(args, "set", i);
-    sea_status st = sea_scene_load_with(path, sets, n, sc, err);
-    free(sets);
+    for (size_t i = 0; i < nu; ++i)
+        over[i] = sea_cli_args_nth(args, "unset", i);
+    for (size_t i = 0; i < ns; ++i)
+        over[nu + i] = sea_cli_args_nth(args, "set", i);
+    sea_status st = sea_scene_load_with(path, over, nu + ns, sc, err);
+    free(over);
     return st;
 }
 

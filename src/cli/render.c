@@ -77,6 +77,9 @@ static const char RENDER_HELP[] =
     "  --set SECTION.KEY=VALUE\n"
     "                      overrides a key of the scene file, checked as in the\n"
     "                      file (e.g. --set sea.wind_speed=12); repeatable\n"
+    "  --unset SECTION.KEY removes a key of the scene file, its default back (e.g.\n"
+    "                      --unset sensor.band --set sensor.wavelength=4);\n"
+    "                      repeatable; not [swell] keys\n"
     "\n"
     "Running:\n"
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
@@ -322,6 +325,7 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"format", 0},
     {"compression", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},
+    {"unset", SEA_CLI_OPT_ACCUMULATE},
     {"png-range", 0},
     {"threads", 0},
     {"tolerance", 0},
