@@ -1885,6 +1885,15 @@ check_no_match bake.emission_no_red "$(exr_header "$BDIR/out/emission_$l0.exr")"
 check bake.exr_attr grep -qa "seabake:channels" "$BDIR/out/moments_$l0.exr"
 check bake.manifest_units grep -q '"radiance":[[:space:]]*"W m^-2 sr^-1 um^-1"' "$BDIR/out/manifest.json"
 check bake.manifest_scale grep -qE '"emission_scale":[[:space:]]*[0-9]' "$BDIR/out/manifest.json"
+# A scene's camera is recorded in scene.sensor.camera, not applied; a bake
+# without one has no such key (its manifest as before).
+check_eq bake.manifest_no_camera "$(grep -c '"applied"' "$BDIR/out/manifest.json")" 0
+sb_run bake "$RSCENE" -o "$BDIR/cam" --set sensor.netd=0.05 --set sensor.psf_sigma=2 --quiet
+check_rc bake.camera_rc 0
+check bake.manifest_camera grep -q '"applied":[[:space:]]*false' "$BDIR/cam/manifest.json"
+check bake.manifest_camera_psf grep -q '"psf_sigma_px":[[:space:]]*2' "$BDIR/cam/manifest.json"
+check bake.manifest_camera_netd grep -q '"netd_K":[[:space:]]*0.05' "$BDIR/cam/manifest.json"
+check_eq bake.camera_no_camera_files "$(ls "$BDIR/cam" | grep -c -e camera -e counts)" 0
 mkdir "$BDIR/umask_probe"
 check_eq bake.dir_mode "$(ls -ld "$BDIR/out" | cut -c1-10)" "$(ls -ld "$BDIR/umask_probe" | cut -c1-10)"
 
