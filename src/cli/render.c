@@ -185,7 +185,7 @@ static void explain_camera(const sea_cli_render *s)
              s->sc.netd, s->sc.netd_temperature, s->sc.temperature, s->tol_netd);
     if (s->tol_from_netd)
         fprintf(stderr,
-                "render: tolerance %g from the camera's NETD (neither the scene nor --tolerance "
+                "render: tolerance %.4g from the camera's NETD (neither the scene nor --tolerance "
                 "gives one): %s%s\n",
                 s->sc.tolerance, formula,
                 s->tol_netd > RENDER_TOL_MAX ? ", clamped to the range (0, 0.1]" : "");
