@@ -142,6 +142,38 @@ static cJSON *scene_json(const sea_scene *sc)
     }
     cJSON_AddStringToObject(sen, "response", sc->response_file);
     cJSON_AddNumberToObject(sen, "samples", sc->band_samples);
+    sea_imager_params p;
+    if (sea_imager_params_from_scene(sc, &p)) {
+        /* The camera's keys (absent without: a bake of no camera is as
+         * before).  Recorded, not applied: the maps and exports are the
+         * ideal radiance's (seabake(1), bake). */
+        static const char *const optics[] = {"none", "gaussian", "diffraction", "table"};
+        cJSON *c = cJSON_AddObjectToObject(sen, "camera");
+        cJSON_AddBoolToObject(c, "applied", 0);
+        cJSON_AddStringToObject(c, "optics", optics[p.psf]);
+        if (p.psf == SEA_PSF_GAUSSIAN)
+            cJSON_AddNumberToObject(c, "psf_sigma_px", p.psf_sigma);
+        if (p.psf == SEA_PSF_DIFFRACTION) {
+            cJSON_AddNumberToObject(c, "f_number", p.f_number);
+            cJSON_AddNumberToObject(c, "pitch_um", p.pitch * 1e6);
+        }
+        if (p.psf == SEA_PSF_TABLE)
+            cJSON_AddStringToObject(c, "mtf", sc->mtf_file);
+        cJSON_AddNumberToObject(c, "fill_factor", p.fill_factor);
+        cJSON_AddNumberToObject(c, "netd_K", p.netd);
+        cJSON_AddNumberToObject(c, "netd_temperature_K", p.netd_temperature);
+        cJSON_AddNumberToObject(c, "noise_seed", (double)p.noise_seed);
+        cJSON_AddNumberToObject(c, "fpn_gain", p.fpn_gain);
+        cJSON_AddNumberToObject(c, "fpn_offset_K", p.fpn_offset);
+        cJSON_AddNumberToObject(c, "fpn_seed", (double)p.fpn_seed);
+        if (p.gain > 0.0) {
+            cJSON_AddNumberToObject(c, "gain", p.gain);
+            cJSON_AddNumberToObject(c, "offset", p.offset);
+            cJSON_AddNumberToObject(c, "bit_depth", p.bit_depth);
+        } else {
+            cJSON_AddNullToObject(c, "gain");
+        }
+    }
     cJSON *mod = cJSON_AddObjectToObject(o, "model");
     cJSON_AddStringToObject(mod, "method", sea_facet_method_name((sea_facet_method)sc->method));
     cJSON_AddNumberToObject(mod, "n", sc->n);

@@ -921,6 +921,12 @@ RSCENE=$RDIR/sea.ini
 magic() {
     od -An -tx1 -N"$2" "$1" 2>/dev/null | tr -d ' \n'
 }
+# exr_header FILE: the channel list attribute of the header, in hex
+# (after "channels\0chlist\0").
+exr_header() {
+    od -An -tx1 -N4000 "$1" | tr -d ' \n' |
+        sed -n 's/.*6368616e6e656c730063686c69737400\(.\{0,240\}\).*/\1/p'
+}
 # absent COMMAND...: succeeds when the command fails.
 absent() {
     ! "$@"
@@ -1608,6 +1614,183 @@ if [ -z "$SEABAKE_WRAPPER" ] && ! grep -q __asan_init "$SEABAKE" 2>/dev/null; th
     done
 fi
 
+# ---------------------------------------------------------- the camera
+# A scene with [sensor] camera keys (seabake-model(7), THE CAMERA) also
+# gets OUT.camera.exr (T: apparent brightness temperature, K; Y: the
+# camera's radiance), OUT.camera.png and, with a gain, OUT.counts.png; the
+# radiance image OUT.exr is the same.  Without the keys, no extra file.
+check_eq camera.none_exr "$(render_files 'out.camera.*')" 0
+check_eq camera.none_counts "$(render_files 'out.counts.*')" 0
+sb_run render "$RSCENE" -o "$RDIR/cam.exr" --set sensor.psf_sigma=1.5 --set sensor.gain=100 \
+    --set sensor.bit_depth=12
+check_rc camera.rc 0
+check camera.exr_same cmp -s "$RDIR/out.exr" "$RDIR/cam.exr"
+check camera.png_same cmp -s "$RDIR/out.png" "$RDIR/cam.png"
+check camera.exr test -s "$RDIR/cam.camera.exr"
+check camera.png test -s "$RDIR/cam.camera.png"
+check camera.counts test -s "$RDIR/cam.counts.png"
+check_eq camera.no_temporary "$(render_files '*.tmp.*')" 0
+check_match camera.summary "$SB_ERR" \
+    "^render: .*cam\.exr: $RSIZE x $RSIZE, .*brightness temperature [0-9.]+ to [0-9.]+ K; camera: apparent temperature [0-9.]+ to [0-9.]+ K, 0 saturated pixels \(0 high, 0 low\)$"
+# channels T and Y, FLOAT (name, NUL, pixel type 2)
+check_match camera.channels "$(exr_header "$RDIR/cam.camera.exr")" \
+    "^25000000540002000000[0-9a-f]{24}590002000000[0-9a-f]{24}00"
+check camera.attr_camera grep -qa "optics gaussian psf_sigma 1.5 pixels" "$RDIR/cam.camera.exr"
+check camera.attr_saturated grep -qa "seabake:saturated" "$RDIR/cam.camera.exr"
+check_eq camera.counts_depth "$(od -An -tu1 -j24 -N1 "$RDIR/cam.counts.png" | tr -d ' ')" 16
+check_eq camera.counts_grey "$(png_color_type "$RDIR/cam.counts.png")" 0
+check_eq camera.counts_text "$(png_text "$RDIR/cam.counts.png" seabake:bit_depth)" 12
+# Without a gain no counts; no preview with --png none; --format half
+# leaves the camera's image FLOAT (half's steps are 0.25 K at 300 K).
+sb_run render "$RSCENE" -o "$RDIR/cam2.exr" --set sensor.fill_factor=0.5 --png none \
+    --format half --quiet
+check_rc camera.nogain_rc 0
+check camera.nogain_exr test -s "$RDIR/cam2.camera.exr"
+check camera.nogain_no_counts test ! -e "$RDIR/cam2.counts.png"
+check camera.nogain_no_png test ! -e "$RDIR/cam2.camera.png"
+check_match camera.half_stays_float "$(exr_header "$RDIR/cam2.camera.exr")" "^25000000540002000000"
+
+# The noise has zero mean: over the image, the camera's temperature is
+# the ideal one's within 5 standard errors of a pixel's noise (0.1 K at
+# most for a NETD of 50 mK stated at 300 K, a sea at 285 to 346 K at
+# 4 um) over the square root of the pixels; and the noise is there.
+if have python3 python3; then
+    cat >"$RDIR/exr.py" <<'PY'
+import struct, sys, zlib
+
+def exr(path):
+    """The FLOAT channels of an uncompressed scanline EXR, as lists."""
+    d = open(path, "rb").read()
+    i, names, comp = 8, [], None
+    while d[i] != 0:
+        j = d.index(b"\0", i); name = d[i:j]; i = j + 1
+        j = d.index(b"\0", i); i = j + 1
+        (n,) = struct.unpack("<i", d[i:i + 4]); v = d[i + 4:i + 4 + n]; i += 4 + n
+        if name == b"channels":
+            k = 0
+            while v[k] != 0:
+                e = v.index(b"\0", k)
+                names.append(v[k:e].decode())
+                assert struct.unpack("<i", v[e + 1:e + 5])[0] == 2, "not FLOAT"
+                k = e + 17
+        elif name == b"dataWindow":
+            x0, y0, x1, y1 = struct.unpack("<4i", v); w, h = x1 - x0 + 1, y1 - y0 + 1
+        elif name == b"compression":
+            comp = v[0]
+    assert comp == 0, "compressed"
+    i += 1 + 8 * h
+    out = {c: [] for c in names}
+    for _ in range(h):
+        i += 8
+        for c in names:
+            out[c] += struct.unpack("<%df" % w, d[i:i + 4 * w]); i += 4 * w
+    return out, w, h
+
+def png16(path):
+    """The samples of a grey PNG of filters None and Sub (seabake's)."""
+    d = open(path, "rb").read()
+    i, idat = 8, b""
+    while i < len(d):
+        n, t = struct.unpack(">I4s", d[i:i + 8])
+        if t == b"IHDR":
+            w, h, bits = struct.unpack(">IIB", d[i + 8:i + 17])
+        if t == b"IDAT":
+            idat += d[i + 8:i + 8 + n]
+        i += 12 + n
+    raw, bpp, vals = zlib.decompress(idat), bits // 8, []
+    stride = w * bpp
+    for y in range(h):
+        f, row = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        assert f in (0, 1)
+        if f == 1:
+            for x in range(bpp, stride):
+                row[x] = (row[x] + row[x - bpp]) & 255
+        vals += [row[x] if bpp == 1 else row[x] << 8 | row[x + 1] for x in range(0, stride, bpp)]
+    return vals
+
+if sys.argv[1] == "diff":   # diff A CH B CH: mean and std of A - B
+    a, b = exr(sys.argv[2])[0][sys.argv[3]], exr(sys.argv[4])[0][sys.argv[5]]
+    d = [x - y for x, y in zip(a, b)]
+    m = sum(d) / len(d)
+    print("%.6g %.6g %d" % (m, (sum((x - m) ** 2 for x in d) / (len(d) - 1)) ** 0.5, len(d)))
+elif sys.argv[1] == "counts":   # counts PNG EXR GAIN OFFSET TOP: worst |c - (o + g Y)| unclipped
+    c, y = png16(sys.argv[2]), exr(sys.argv[3])[0]["Y"]
+    g, o, top = float(sys.argv[4]), float(sys.argv[5]), float(sys.argv[6])
+    print("%.6g" % max(abs(ci - (o + g * yi)) for ci, yi in zip(c, y) if 0 < o + g * yi < top))
+PY
+    sb_run render "$RSCENE" -o "$RDIR/noise.exr" --set sensor.netd=0.05 --tolerance 1e-3 \
+        --aov temperature --compression none --png none --quiet
+    check_rc camera.noise_rc 0
+    read -r dmean dstd dn <<<"$(python3 "$RDIR/exr.py" diff "$RDIR/noise.camera.exr" T \
+        "$RDIR/noise.temperature.exr" Y)"
+    check_eq camera.noise_pixels "$dn" $((RSIZE * RSIZE))
+    num_check camera.noise_mean 'm <= 5 * 0.1 / sqrt(n) && m >= -5 * 0.1 / sqrt(n)' \
+        "m=$dmean" "n=$dn"
+    num_check camera.noise_std 's > 0.02 && s < 0.2' "s=$dstd"
+    # the counts are round(offset + gain Y) of the camera's radiance Y
+    sb_run render "$RSCENE" -o "$RDIR/counts.exr" --set sensor.gain=300 \
+        --set sensor.offset=-20 --set sensor.bit_depth=10 --compression none --png none --quiet
+    check_rc camera.counts_rc 0
+    worst=$(python3 "$RDIR/exr.py" counts "$RDIR/counts.counts.png" "$RDIR/counts.camera.exr" \
+        300 -20 1023)
+    num_check camera.counts_rounding 'w <= 0.5 + 1e-4' "w=$worst"
+fi
+
+# Saturation: every pixel above 2^8 - 1 (a gain of 1000 counts per
+# W m^-2 sr^-1 um^-1), then every one below 0; an 8-bit counts file.
+sb_run render "$RSCENE" -o "$RDIR/sat.exr" --set sensor.gain=1000 --set sensor.bit_depth=8 \
+    --png none
+check_match camera.saturated_high "$SB_ERR" \
+    "camera: .*, $((RSIZE * RSIZE)) saturated pixels \($((RSIZE * RSIZE)) high, 0 low\)$"
+check_eq camera.counts_8bit "$(od -An -tu1 -j24 -N1 "$RDIR/sat.counts.png" | tr -d ' ')" 8
+sb_run render "$RSCENE" -o "$RDIR/sat.exr" --set sensor.gain=10 --set sensor.offset=-1e6 \
+    --png none
+check_match camera.saturated_low "$SB_ERR" \
+    "camera: .*, $((RSIZE * RSIZE)) saturated pixels \(0 high, $((RSIZE * RSIZE)) low\)$"
+
+# Each frame draws its own temporal noise.
+sb_run render "$RSCENE" -o "$RDIR/fr.exr" --set sensor.netd=0.05 --frames 0:1 --png none --quiet
+check_rc camera.frames_rc 0
+check camera.frames_files test -s "$RDIR/fr_0000.camera.exr" -a -s "$RDIR/fr_0001.camera.exr"
+check camera.frames_differ absent cmp -s "$RDIR/fr_0000.camera.exr" "$RDIR/fr_0001.camera.exr"
+
+# A bad camera key: the key, the value and the range, and no file.
+for kv in "netd=20:netd: 20 is out of range \(allowed: \(0, 10\] K\)" \
+    "psf_sigma=100:psf_sigma: 100 is out of range \(allowed: \(0, 64\] pixels\)" \
+    "fpn_gain=0.5:fpn_gain: 0.5 is out of range \(allowed: \[0, 0.1\]\)" \
+    "fill_factor=0:fill_factor: 0 is out of range \(allowed: \(0, 1\]\)"; do
+    key=${kv%%=*}
+    sb_run render "$RSCENE" -o "$RDIR/bad_$key.exr" --set "sensor.${kv%%:*}"
+    check_error "camera.bad.$key" 2 "\[sensor\] ${kv#*:}"
+    check_eq "camera.bad_nothing.$key" "$(render_files "bad_$key*")" 0
+done
+sed -e "s/^wavelength = .*/&\nnetd = 11/" "$RSCENE" >"$RDIR/bad_netd.ini"
+sb_run render "$RDIR/bad_netd.ini" -o "$RDIR/bad_file.exr"
+check_error camera.bad_in_file 2 \
+    "bad_netd\.ini:[0-9]+: \[sensor\] netd: 11 is out of range \(allowed: \(0, 10\] K\)"
+check_eq camera.bad_in_file_nothing "$(render_files 'bad_file*')" 0
+sb_run render "$RSCENE" -o "$RDIR/bad_bits.exr" --set sensor.bit_depth=12
+check_error camera.bits_without_gain 2 "\[sensor\] bit_depth: needs gain"
+
+# The tolerance follows from the NETD when nothing gives one: a tenth of
+# the NETD's radiance over the sea's (seabake-model(7)): 1.998e-4 for a
+# sea at 300 K, 4 um and 50 mK; --explain shows the formula and the value.
+sb_run render "$RSCENE" -o "$RDIR/tol.exr" --set sensor.netd=0.05 --set sea.temperature=300 \
+    --explain --quiet --png none
+check_rc camera.tol_rc 0
+check_match camera.tol_header "$SB_ERR" "^render: .*tolerance 0\.0001998[0-9]*, method"
+check_match camera.tol_explain "$SB_ERR" \
+    "^render: tolerance 0\.0001998[0-9]* from the camera's NETD \(neither the scene nor --tolerance gives one\): f NETD dL/dT\(T_n\) / L\(T_sea\), f = 0\.1, NETD = 0\.05 K, T_n = 300 K, T_sea = 300 K: 0\.0001998$"
+check_match camera.explain_camera "$SB_ERR" "^render: camera: optics none, fill_factor 1, netd 0\.05 K at 300 K"
+sb_run render "$RSCENE" -o "$RDIR/tol.exr" --set sensor.netd=0.05 --tolerance 1e-3 --explain \
+    --quiet --png none
+check_match camera.tol_given "$SB_ERR" "^render: tolerance 0\.001 given; the camera's NETD would give f NETD"
+check_match camera.tol_given_header "$SB_ERR" "^render: .*tolerance 0\.001, method"
+sb_run render "$RSCENE" -o "$RDIR/tol.exr" --set sensor.netd=10 --set sensor.netd_temperature=500 \
+    --set sea.temperature=271 --explain --quiet --png none --set sensor.width=8 \
+    --set sensor.height=8
+check_match camera.tol_clamped "$SB_ERR" "^render: tolerance 0\.1 from the camera's NETD .*, clamped to the range \(0, 0\.1\]$"
+
 # ================================================================ bake
 
 BDIR="$SB_TMP/bake"
@@ -1625,12 +1808,6 @@ bake_state() {
 # bake_leftovers: temporary or old directories left beside the outputs.
 bake_leftovers() {
     find "$BDIR" -maxdepth 1 \( -name '*.tmp.*' -o -name '*.old.*' \) | grep -c ''
-}
-# exr_header FILE: the channel list attribute of the header, in hex
-# (after "channels\0chlist\0").
-exr_header() {
-    od -An -tx1 -N4000 "$1" | tr -d ' \n' |
-        sed -n 's/.*6368616e6e656c730063686c69737400\(.\{0,240\}\).*/\1/p'
 }
 BGROUPS="moments moments2 optics normal roughness emission"
 
@@ -1748,6 +1925,15 @@ check_no_match bake.emission_no_red "$(exr_header "$BDIR/out/emission_$l0.exr")"
 check bake.exr_attr grep -qa "seabake:channels" "$BDIR/out/moments_$l0.exr"
 check bake.manifest_units grep -q '"radiance":[[:space:]]*"W m^-2 sr^-1 um^-1"' "$BDIR/out/manifest.json"
 check bake.manifest_scale grep -qE '"emission_scale":[[:space:]]*[0-9]' "$BDIR/out/manifest.json"
+# A scene's camera is recorded in scene.sensor.camera, not applied; a bake
+# without one has no such key (its manifest as before).
+check_eq bake.manifest_no_camera "$(grep -c '"applied"' "$BDIR/out/manifest.json")" 0
+sb_run bake "$RSCENE" -o "$BDIR/cam" --set sensor.netd=0.05 --set sensor.psf_sigma=2 --quiet
+check_rc bake.camera_rc 0
+check bake.manifest_camera grep -q '"applied":[[:space:]]*false' "$BDIR/cam/manifest.json"
+check bake.manifest_camera_psf grep -q '"psf_sigma_px":[[:space:]]*2' "$BDIR/cam/manifest.json"
+check bake.manifest_camera_netd grep -q '"netd_K":[[:space:]]*0.05' "$BDIR/cam/manifest.json"
+check_eq bake.camera_no_camera_files "$(ls "$BDIR/cam" | grep -c -e camera -e counts)" 0
 mkdir "$BDIR/umask_probe"
 check_eq bake.dir_mode "$(ls -ld "$BDIR/out" | cut -c1-10)" "$(ls -ld "$BDIR/umask_probe" | cut -c1-10)"
 

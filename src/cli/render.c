@@ -64,6 +64,15 @@ static const char RENDER_HELP[] =
     "                      float)\n"
     "  --compression C     none, zip (default) or piz\n"
     "\n"
+    "A camera: a scene whose [sensor] gives any camera key (psf_sigma, f_number,\n"
+    "mtf, fill_factor, netd, fpn_gain, fpn_offset, gain; seabake-scene(5)) gets,\n"
+    "for each frame, what that camera makes of the radiance image beside it\n"
+    "(OUT.exr unchanged): OUT.camera.exr (channel T: apparent brightness\n"
+    "temperature, K; Y: the camera's radiance; always float), its preview\n"
+    "OUT.camera.png (the main preview's tone curve) and, with a gain,\n"
+    "OUT.counts.png (the counts as they are, 8-bit for bit_depth 8, else\n"
+    "16-bit); the summary line counts the saturated pixels.\n"
+    "\n"
     "Frames:\n"
     "  --frames A:B        frames A to B, integers, 0 <= A <= B <= 999999, at most\n"
     "                      100000; frame f at time + f / HZ; each file name gets\n"
@@ -84,7 +93,11 @@ static const char RENDER_HELP[] =
     "Running:\n"
     "  --tolerance T       relative, (0, 0.1]: overrides the scene's [model]\n"
     "                      tolerance (low-resolution levels, spectral samples,\n"
-    "                      emissivity orders, wave directions, sub-facets skipped)\n"
+    "                      emissivity orders, wave directions, sub-facets skipped).\n"
+    "                      Default: the scene's; a scene with a [sensor] netd\n"
+    "                      and no tolerance gets a tenth of the NETD's radiance\n"
+    "                      over the sea's, at most 0.1 (seabake-model(7), The\n"
+    "                      tolerance from the NETD; --explain shows it)\n"
     "  --reflections R     auto (default), 1, 2 or 3: overrides the scene's [model]\n"
     "                      reflections (auto: a second hit where it can move a\n"
     "                      pixel by a hundredth of the tolerance; 1, the paper:\n"
@@ -124,7 +137,64 @@ static void render_setup_free(sea_cli_render *s)
 {
     free(s->out_stem);
     free(s->png_stem);
+    sea_imager_free(s->camera);
     s->out_stem = s->png_stem = NULL;
+    s->camera = NULL;
+}
+
+/* The upper end of [model] tolerance's range (0, 0.1] in scene.c. */
+#define RENDER_TOL_MAX 0.1
+
+/* A scene with a camera's netd: the tolerance that keeps the model's error
+ * within SEA_IMAGER_NETD_FRACTION of the NETD (sea_imager_scene_tolerance),
+ * kept in tol_netd for --explain, and made the render's when neither the
+ * scene nor --tolerance gives one (clamped to the range; no lower end). */
+static sea_status netd_tolerance(sea_cli_render *s, bool option_given, sea_error *err)
+{
+    if (isnan(s->sc.netd))
+        return SEA_OK;
+    sea_error lib = {{0}};
+    sea_status st = sea_imager_scene_tolerance(&s->sc, SEA_IMAGER_NETD_FRACTION, &s->tol_netd,
+                                               &lib);
+    if (st != SEA_OK)
+        return sea_fail(err, st, "%s: %s", s->scene_path, lib.msg);
+    if (!s->sc.tolerance_given && !option_given) {
+        s->sc.tolerance = fmin(s->tol_netd, RENDER_TOL_MAX);
+        s->tol_from_netd = true;
+    }
+    return SEA_OK;
+}
+
+/* --explain's lines about the camera: its keys, its files, and where the
+ * tolerance came from. */
+static void explain_camera(const sea_cli_render *s)
+{
+    if (s->camera != NULL) {
+        char text[512];
+        sea_cli_camera_text(&s->sc, text, sizeof text);
+        fprintf(stderr,
+                "render: camera: %s (seabake-model(7), THE CAMERA): applied to each frame after "
+                "rendering, to %s.camera.exr (T: apparent brightness temperature, K; Y: "
+                "radiance)%s%s\n",
+                text, s->out_stem, s->png ? ", its preview .camera.png" : "",
+                sea_imager_counts(s->camera) ? ", counts .counts.png" : "");
+    }
+    if (isnan(s->sc.netd))
+        return;
+    const double f = SEA_IMAGER_NETD_FRACTION;
+    char formula[320];
+    snprintf(formula, sizeof formula,
+             "f NETD dL/dT(T_n) / L(T_sea), f = %g, NETD = %g K, T_n = %g K, T_sea = %g K: %.4g", f,
+             s->sc.netd, s->sc.netd_temperature, s->sc.temperature, s->tol_netd);
+    if (s->tol_from_netd)
+        fprintf(stderr,
+                "render: tolerance %.4g from the camera's NETD (neither the scene nor --tolerance "
+                "gives one): %s%s\n",
+                s->sc.tolerance, formula,
+                s->tol_netd > RENDER_TOL_MAX ? ", clamped to the range (0, 0.1]" : "");
+    else
+        fprintf(stderr, "render: tolerance %g given; the camera's NETD would give %s\n",
+                s->sc.tolerance, formula);
 }
 
 /* "--aov level,temperature". */
@@ -243,6 +313,8 @@ static sea_status render_parse(const sea_cli_args *args, sea_cli_render *s, sea_
     if ((st = sea_cli_load_scene(args, s->scene_path, &s->sc, err)) != SEA_OK)
         return st;
     sea_cli_apply_model(&model, &s->sc);
+    if ((st = netd_tolerance(s, !isnan(model.tolerance), err)) != SEA_OK)
+        return st;
     if ((st = sea_cli_check_frame_times(s->sc.time, s->framed, s->frame_a, s->frame_b, s->rate,
                                         err)) != SEA_OK)
         return st;
@@ -279,12 +351,20 @@ static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err
         st = sea_cli_threads_start(err);
     if (st == SEA_OK)
         st = sea_render_prepare(&s.sc, &r, err);
+    /* The scene's camera, if it gives one: planned once for every frame. */
+    if (st == SEA_OK) {
+        sea_error lib = {{0}};
+        if ((st = sea_imager_from_render(r, &s.camera, &lib)) != SEA_OK)
+            sea_fail(err, st, "%s: [sensor] %s", s.scene_path, lib.msg);
+    }
     /* Under MPI every rank has read the same arguments and files; a rank
      * that could not (a file system one node does not see) stops them all. */
     const int size = sea_cli_mpi_size();
     st = sea_cli_mpi_agree(st, 0, NULL, err);
-    if (st == SEA_OK && s.explain && sea_cli_mpi_rank() == 0)
+    if (st == SEA_OK && s.explain && sea_cli_mpi_rank() == 0) {
         sea_cli_explain("render", s.scene_path, r);
+        explain_camera(&s);
+    }
     /* What a render killed before its rename left beside these outputs
      * (SIGKILL, a crash): removed with a note, by one rank, before any
      * rank writes (a live writer's flock keeps its own). */

@@ -37,6 +37,15 @@ typedef struct {
     double rate;
     sea_exr_options exr;
     bool quiet, explain, progress;
+    /* The scene's camera (sea_imager_from_render; NULL: none), made after
+     * the prepare: each frame's camera image goes to OUT.camera.exr (and
+     * OUT.camera.png, OUT.counts.png).  Owned by run_render. */
+    sea_imager *camera;
+    /* The tolerance followed from the camera's NETD (no --tolerance, no
+     * [model] tolerance): tol_netd is sea_imager_scene_tolerance's, before
+     * the clamp to the scene's range. */
+    bool tol_from_netd;
+    double tol_netd;
 } sea_cli_render;
 
 /* render_frames.c.  The directories of the outputs, checked before the
@@ -49,6 +58,9 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
                                  sea_error *err);
 sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *r, double start,
                                      sea_error *err);
+/* The scene's camera keys in one line ("optics gaussian psf_sigma 1.5
+ * pixels, fill_factor 1, netd 0.05 K at 300 K, ..."), "" without any. */
+void sea_cli_camera_text(const sea_scene *sc, char *buf, size_t size);
 sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r, double start,
                                    sea_error *err);
 

@@ -1,8 +1,8 @@
 /* render_frames.c - the frames of seabake render (render.h): each frame's
- * files (the radiance, the AOVs, the previews, whose tone curves the first
- * frame or --png-range fixes), all of a frame or none of it, the summary
- * line, and under MPI the frames or the row blocks of one frame shared
- * among the ranks. */
+ * files (the radiance, the AOVs, the camera's image, the previews, whose
+ * tone curves the first frame or --png-range fixes), all of a frame or
+ * none of it, the summary line, and under MPI the frames or the row blocks
+ * of one frame shared among the ranks. */
 #include <errno.h>
 #include <math.h>
 #include <stdbool.h>
@@ -207,6 +207,144 @@ static sea_status write_preview(const sea_cli_render *s, const sea_image *img, i
     return sea_png_write_toned(path, w, h, plane, &pv->tone[t], s->png_depth, text, 3, err);
 }
 
+/* ---------------------------------------------------------------- camera */
+
+/* The files of the camera's frame (a scene with camera keys, s->camera):
+ * OUT.camera.exr, its preview OUT.camera.png (with the previews) and the
+ * counts OUT.counts.png (with a gain), each with the frame suffix. */
+#define CAMERA_MIDDLE ".camera"
+#define COUNTS_MIDDLE ".counts"
+enum { CAMERA_FILES = 3 };
+
+void sea_cli_camera_text(const sea_scene *sc, char *buf, size_t size)
+{
+    sea_imager_params p;
+    size_t used = 0;
+    buf[0] = '\0';
+    if (!sea_imager_params_from_scene(sc, &p))
+        return;
+#define PUT(...)                                                                                   \
+    do {                                                                                           \
+        if (used < size) {                                                                         \
+            const int w_ = snprintf(buf + used, size - used, __VA_ARGS__);                         \
+            used += w_ > 0 ? (size_t)w_ : 0;                                                       \
+        }                                                                                          \
+    } while (0)
+    switch (p.psf) {
+    case SEA_PSF_GAUSSIAN:
+        PUT("optics gaussian psf_sigma %.10g pixels", p.psf_sigma);
+        break;
+    case SEA_PSF_DIFFRACTION:
+        PUT("optics diffraction f_number %.10g, pitch %.10g um", p.f_number, p.pitch * 1e6);
+        break;
+    case SEA_PSF_TABLE:
+        PUT("optics mtf %s", sc->mtf_file);
+        break;
+    default:
+        PUT("optics none");
+        break;
+    }
+    PUT(", fill_factor %.10g", p.fill_factor);
+    if (p.netd > 0.0)
+        PUT(", netd %.10g K at %.10g K, noise_seed %llu", p.netd, p.netd_temperature,
+            (unsigned long long)p.noise_seed);
+    else
+        PUT(", no temporal noise");
+    if (p.fpn_gain > 0.0 || p.fpn_offset > 0.0)
+        PUT(", fpn_gain %.10g, fpn_offset %.10g K, fpn_seed %llu", p.fpn_gain, p.fpn_offset,
+            (unsigned long long)p.fpn_seed);
+    if (p.gain > 0.0)
+        PUT(", counts: gain %.10g, offset %.10g, bit_depth %d", p.gain, p.offset, p.bit_depth);
+#undef PUT
+}
+
+/* The camera's frame to its files (see above), each path appended to
+ * written; attrs (n_attrs) are the radiance image's, the frame's too. */
+static sea_status write_camera(const sea_cli_render *s, const sea_imager_image *cam, long frame,
+                               const sea_exr_attr *attrs, size_t n_attrs,
+                               const render_previews *pv, char **written, size_t *n_written,
+                               sea_error *err)
+{
+    const int w = cam->width, h = cam->height;
+    char text[512], saturated[96];
+    sea_cli_camera_text(&s->sc, text, sizeof text);
+    snprintf(saturated, sizeof saturated, "%zu high, %zu low", cam->saturated_high,
+             cam->saturated_low);
+    sea_exr_attr a[16];
+    size_t n = 0;
+    for (size_t i = 0; i < n_attrs && n < 12; i++)
+        a[n++] = attrs[i];
+    a[0].value = "camera: radiance (Y) and its apparent brightness temperature (T, K)";
+    a[n++] = (sea_exr_attr){"seabake:unit_T", "K"};
+    a[n++] = (sea_exr_attr){"seabake:camera", text};
+    if (cam->counts != NULL)
+        a[n++] = (sea_exr_attr){"seabake:saturated", saturated};
+    /* Always FLOAT: HALF's steps are 0.25 K at 300 K, more than a NETD. */
+    const sea_exr_options opt = {SEA_EXR_FLOAT, s->exr.compression};
+    const sea_exr_channel ch[2] = {{"T", cam->temperature}, {"Y", cam->radiance}};
+    char *path = frame_path(s->out_stem, s->framed, frame, CAMERA_MIDDLE, s->out_ext);
+    if (path == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    sea_status st = sea_exr_write(path, w, h, ch, 2, a, n, &opt, err);
+    if (st != SEA_OK) {
+        free(path);
+        return st;
+    }
+    written[(*n_written)++] = path;
+
+    if (s->png) {
+        /* the main preview's tone curve: the two images compare grey for grey */
+        const sea_png_text t[] = {
+            {"seabake:quantity", "camera: apparent brightness temperature"},
+            {"seabake:range_K", pv->range[AOV_TEMPERATURE]},
+            {"seabake:tone", pv->text[AOV_TEMPERATURE]},
+            {"seabake:camera", text}};
+        if ((path = frame_path(s->out_stem, s->framed, frame, CAMERA_MIDDLE, ".png")) == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        st = sea_png_write_toned(path, w, h, cam->temperature, &pv->tone[AOV_TEMPERATURE],
+                                 s->png_depth, t, 4, err);
+        if (st != SEA_OK) {
+            free(path);
+            return st;
+        }
+        written[(*n_written)++] = path;
+    }
+
+    if (cam->counts != NULL) {
+        /* The counts as they are, not scaled: 8-bit for a bit depth of 8,
+         * else 16-bit (the values below 2^bit_depth). */
+        const size_t npix = (size_t)w * (size_t)h;
+        float *c = malloc((npix > 0 ? npix : 1) * sizeof *c);
+        if (c == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        for (size_t q = 0; q < npix; q++)
+            c[q] = (float)cam->counts[q];
+        sea_imager_params p;
+        sea_imager_params_from_scene(&s->sc, &p);
+        const int bits = p.bit_depth <= 8 ? 8 : 16;
+        sea_png_tone tone;
+        sea_png_tone_linear(0.0, bits == 8 ? 255.0 : 65535.0, &tone, NULL);
+        char depth[16];
+        snprintf(depth, sizeof depth, "%d", p.bit_depth);
+        const sea_png_text t[] = {{"seabake:quantity", "camera: counts, as they are (not scaled)"},
+                                  {"seabake:bit_depth", depth},
+                                  {"seabake:saturated", saturated},
+                                  {"seabake:camera", text}};
+        if ((path = frame_path(s->out_stem, s->framed, frame, COUNTS_MIDDLE, ".png")) == NULL) {
+            free(c);
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        }
+        st = sea_png_write_toned(path, w, h, c, &tone, bits, t, 4, err);
+        free(c);
+        if (st != SEA_OK) {
+            free(path);
+            return st;
+        }
+        written[(*n_written)++] = path;
+    }
+    return SEA_OK;
+}
+
 /* ---------------------------------------------------------------- frames */
 
 /* Widens [*t_min, *t_max] to the frame's brightness temperatures. */
@@ -219,11 +357,12 @@ static void temperature_range(const sea_image *img, size_t npix, double *t_min, 
 }
 
 /* Writes every file of one frame; on a failure removes those it wrote. */
-static sea_status write_frame(const sea_cli_render *s, const sea_image *img, long frame, double t,
-                              const char *levels, render_previews *pv, sea_error *err)
+static sea_status write_frame(const sea_cli_render *s, const sea_image *img,
+                              const sea_imager_image *cam, long frame, double t, const char *levels,
+                              render_previews *pv, sea_error *err)
 {
     const sea_scene *sc = &s->sc;
-    char *written[2 + 2 * AOV_COUNT];
+    char *written[2 + 2 * AOV_COUNT + CAMERA_FILES];
     size_t n_written = 0;
     sea_status st = s->png && !pv->ready ? previews_setup(s, img, pv, err) : SEA_OK;
     if (st != SEA_OK)
@@ -289,6 +428,12 @@ static sea_status write_frame(const sea_cli_render *s, const sea_image *img, lon
             free(path);
     }
 
+    /* the camera's image, with the radiance's attributes */
+    if (st == SEA_OK && cam != NULL) {
+        attrs[1].value = sc->wavelength > 0.0 ? "W m^-2 sr^-1 um^-1" : "W m^-2 sr^-1";
+        st = write_camera(s, cam, frame, attrs, n_attrs, pv, written, &n_written, err);
+    }
+
     if (st == SEA_OK && s->png) {
         if ((path = frame_path(s->png_stem, s->framed, frame, "", s->png_ext)) == NULL) {
             st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
@@ -345,21 +490,72 @@ static int render_progress_fn(void *ctx, double fraction)
     return sea_cli_progress_if(&p->bar, p->on, fraction);
 }
 
+/* What the camera made of the frames written: its apparent temperatures
+ * and, with counts, the saturated pixels (over every frame). */
+typedef struct {
+    bool on, counts;
+    double t_min, t_max;
+    size_t high, low;
+} camera_tally;
+
+static void camera_tally_init(const sea_cli_render *s, camera_tally *ct)
+{
+    ct->on = s->camera != NULL;
+    ct->counts = ct->on && sea_imager_counts(s->camera);
+    ct->t_min = INFINITY;
+    ct->t_max = -INFINITY;
+    ct->high = ct->low = 0;
+}
+
+static void camera_tally_add(camera_tally *ct, const sea_imager_image *cam)
+{
+    const size_t npix = (size_t)cam->width * (size_t)cam->height;
+    for (size_t q = 0; q < npix; ++q) {
+        ct->t_min = fmin(ct->t_min, cam->temperature[q]);
+        ct->t_max = fmax(ct->t_max, cam->temperature[q]);
+    }
+    ct->high += cam->saturated_high;
+    ct->low += cam->saturated_low;
+}
+
+/* The tallies of every rank, to each (MPI, --frames). */
+static void camera_tally_reduce(camera_tally *ct)
+{
+    if (!ct->on)
+        return;
+    sea_cli_mpi_minmax(&ct->t_min, &ct->t_max);
+    sea_cli_mpi_sum(&ct->high);
+    sea_cli_mpi_sum(&ct->low);
+}
+
 /* The closing line on standard error: files, size, levels, frames, the
- * seconds since start, the brightness temperatures of all frames. */
+ * seconds since start, the brightness temperatures of all frames; with a
+ * camera its apparent temperatures and, with counts, the saturated pixels
+ * of all frames. */
 static sea_status render_summary(const sea_cli_render *s, const char *levels, double start,
-                                 double t_min, double t_max, sea_error *err)
+                                 double t_min, double t_max, const camera_tally *ct,
+                                 sea_error *err)
 {
     const long first = s->framed ? s->frame_a : 0, last = s->framed ? s->frame_b : 0;
     char *a = frame_path(s->out_stem, s->framed, first, "", s->out_ext);
     char *b = frame_path(s->out_stem, s->framed, last, "", s->out_ext);
+    char camera[256] = "";
+    if (ct->on) {
+        const size_t n = ct->high + ct->low;
+        int w = snprintf(camera, sizeof camera, "; camera: apparent temperature %.2f to %.2f K",
+                         ct->t_min, ct->t_max);
+        if (ct->counts && w > 0 && (size_t)w < sizeof camera)
+            snprintf(camera + w, sizeof camera - (size_t)w,
+                     ", %zu saturated pixel%s (%zu high, %zu low)", n, n == 1 ? "" : "s",
+                     ct->high, ct->low);
+    }
     if (a != NULL && b != NULL)
         fprintf(stderr,
                 "render: %s%s%s: %d x %d, levels %s, %ld frame%s, %.3g s, brightness "
-                "temperature %.2f to %.2f K\n",
+                "temperature %.2f to %.2f K%s\n",
                 a, last > first ? " to " : "", last > first ? b : "", s->sc.width, s->sc.height,
                 levels, last - first + 1, last > first ? "s" : "", sea_cli_seconds() - start, t_min,
-                t_max);
+                t_max, camera);
     free(a);
     free(b);
     return a != NULL && b != NULL ? SEA_OK : sea_fail(err, SEA_ERR_NOMEM, "out of memory");
@@ -384,14 +580,23 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
     render_previews pv;
     memset(&pv, 0, sizeof pv);
     pv.n_levels = sea_render_levels(r, &pv.levels);
+    camera_tally ct;
+    camera_tally_init(s, &ct);
+    sea_imager_image cam;
+    memset(&cam, 0, sizeof cam);
+    if (st == SEA_OK && ct.on)
+        st = sea_imager_image_alloc(s->camera, &cam, err);
     long done = 0;
     for (long f = first; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
         prog.bar.index = (size_t)(f - first);
         st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
         bool wrote = false;
+        /* the camera's frame f: its temporal noise is drawn for f */
+        if (st == SEA_OK && ct.on && sea_cli_interrupted() == 0)
+            st = sea_imager_apply(s->camera, &img, (uint64_t)f, &cam, err);
         if (st == SEA_OK && sea_cli_interrupted() == 0) {
-            st = write_frame(s, &img, f, t, levels, &pv, err);
+            st = write_frame(s, &img, ct.on ? &cam : NULL, f, t, levels, &pv, err);
             wrote = st == SEA_OK;
         }
         /* a frame written before the signal was seen is complete: counted */
@@ -410,6 +615,8 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
         if (st != SEA_OK)
             break;
         temperature_range(&img, npix, &t_min, &t_max);
+        if (ct.on)
+            camera_tally_add(&ct, &cam);
         if (prog.on)
             sea_cli_progress_bar(&prog.bar, 1.0);
     }
@@ -417,9 +624,10 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
      * message starts on a line of its own. */
     sea_cli_progress_end(&prog.bar);
     sea_image_free(&img);
+    sea_imager_image_free(&cam);
     if (st != SEA_OK || s->quiet)
         return st;
-    return render_summary(s, levels, start, t_min, t_max, err);
+    return render_summary(s, levels, start, t_min, t_max, &ct, err);
 }
 
 /* ------------------------------------------------------------------ MPI
@@ -446,9 +654,16 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
  * one). */
 static void remove_frame(const sea_cli_render *s, long frame)
 {
-    char *paths[2 + 2 * AOV_COUNT];
+    char *paths[2 + 2 * AOV_COUNT + CAMERA_FILES];
     size_t n = 0;
     paths[n++] = frame_path(s->out_stem, s->framed, frame, "", s->out_ext);
+    if (s->camera != NULL) {
+        paths[n++] = frame_path(s->out_stem, s->framed, frame, CAMERA_MIDDLE, s->out_ext);
+        if (s->png)
+            paths[n++] = frame_path(s->out_stem, s->framed, frame, CAMERA_MIDDLE, ".png");
+        if (sea_imager_counts(s->camera))
+            paths[n++] = frame_path(s->out_stem, s->framed, frame, COUNTS_MIDDLE, ".png");
+    }
     for (int k = 0; k < AOV_COUNT; ++k) {
         if (!s->aov[k])
             continue;
@@ -510,6 +725,18 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *
     render_previews pv;
     memset(&pv, 0, sizeof pv);
     pv.n_levels = sea_render_levels(r, &pv.levels);
+    /* each rank's camera makes its own frames: the noise of frame f is f's */
+    camera_tally ct;
+    camera_tally_init(s, &ct);
+    sea_imager_image cam;
+    memset(&cam, 0, sizeof cam);
+    if (ct.on)
+        st = sea_imager_image_alloc(s->camera, &cam, err);
+    if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) != SEA_OK) {
+        sea_image_free(&img);
+        sea_imager_image_free(&cam);
+        return st;
+    }
     for (long base = first; base <= last; base += size) {
         const long f = base + rank;
         const bool mine = f <= last;
@@ -519,6 +746,8 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *
         prog.bar.index = (size_t)(base - first);
         if (mine)
             st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
+        if (mine && st == SEA_OK && ct.on && sea_cli_interrupted() == 0)
+            st = sea_imager_apply(s->camera, &img, (uint64_t)f, &cam, err);
         /* as sea_cli_render_frames: a signal's message, whatever stopped the frame */
         if (sea_cli_interrupted() != 0)
             st = interrupted_mpi(first, f, err);
@@ -535,7 +764,7 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *
             write = write && ready;
         }
         if (write && st == SEA_OK) {
-            st = write_frame(s, &img, f, t, levels, &pv, err);
+            st = write_frame(s, &img, ct.on ? &cam : NULL, f, t, levels, &pv, err);
             wrote = st == SEA_OK;
         }
         /* a frame written before the signal was seen is complete: kept */
@@ -550,15 +779,19 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *
         }
         if (wrote)
             temperature_range(&img, npix, &t_min, &t_max);
+        if (wrote && ct.on)
+            camera_tally_add(&ct, &cam);
         if (prog.on)
             sea_cli_progress_bar(&prog.bar, 1.0);
     }
     sea_cli_progress_end(&prog.bar);
     sea_image_free(&img);
+    sea_imager_image_free(&cam);
     if (st != SEA_OK || s->quiet)
         return st;
     sea_cli_mpi_minmax(&t_min, &t_max);
-    return rank == 0 ? render_summary(s, levels, start, t_min, t_max, err) : SEA_OK;
+    camera_tally_reduce(&ct);
+    return rank == 0 ? render_summary(s, levels, start, t_min, t_max, &ct, err) : SEA_OK;
 }
 
 /* The five planes of img, in the order rows are packed. */
@@ -649,11 +882,21 @@ sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r,
     if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) == SEA_OK)
         gather_rows(&img, pack, rows, rank, size);
     double t_min = INFINITY, t_max = -INFINITY;
+    camera_tally ct;
+    camera_tally_init(s, &ct);
+    sea_imager_image cam;
+    memset(&cam, 0, sizeof cam);
     if (st == SEA_OK && rank == 0) {
         render_previews pv;
         memset(&pv, 0, sizeof pv);
         pv.n_levels = sea_render_levels(r, &pv.levels);
-        st = write_frame(s, &img, 0, t, levels, &pv, err);
+        /* the camera sees the gathered frame, on rank 0 */
+        if (ct.on && (st = sea_imager_image_alloc(s->camera, &cam, err)) == SEA_OK)
+            st = sea_imager_apply(s->camera, &img, 0, &cam, err);
+        if (st == SEA_OK)
+            st = write_frame(s, &img, ct.on ? &cam : NULL, 0, t, levels, &pv, err);
+        if (st == SEA_OK && ct.on)
+            camera_tally_add(&ct, &cam);
         for (size_t q = 0; st == SEA_OK && q < W * (size_t)s->sc.height; ++q) {
             t_min = fmin(t_min, img.temperature[q]);
             t_max = fmax(t_max, img.temperature[q]);
@@ -666,8 +909,9 @@ sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r,
     free(pack);
     free(rows);
     sea_image_free(&img);
+    sea_imager_image_free(&cam);
     if (st != SEA_OK || s->quiet || rank != 0)
         return st;
-    return render_summary(s, levels, start, t_min, t_max, err);
+    return render_summary(s, levels, start, t_min, t_max, &ct, err);
 }
 
