@@ -1400,6 +1400,14 @@ render_usage render.set_form "--set bogus: not SECTION.KEY=VALUE" "$RSCENE" -o "
 render_usage render.set_key "--set sea.wind=8: \[sea\] wind: unknown key" \
     "$RSCENE" -o "$RDIR/bad.exr" --set sea.wind=8
 
+# --emissivity overrides the scene's rule, as --set model.emissivity does.
+sb_run render "$RSCENE" -o "$RDIR/emis_fast.exr" --png none --emissivity fast --explain
+check_match render.emissivity_option "$SB_ERR" "^render: emissivity: fast "
+sb_run render "$RSCENE" -o "$RDIR/emis_set.exr" --png none --quiet --set model.emissivity=fast
+check render.emissivity_as_set cmp -s "$RDIR/emis_fast.exr" "$RDIR/emis_set.exr"
+render_usage render.emissivity_bad "--emissivity: 'bogus' is not one of auto, fast, full" \
+    "$RSCENE" -o "$RDIR/bad.exr" --emissivity bogus
+
 # --unset SECTION.KEY removes a file's key, its default back, before any
 # --set: a band scene becomes one wavelength; the errors name the option.
 MW="$top_srcdir/examples/midwave.ini"

@@ -91,6 +91,8 @@ static const char BAKE_HELP[] =
     "                      shadowing, as in seabake render\n"
     "  --scales N          2 or 1: overrides the scene's [model] scales, as in\n"
     "                      seabake render\n"
+    "  --emissivity M      auto, fast or full: overrides the scene's [model]\n"
+    "                      emissivity rule, as in seabake render\n"
     "  --set SECTION.KEY=VALUE\n"
     "                      overrides a key of the scene file (as in seabake\n"
     "                      render); repeatable\n"
@@ -384,6 +386,7 @@ static const sea_cli_option BAKE_OPTIONS[] = {
     {"reference", SEA_CLI_OPT_FLAG},
     {"shadowing", 0},
     {"scales", 0},
+    {"emissivity", 0},
     {"set", SEA_CLI_OPT_ACCUMULATE},
     {"unset", SEA_CLI_OPT_ACCUMULATE},
     {"png", 0},

@@ -166,6 +166,7 @@ typedef struct {
     long reflections; /* SEA_REFLECTIONS_AUTO, 1 .. 3, or -1: the scene's */
     int shadowing; /* a sea_shadowing, or -1: the scene's */
     long scales;   /* 1 or 2, or 0: the scene's */
+    int emissivity; /* a sea_emis_method (--emissivity), or -1: the scene's */
     bool reference;
 } sea_cli_model;
 /* --reflections auto|N (def when absent). */

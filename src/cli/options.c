@@ -71,6 +71,12 @@ sea_status sea_cli_opt_model(const sea_cli_args *args, sea_cli_model *out, sea_e
     }
     if (st == SEA_OK)
         st = sea_cli_opt_integer(args, "scales", 1, 2, 0, &out->scales, err);
+    out->emissivity = -1;
+    if (st == SEA_OK && sea_cli_args_get(args, "emissivity") != NULL) {
+        sea_emis_method e = SEA_EMIS_AUTO;
+        st = sea_cli_opt_emissivity(args, &e, err);
+        out->emissivity = (int)e;
+    }
     return st;
 }
 
@@ -113,6 +119,8 @@ void sea_cli_apply_model(const sea_cli_model *m, sea_scene *sc)
         sc->shadowing = m->shadowing;
     if (m->scales > 0)
         sc->scales = (int)m->scales;
+    if (m->emissivity >= 0)
+        sc->emissivity_method = (sea_emis_method)m->emissivity;
 }
 
 sea_status sea_cli_opt_list(const sea_cli_args *args, const char *name, const sea_cli_range *range,

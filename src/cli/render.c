@@ -117,6 +117,8 @@ static const char RENDER_HELP[] =
     "                      slopes of waves longer than the half-variance split\n"
     "                      count as facets, every level agrees with low\n"
     "                      resolution) or 1 (one Gaussian surface, the paper)\n"
+    "  --emissivity M      overrides the scene's [model] emissivity rule: auto\n"
+    "                      (default: within 1e-6 of full), fast (Eq 12) or full\n"
     "  --threads N         OpenMP threads, 1 to 4 x the online CPUs (at most 1024);\n"
     "                      default: the OpenMP default\n"
     "  --quiet             no progress bar and no summary line\n"
@@ -413,6 +415,7 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"reference", SEA_CLI_OPT_FLAG},
     {"shadowing", 0},
     {"scales", 0},
+    {"emissivity", 0},
     {"quiet", SEA_CLI_OPT_FLAG},
     {"explain", SEA_CLI_OPT_FLAG}};
 
