@@ -41,6 +41,14 @@ static const double SEA_MODEL_ORDERS_REF[4] = { 2.0, 6.0, 1.0, 4.0 };
  * 1.1e-4 to 85 deg, 5.5e-4 at 88 deg, which such a tolerance does not
  * allow). */
 static const double SEA_MODEL_FINE_TOL = 2e-4;
+/* The two scales' table is read only at T >= SEA_MODEL_TABLE_TOL: its
+ * interpolation is up to 7.4e-4 off the quadrature at its own orders (a
+ * facet just inside the visibility limit, z = 0.056 at 81 deg, where the
+ * addition turns sharply: tests/test_mc.c), which put a pixel of
+ * examples/mast.ini 1.12 T from the reference at T = 6.04e-4.  Between
+ * the two, each facet's addition by quadrature at the table's orders
+ * (within 5.3e-5 of the reference on that image, 4.2 times the CPU). */
+static const double SEA_MODEL_TABLE_TOL = 1e-3;
 static const double SEA_MODEL_ORDERS_FINE[4] = { 1.0, 3.0, 1.0, 2.0 };
 
 struct sea_model {
@@ -298,7 +306,8 @@ sea_status sea_model_emissivity(const sea_model *m, const sea_slope_stats *st, s
     double d[SEA_SCENE_BAND_MAX];
     s = m->mp.reference || m->mp.tolerance <= SEA_MODEL_FINE_TOL
             ? sea_two_scale_delta_exact(m->ts, v, st, d, err)
-            : sea_two_scale_delta(m->ts, v, st, d, err);
+        : m->mp.tolerance < SEA_MODEL_TABLE_TOL ? sea_two_scale_delta_direct(m->ts, v, st, d, err)
+                                                 : sea_two_scale_delta(m->ts, v, st, d, err);
     if (s != SEA_OK)
         return s;
     for (size_t i = 0; i < m->n; i++) {

@@ -586,6 +586,11 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
  * orders, 24 x 8): the reference the table is checked against.  Reads t. */
 sea_status sea_two_scale_delta_exact(const sea_two_scale_table *t, sea_dir v,
                                      const sea_slope_stats *st, double *out, sea_error *err);
+/* The same quadrature at the table's orders (12 x 4, within 1e-4 of the
+ * exact form: tests/test_mc.c), with no interpolation: what a tolerance
+ * finer than the table's own error asks (sea_model_emissivity).  Reads t. */
+sea_status sea_two_scale_delta_direct(const sea_two_scale_table *t, sea_dir v,
+                                      const sea_slope_stats *st, double *out, sea_error *err);
 /* Rows of the table computed so far.  Thread-safe. */
 size_t sea_two_scale_table_rows(const sea_two_scale_table *t);
 void sea_two_scale_table_free(sea_two_scale_table *t);

@@ -549,8 +549,10 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
     return SEA_OK;
 }
 
-sea_status sea_two_scale_delta_exact(const sea_two_scale_table *t, sea_dir v,
-                                     const sea_slope_stats *st, double *out, sea_error *err)
+/* The addition at the facet's own statistics by quadrature, at the
+ * reference's orders (ref) or the table's. */
+static sea_status delta_own(const sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
+                            int ref, double *out, sea_error *err)
 {
     for (size_t k = 0; k < t->n; k++)
         out[k] = 0.0;
@@ -558,5 +560,17 @@ sea_status sea_two_scale_delta_exact(const sea_two_scale_table *t, sea_dir v,
     facet_axes(t, &st->cov, v.phi, &sX, &f);
     if (!(f > 0.0) || !(v.theta > 0.0 && v.theta < M_PI / 2.0))
         return SEA_OK;
-    return delta_at(t, st->mean, f, v, 1, out, err);
+    return delta_at(t, st->mean, f, v, ref, out, err);
+}
+
+sea_status sea_two_scale_delta_exact(const sea_two_scale_table *t, sea_dir v,
+                                     const sea_slope_stats *st, double *out, sea_error *err)
+{
+    return delta_own(t, v, st, 1, out, err);
+}
+
+sea_status sea_two_scale_delta_direct(const sea_two_scale_table *t, sea_dir v,
+                                      const sea_slope_stats *st, double *out, sea_error *err)
+{
+    return delta_own(t, v, st, 0, out, err);
 }
