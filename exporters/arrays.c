@@ -1,6 +1,7 @@
 /* arrays.c - .npy and CSV writers of images (arrays.h). */
 #include "config.h"
 
+#include <errno.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -80,6 +81,7 @@ sea_status sea_arrays_write_npy(FILE *f, size_t width, size_t height, const floa
         return sea_fail(err, SEA_ERR_DOMAIN, ".npy header of shape (%zu, %zu, %zu) too long",
                         height, width, n_planes);
     const size_t row_bytes = 4 * width * n_planes;
+    errno = 0; /* what a failed write sets is the reason given */
     unsigned char *row = malloc(row_bytes);
     if (row == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a row of %zu bytes", row_bytes);
@@ -101,7 +103,8 @@ sea_status sea_arrays_write_npy(FILE *f, size_t width, size_t height, const floa
     }
     free(row);
     if (!ok || ferror(f))
-        return sea_fail(err, SEA_ERR_IO, "cannot write the .npy data");
+        return sea_fail(err, SEA_ERR_IO, "cannot write the .npy data: %s",
+                        errno ? strerror(errno) : "write error");
     return SEA_OK;
 }
 
@@ -118,6 +121,7 @@ sea_status sea_arrays_write_csv(FILE *f, size_t width, size_t height, const char
                             "channel name '%s' cannot be a CSV column (empty, or a comma, quote "
                             "or line break in it)",
                             names && names[c] ? names[c] : "(null)");
+    errno = 0; /* what a failed write sets is the reason given */
     fputs("x,y", f);
     for (size_t c = 0; c < n_planes; c++)
         fprintf(f, ",%s", names[c]);
@@ -130,6 +134,7 @@ sea_status sea_arrays_write_csv(FILE *f, size_t width, size_t height, const char
             fputc('\n', f);
         }
     if (ferror(f))
-        return sea_fail(err, SEA_ERR_IO, "cannot write the CSV rows");
+        return sea_fail(err, SEA_ERR_IO, "cannot write the CSV rows: %s",
+                        errno ? strerror(errno) : "write error");
     return SEA_OK;
 }

@@ -2340,4 +2340,129 @@ check bake.frames_time grep -q '"time_s":[[:space:]]*0.1' "$BDIR/frames/manifest
 check bake.frames_differ absent cmp -s "$BDIR/frames/moments_${l0}_0000.exr" \
     "$BDIR/frames/moments_${l0}_0001.exr"
 
+
+# ================================================================ convert
+
+# seabake convert (issue 45): an EXR's channels as .npy or CSV.  The EXRs
+# are uncompressed so that numpy reads them independently of OpenEXR
+# (check.py below): the .npy holds, bit for bit, the FLOAT or HALF values
+# of the file (HALF widened to float32, which holds each exactly), and the
+# CSV's %.9g text reads back as the same float32.
+CDIR="$SB_TMP/convert"
+mkdir -p "$CDIR" || exit 99
+sb_run render "$RSCENE" -o "$CDIR/r.exr" --set sensor.netd=0.05 --aov temperature \
+    --compression none --png none --quiet
+check_rc convert.render_rc 0
+sb_run render "$RSCENE" -o "$CDIR/h.exr" --format half --compression none --png none --quiet
+check_rc convert.render_half_rc 0
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/cam.npy"
+check_rc convert.npy_rc 0
+check_eq convert.npy_stdout "$SB_OUT" ""
+check_match convert.npy_summary "$SB_ERR" \
+    "^convert: '.*r.camera.exr' -> '.*cam.npy': $RSIZE x $RSIZE pixels, float32 shape \($RSIZE, $RSIZE, 2\), last axis T,Y$"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/yt.npy" --channel Y --channel T --quiet
+check_rc convert.order_rc 0
+check_eq convert.quiet "$SB_ERR" ""
+sb_run convert "$CDIR/h.exr" "$CDIR/h.npy"
+check_match convert.half_summary "$SB_ERR" "channel Y \(1 half channel, widened exactly\)$"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/cam.csv" --channel T,Y
+check_rc convert.csv_rc 0
+check_eq convert.csv_header "$(head -n 1 "$CDIR/cam.csv")" "x,y,T,Y"
+check_eq convert.csv_rows "$(grep -c '' "$CDIR/cam.csv")" $((RSIZE * RSIZE + 1))
+sb_run convert "$CDIR/r.temperature.exr" "$CDIR/t.dat" --format csv --quiet
+check_rc convert.format_rc 0
+check_eq convert.format_header "$(head -n 1 "$CDIR/t.dat")" "x,y,Y"
+if numpy_python; then
+    cat >"$CDIR/check.py" <<'PY'
+import struct, sys
+import numpy as np
+
+def exr(path):
+    """The channels of an uncompressed scanline EXR (FLOAT or HALF) as
+    float32 arrays (H, W), read without OpenEXR."""
+    d = open(path, "rb").read()
+    i, chans, comp = 8, [], None
+    while d[i] != 0:
+        j = d.index(b"\0", i); name = d[i:j]; i = j + 1
+        j = d.index(b"\0", i); i = j + 1
+        (n,) = struct.unpack("<i", d[i:i + 4]); v = d[i + 4:i + 4 + n]; i += 4 + n
+        if name == b"channels":
+            k = 0
+            while v[k] != 0:
+                e = v.index(b"\0", k)
+                chans.append((v[k:e].decode(), struct.unpack("<i", v[e + 1:e + 5])[0]))
+                k = e + 17
+        elif name == b"dataWindow":
+            x0, y0, x1, y1 = struct.unpack("<4i", v); w, h = x1 - x0 + 1, y1 - y0 + 1
+        elif name == b"compression":
+            comp = v[0]
+    assert comp == 0, "compressed"
+    i += 1 + 8 * h
+    out = {c: np.empty((h, w), np.float32) for c, _ in chans}
+    for y in range(h):
+        i += 8
+        for c, t in chans:
+            dt, size = {1: ("<f2", 2), 2: ("<f4", 4)}[t]
+            out[c][y] = np.frombuffer(d[i:i + size * w], dt).astype(np.float32); i += size * w
+    return out
+
+def same(a, b):
+    return a.shape == b.shape and a.dtype == b.dtype == np.float32 and \
+        np.array_equal(a.view(np.uint32), b.view(np.uint32))
+
+mode, src, dst, names = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4].split(",")
+ch = exr(src)
+want = ch[names[0]] if len(names) == 1 else np.stack([ch[n] for n in names], axis=-1)
+if mode == "npy":
+    got = np.load(dst)
+else:
+    rows = [l.split(",") for l in open(dst).read().splitlines()]
+    assert rows[0] == ["x", "y"] + names, rows[0]
+    h, w = want.shape[0], want.shape[1]
+    xy = [(int(r[0]), int(r[1])) for r in rows[1:]]
+    assert xy == [(x, y) for y in range(h) for x in range(w)], "pixel order"
+    got = np.array([[float(v) for v in r[2:]] for r in rows[1:]], np.float64).astype(np.float32)
+    got = got.reshape(want.shape)
+print("exact" if same(got, want) else "differ %d" % np.count_nonzero(got != want))
+PY
+    check_eq convert.npy_exact "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
+        "$CDIR/cam.npy" T,Y 2>&1)" exact
+    check_eq convert.npy_order "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
+        "$CDIR/yt.npy" Y,T 2>&1)" exact
+    check_eq convert.npy_half_exact "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/h.exr" \
+        "$CDIR/h.npy" Y 2>&1)" exact
+    check_eq convert.csv_exact "$("$NUMPY_PY" "$CDIR/check.py" csv "$CDIR/r.camera.exr" \
+        "$CDIR/cam.csv" T,Y 2>&1)" exact
+    # the check can fail: the camera's T is not its Y
+    check_eq convert.check_can_fail "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
+        "$CDIR/cam.npy" Y,T 2>&1 | cut -d' ' -f1)" differ
+fi
+
+# Refused, with nothing written (no OUT, no temporary beside it).
+printf 'not an image\n' >"$CDIR/text.exr"
+sb_run convert "$CDIR/none.exr" "$CDIR/e1.npy"
+check_error convert.missing 3 "none.exr.*No such file"
+sb_run convert "$CDIR/text.exr" "$CDIR/e2.npy"
+check_error convert.not_exr 3 "'.*text.exr' is not an OpenEXR file"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/e3.npy" --channel T,Z
+check_error convert.unknown_channel 2 "has no channel 'Z' \(its channels: T, Y\)"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/e4.txt"
+check_error convert.unknown_ext 2 "'.*e4.txt': unknown output format \(allowed: .*npy.*csv"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/e5.npy" --format csv
+check_error convert.format_conflict 2 "--format csv, but"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/nodir/e6.npy"
+check_error convert.missing_dir 3 "the directory '.*nodir' does not exist"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/e7.npy" --channel Y,Y
+check_error convert.twice 2 "'Y' given twice"
+# A write that fails midway (a file size limit of 1 KiB; the CSV is
+# larger): an error, and neither OUT nor its temporary is left.
+SB_CMD="seabake convert r.camera.exr e8.csv (ulimit -f 1)"
+(ulimit -f 1 && exec $SEABAKE_WRAPPER "$SEABAKE" convert "$CDIR/r.camera.exr" "$CDIR/e8.csv") \
+    >"$SB_TMP/out" 2>"$SB_TMP/err"
+SB_RC=$?
+SB_OUT=$(cat "$SB_TMP/out")
+SB_ERR=$(cat "$SB_TMP/err")
+check_error convert.write_fails 3 "e8.csv.*File too large"
+check_eq convert.nothing_left "$(cd "$CDIR" && ls -A | grep -E '^e[0-9]' | tr '\n' ' ')" ""
+
 finish
