@@ -2465,4 +2465,70 @@ SB_ERR=$(cat "$SB_TMP/err")
 check_error convert.write_fails 3 "e8.csv.*File too large"
 check_eq convert.nothing_left "$(cd "$CDIR" && ls -A | grep -E '^e[0-9]' | tr '\n' ' ')" ""
 
+
+# --png-tone (issue 45): an 8-12 um sea under a 265 K sky
+# (examples/longwave.ini looking 86 deg from nadir, 80 x 64: the horizon in
+# view).  Measured: with the scene's curve the sea pixels span grey 186 to
+# 255 (27.1 % of 0-255: the sky, 1520 of 5120 pixels, takes the black end);
+# with the sea's curve 0 to 255 (100 %), and auto chooses it (the sky's median, 265 K, is below
+# the sea's 0.5 % quantile, about 283.6 K, by more than the sea's own
+# 0.5-99.5 % range, about 6.6 K).  Asserted: scene < 35 %, sea >= 90 %.
+TDIR="$SB_TMP/tone"
+mkdir -p "$TDIR" || exit 99
+for tone in scene sea auto; do
+    sb_run render "$top_srcdir/examples/longwave.ini" -o "$TDIR/$tone.exr" --aov level \
+        --set sensor.look_zenith=86 --set sensor.width=80 --set sensor.height=64 \
+        --png-tone "$tone" --quiet
+    check_rc "tone.$tone.rc" 0
+    sb_run convert "$TDIR/$tone.level.exr" "$TDIR/$tone.level.csv" --quiet
+    check_rc "tone.$tone.level_csv" 0
+done
+check_match tone.sea_text "$(png_text "$TDIR/sea.png" seabake:tone)" \
+    "^brightness temperature: linear 28[0-9.]+ K black to 2[89][0-9.]+ K white \(the sea's 0.5-99.5 % quantiles; sky clamped\)$"
+check_eq tone.auto_is_sea "$(png_text "$TDIR/auto.png" seabake:tone)" \
+    "$(png_text "$TDIR/sea.png" seabake:tone)"
+check tone.auto_same_png cmp -s "$TDIR/auto.png" "$TDIR/sea.png"
+if have python3 python3; then
+    cat >"$TDIR/span.py" <<'PY'
+import struct, sys, zlib
+def png8(path):
+    """The samples of an 8-bit grey PNG of filters None and Sub (seabake's)."""
+    d = open(path, "rb").read(); i, idat = 8, b""
+    while i < len(d):
+        n, t = struct.unpack(">I4s", d[i:i + 8])
+        if t == b"IHDR": w, h, bits = struct.unpack(">IIB", d[i + 8:i + 17])
+        if t == b"IDAT": idat += d[i + 8:i + 8 + n]
+        i += 12 + n
+    assert bits == 8
+    raw, out = zlib.decompress(idat), []
+    for y in range(h):
+        f, row = raw[y * (w + 1)], bytearray(raw[y * (w + 1) + 1:(y + 1) * (w + 1)])
+        assert f in (0, 1)
+        if f == 1:
+            for x in range(1, w): row[x] = (row[x] + row[x - 1]) & 255
+        out += list(row)
+    return out
+grey = png8(sys.argv[1])
+level = [float(l.split(",")[2]) for l in open(sys.argv[2]).read().splitlines()[1:]]
+sea = [g for g, l in zip(grey, level) if l > 0]
+sky = len(level) - len(sea)
+print("%.1f %d %d" % (100.0 * (max(sea) - min(sea)) / 255, len(sea), sky))
+PY
+    read -r span_scene nsea nsky <<<"$(python3 "$TDIR/span.py" "$TDIR/scene.png" "$TDIR/scene.level.csv")"
+    read -r span_sea _ _ <<<"$(python3 "$TDIR/span.py" "$TDIR/sea.png" "$TDIR/sea.level.csv")"
+    num_check tone.sky_in_view 'k > 500 && s > 2000' "k=${nsky:-0}" "s=${nsea:-0}"
+    num_check tone.scene_span 'p < 35' "p=${span_scene:-100}"
+    num_check tone.sea_span 'p >= 90' "p=${span_sea:-0}"
+fi
+# tiny.ini has no sky in view: auto keeps the scene's curve.
+sb_run render "$RSCENE" -o "$TDIR/tiny_auto.exr" --quiet
+sb_run render "$RSCENE" -o "$TDIR/tiny_scene.exr" --png-tone scene --quiet
+check tone.no_sky_auto_is_scene cmp -s "$TDIR/tiny_auto.png" "$TDIR/tiny_scene.png"
+sb_run render "$RSCENE" -o "$TDIR/e.exr" --png-tone dark
+check_error tone.bad_name 2 "--png-tone: 'dark' is not a tone \(allowed: auto, scene, sea\)"
+sb_run render "$RSCENE" -o "$TDIR/e.exr" --png-tone sea --png-range 270:300
+check_error tone.with_range 2 "--png-tone and --png-range: choose one"
+sb_run render "$RSCENE" -o "$TDIR/e.exr" --png-tone sea --png none
+check_error tone.without_png 2 "--png-tone applies only to a preview"
+
 finish

@@ -21,6 +21,11 @@ typedef struct {
 } render_aov_info;
 extern const render_aov_info RENDER_AOVS[AOV_COUNT];
 
+/* --png-tone: the temperature previews' curve from every pixel (scene),
+ * from the sea pixels alone (sea), or sea when the sky lies far from the
+ * sea (auto, the default: sea_png_sky_apart), else scene. */
+typedef enum { RENDER_TONE_AUTO, RENDER_TONE_SCENE, RENDER_TONE_SEA } render_tone;
+
 /* The render's setup from its options and scene file. */
 typedef struct {
     const char *scene_path;
@@ -31,6 +36,7 @@ typedef struct {
     bool png;
     int png_depth;
     bool png_range; /* --png-range given: png_lo:png_hi, K */
+    int png_tone;   /* --png-tone: a render_tone */
     double png_lo, png_hi;
     bool aov[AOV_COUNT];
     bool framed;

@@ -46,10 +46,19 @@ static sea_status preview_tone(const sea_cli_render *s, const sea_image *img, in
     const size_t npix = (size_t)img->width * (size_t)img->height;
     sea_png_tone *t = &pv->tone[k];
     const bool kelvin = k == AOV_TEMPERATURE;
+    bool from_sea = false; /* the sea's curve (sea_png_tone_sea) was made */
     if (kelvin && s->png_range) {
         sea_png_tone_linear(s->png_lo, s->png_hi, t, NULL);
     } else if (kelvin) {
-        sea_png_tone_auto(img->temperature, npix, t);
+        from_sea = s->png_tone == RENDER_TONE_SEA ||
+                  (s->png_tone == RENDER_TONE_AUTO &&
+                   sea_png_sky_apart(img->temperature, img->level, npix));
+        if (from_sea) {
+            /* no sea pixel, or no memory: the scene's curve after all */
+            const size_t used = sea_png_tone_sea(img->temperature, img->level, npix, t);
+            from_sea = used != 0 && used != (size_t)-1;
+        } else
+            sea_png_tone_auto(img->temperature, npix, t);
     } else {
         const float *plane = k == AOV_EMISSIVITY ? img->emissivity : img->reflectivity;
         float *sea = malloc((npix > 0 ? npix : 1) * sizeof *sea);
@@ -69,8 +78,9 @@ static sea_status preview_tone(const sea_cli_render *s, const sea_image *img, in
                  RENDER_AOVS[k].quantity, t->lo, unit, t->knee, unit, 100.0 * SEA_PNG_KNEE_GREY,
                  t->hi, unit);
     else
-        snprintf(pv->text[k], sizeof pv->text[k], "%s: linear %.6g%s black to %.6g%s white",
-                 RENDER_AOVS[k].quantity, t->lo, unit, t->hi, unit);
+        snprintf(pv->text[k], sizeof pv->text[k], "%s: linear %.6g%s black to %.6g%s white%s",
+                 RENDER_AOVS[k].quantity, t->lo, unit, t->hi, unit,
+                 from_sea ? " (the sea's 0.5-99.5 % quantiles; sky clamped)" : "");
     snprintf(pv->range[k], sizeof pv->range[k], "%.6g:%.6g", t->lo, t->hi);
     return SEA_OK;
 }
