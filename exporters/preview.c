@@ -370,3 +370,79 @@ void sea_png_tone_auto(const float *data, size_t n, sea_png_tone *tone)
         knee = q[2] > lo ? q[2] : hi;
     sea_png_tone_make(lo, knee, hi, tone, NULL);
 }
+
+/* The finite values of the sea pixels (level > 0) and of the sky (level
+ * 0) in two fresh arrays, *ns and *nk of them; false without memory. */
+static bool split_sea_sky(const float *data, const float *level, size_t n, float **sea,
+                          size_t *ns, float **sky, size_t *nk)
+{
+    *sea = malloc((n > 0 ? n : 1) * sizeof **sea);
+    *sky = malloc((n > 0 ? n : 1) * sizeof **sky);
+    *ns = *nk = 0;
+    if (*sea == NULL || *sky == NULL) {
+        free(*sea);
+        free(*sky);
+        *sea = *sky = NULL;
+        return false;
+    }
+    for (size_t i = 0; i < n; i++)
+        if (isfinite(data[i])) {
+            if (level[i] > 0.0f)
+                (*sea)[(*ns)++] = data[i];
+            else
+                (*sky)[(*nk)++] = data[i];
+        }
+    return true;
+}
+
+size_t sea_png_tone_sea(const float *data, const float *level, size_t n, sea_png_tone *tone)
+{
+    float *sea, *sky;
+    size_t ns, nk;
+    if (!split_sea_sky(data, level, n, &sea, &ns, &sky, &nk)) {
+        sea_png_tone_auto(data, n, tone);
+        return (size_t)-1;
+    }
+    free(sky);
+    if (ns == 0) {
+        free(sea);
+        sea_png_tone_auto(data, n, tone);
+        return 0;
+    }
+    static const double p[2] = {SEA_PNG_SEA_CLIP, 1.0 - SEA_PNG_SEA_CLIP};
+    double q[2];
+    const size_t m = sea_png_quantiles(sea, ns, p, 2, q);
+    free(sea);
+    if (m == (size_t)-1) {
+        sea_png_tone_auto(data, n, tone);
+        return (size_t)-1;
+    }
+    if (!(q[1] > q[0])) {
+        const double c = q[0], d = c != 0.0 ? 0.5 * fabs(c) : 0.5;
+        q[0] = c - d;
+        q[1] = c + d;
+    }
+    sea_png_tone_linear(q[0], q[1], tone, NULL);
+    return ns;
+}
+
+bool sea_png_sky_apart(const float *data, const float *level, size_t n)
+{
+    float *sea, *sky;
+    size_t ns, nk;
+    if (!split_sea_sky(data, level, n, &sea, &ns, &sky, &nk))
+        return false;
+    bool apart = false;
+    if (ns > 0 && nk > 0) {
+        static const double ps[2] = {SEA_PNG_SEA_CLIP, 1.0 - SEA_PNG_SEA_CLIP}, pk[1] = {0.5};
+        double qs[2], qk[1];
+        if (sea_png_quantiles(sea, ns, ps, 2, qs) != (size_t)-1 &&
+            sea_png_quantiles(sky, nk, pk, 1, qk) != (size_t)-1) {
+            const double range = qs[1] - qs[0];
+            apart = qk[0] < qs[0] - range || qk[0] > qs[1] + range;
+        }
+    }
+    free(sea);
+    free(sky);
+    return apart;
+}

@@ -5,6 +5,9 @@
 #ifndef SEABAKE_PREVIEW_H
 #define SEABAKE_PREVIEW_H
 
+#include <stdbool.h>
+#include <stddef.h>
+
 #include "seabake.h"
 
 /* Writes width x height values (row 0 at the top) as an 8- or 16-bit
@@ -61,6 +64,25 @@ sea_status sea_png_tone_linear(double lo, double hi, sea_png_tone *tone, sea_err
  * by selection, O(m).  Thread-safe (selects in a copy; with no memory,
  * the linear [0, 1]). */
 void sea_png_tone_auto(const float *data, size_t n, sea_png_tone *tone);
+/* The sea's curve, for a scene whose sky would take most of the grey
+ * scale (issue 45: an 8-12 um sea under a 265 K sky sat at 72-100 % grey):
+ * linear from the SEA_PNG_SEA_CLIP to the 1 - SEA_PNG_SEA_CLIP quantile of
+ * the finite values of the sea pixels alone (level[i] > 0; level 0 is the
+ * sky), every other value clamped (the sky black or white, a glint
+ * brighter than the 99.5 % quantile white).  A constant sea gets v -/+ 0.5
+ * (or |v|/2).  Returns the sea pixels used; with none (or no memory: then
+ * (size_t)-1), the curve is sea_png_tone_auto's over every value.
+ * Thread-safe. */
+#define SEA_PNG_SEA_CLIP 0.005
+size_t sea_png_tone_sea(const float *data, const float *level, size_t n, sea_png_tone *tone);
+/* Whether the sky lies far from the sea, so far that a curve over both
+ * leaves the sea a sliver of grey: with R = q995 - q005 the sea's own
+ * range (SEA_PNG_SEA_CLIP quantiles of the sea pixels, level > 0), the
+ * median of the sky pixels (level 0, finite values) is below q005 - R or
+ * above q995 + R.  False when either has no pixel, or without memory.
+ * Thread-safe. */
+bool sea_png_sky_apart(const float *data, const float *level, size_t n);
+
 /* The grey of value v, in [0, 1] (NaN: 0). */
 double sea_png_tone_map(const sea_png_tone *tone, double v);
 

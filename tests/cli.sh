@@ -2340,4 +2340,195 @@ check bake.frames_time grep -q '"time_s":[[:space:]]*0.1' "$BDIR/frames/manifest
 check bake.frames_differ absent cmp -s "$BDIR/frames/moments_${l0}_0000.exr" \
     "$BDIR/frames/moments_${l0}_0001.exr"
 
+
+# ================================================================ convert
+
+# seabake convert (issue 45): an EXR's channels as .npy or CSV.  The EXRs
+# are uncompressed so that numpy reads them independently of OpenEXR
+# (check.py below): the .npy holds, bit for bit, the FLOAT or HALF values
+# of the file (HALF widened to float32, which holds each exactly), and the
+# CSV's %.9g text reads back as the same float32.
+CDIR="$SB_TMP/convert"
+mkdir -p "$CDIR" || exit 99
+sb_run render "$RSCENE" -o "$CDIR/r.exr" --set sensor.netd=0.05 --aov temperature \
+    --compression none --png none --quiet
+check_rc convert.render_rc 0
+sb_run render "$RSCENE" -o "$CDIR/h.exr" --format half --compression none --png none --quiet
+check_rc convert.render_half_rc 0
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/cam.npy"
+check_rc convert.npy_rc 0
+check_eq convert.npy_stdout "$SB_OUT" ""
+check_match convert.npy_summary "$SB_ERR" \
+    "^convert: '.*r.camera.exr' -> '.*cam.npy': $RSIZE x $RSIZE pixels, float32 shape \($RSIZE, $RSIZE, 2\), last axis T,Y$"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/yt.npy" --channel Y --channel T --quiet
+check_rc convert.order_rc 0
+check_eq convert.quiet "$SB_ERR" ""
+sb_run convert "$CDIR/h.exr" "$CDIR/h.npy"
+check_match convert.half_summary "$SB_ERR" "channel Y \(1 half channel, widened exactly\)$"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/cam.csv" --channel T,Y
+check_rc convert.csv_rc 0
+check_eq convert.csv_header "$(head -n 1 "$CDIR/cam.csv")" "x,y,T,Y"
+check_eq convert.csv_rows "$(grep -c '' "$CDIR/cam.csv")" $((RSIZE * RSIZE + 1))
+sb_run convert "$CDIR/r.temperature.exr" "$CDIR/t.dat" --format csv --quiet
+check_rc convert.format_rc 0
+check_eq convert.format_header "$(head -n 1 "$CDIR/t.dat")" "x,y,Y"
+if numpy_python; then
+    cat >"$CDIR/check.py" <<'PY'
+import struct, sys
+import numpy as np
+
+def exr(path):
+    """The channels of an uncompressed scanline EXR (FLOAT or HALF) as
+    float32 arrays (H, W), read without OpenEXR."""
+    d = open(path, "rb").read()
+    i, chans, comp = 8, [], None
+    while d[i] != 0:
+        j = d.index(b"\0", i); name = d[i:j]; i = j + 1
+        j = d.index(b"\0", i); i = j + 1
+        (n,) = struct.unpack("<i", d[i:i + 4]); v = d[i + 4:i + 4 + n]; i += 4 + n
+        if name == b"channels":
+            k = 0
+            while v[k] != 0:
+                e = v.index(b"\0", k)
+                chans.append((v[k:e].decode(), struct.unpack("<i", v[e + 1:e + 5])[0]))
+                k = e + 17
+        elif name == b"dataWindow":
+            x0, y0, x1, y1 = struct.unpack("<4i", v); w, h = x1 - x0 + 1, y1 - y0 + 1
+        elif name == b"compression":
+            comp = v[0]
+    assert comp == 0, "compressed"
+    i += 1 + 8 * h
+    out = {c: np.empty((h, w), np.float32) for c, _ in chans}
+    for y in range(h):
+        i += 8
+        for c, t in chans:
+            dt, size = {1: ("<f2", 2), 2: ("<f4", 4)}[t]
+            out[c][y] = np.frombuffer(d[i:i + size * w], dt).astype(np.float32); i += size * w
+    return out
+
+def same(a, b):
+    return a.shape == b.shape and a.dtype == b.dtype == np.float32 and \
+        np.array_equal(a.view(np.uint32), b.view(np.uint32))
+
+mode, src, dst, names = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4].split(",")
+ch = exr(src)
+want = ch[names[0]] if len(names) == 1 else np.stack([ch[n] for n in names], axis=-1)
+if mode == "npy":
+    got = np.load(dst)
+else:
+    rows = [l.split(",") for l in open(dst).read().splitlines()]
+    assert rows[0] == ["x", "y"] + names, rows[0]
+    h, w = want.shape[0], want.shape[1]
+    xy = [(int(r[0]), int(r[1])) for r in rows[1:]]
+    assert xy == [(x, y) for y in range(h) for x in range(w)], "pixel order"
+    got = np.array([[float(v) for v in r[2:]] for r in rows[1:]], np.float64).astype(np.float32)
+    got = got.reshape(want.shape)
+print("exact" if same(got, want) else "differ %d" % np.count_nonzero(got != want))
+PY
+    check_eq convert.npy_exact "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
+        "$CDIR/cam.npy" T,Y 2>&1)" exact
+    check_eq convert.npy_order "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
+        "$CDIR/yt.npy" Y,T 2>&1)" exact
+    check_eq convert.npy_half_exact "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/h.exr" \
+        "$CDIR/h.npy" Y 2>&1)" exact
+    check_eq convert.csv_exact "$("$NUMPY_PY" "$CDIR/check.py" csv "$CDIR/r.camera.exr" \
+        "$CDIR/cam.csv" T,Y 2>&1)" exact
+    # the check can fail: the camera's T is not its Y
+    check_eq convert.check_can_fail "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
+        "$CDIR/cam.npy" Y,T 2>&1 | cut -d' ' -f1)" differ
+fi
+
+# Refused, with nothing written (no OUT, no temporary beside it).
+printf 'not an image\n' >"$CDIR/text.exr"
+sb_run convert "$CDIR/none.exr" "$CDIR/e1.npy"
+check_error convert.missing 3 "none.exr.*No such file"
+sb_run convert "$CDIR/text.exr" "$CDIR/e2.npy"
+check_error convert.not_exr 3 "'.*text.exr' is not an OpenEXR file"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/e3.npy" --channel T,Z
+check_error convert.unknown_channel 2 "has no channel 'Z' \(its channels: T, Y\)"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/e4.txt"
+check_error convert.unknown_ext 2 "'.*e4.txt': unknown output format \(allowed: .*npy.*csv"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/e5.npy" --format csv
+check_error convert.format_conflict 2 "--format csv, but"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/nodir/e6.npy"
+check_error convert.missing_dir 3 "the directory '.*nodir' does not exist"
+sb_run convert "$CDIR/r.camera.exr" "$CDIR/e7.npy" --channel Y,Y
+check_error convert.twice 2 "'Y' given twice"
+# A write that fails midway (a file size limit of 1 KiB; the CSV is
+# larger): an error, and neither OUT nor its temporary is left.
+SB_CMD="seabake convert r.camera.exr e8.csv (ulimit -f 1)"
+(ulimit -f 1 && exec $SEABAKE_WRAPPER "$SEABAKE" convert "$CDIR/r.camera.exr" "$CDIR/e8.csv") \
+    >"$SB_TMP/out" 2>"$SB_TMP/err"
+SB_RC=$?
+SB_OUT=$(cat "$SB_TMP/out")
+SB_ERR=$(cat "$SB_TMP/err")
+check_error convert.write_fails 3 "e8.csv.*File too large"
+check_eq convert.nothing_left "$(cd "$CDIR" && ls -A | grep -E '^e[0-9]' | tr '\n' ' ')" ""
+
+
+# --png-tone (issue 45): an 8-12 um sea under a 265 K sky
+# (examples/longwave.ini looking 86 deg from nadir, 80 x 64: the horizon in
+# view).  Measured: with the scene's curve the sea pixels span grey 186 to
+# 255 (27.1 % of 0-255: the sky, 1520 of 5120 pixels, takes the black end);
+# with the sea's curve 0 to 255 (100 %), and auto chooses it (the sky's median, 265 K, is below
+# the sea's 0.5 % quantile, about 283.6 K, by more than the sea's own
+# 0.5-99.5 % range, about 6.6 K).  Asserted: scene < 35 %, sea >= 90 %.
+TDIR="$SB_TMP/tone"
+mkdir -p "$TDIR" || exit 99
+for tone in scene sea auto; do
+    sb_run render "$top_srcdir/examples/longwave.ini" -o "$TDIR/$tone.exr" --aov level \
+        --set sensor.look_zenith=86 --set sensor.width=80 --set sensor.height=64 \
+        --png-tone "$tone" --quiet
+    check_rc "tone.$tone.rc" 0
+    sb_run convert "$TDIR/$tone.level.exr" "$TDIR/$tone.level.csv" --quiet
+    check_rc "tone.$tone.level_csv" 0
+done
+check_match tone.sea_text "$(png_text "$TDIR/sea.png" seabake:tone)" \
+    "^brightness temperature: linear 28[0-9.]+ K black to 2[89][0-9.]+ K white \(the sea's 0.5-99.5 % quantiles; sky clamped\)$"
+check_eq tone.auto_is_sea "$(png_text "$TDIR/auto.png" seabake:tone)" \
+    "$(png_text "$TDIR/sea.png" seabake:tone)"
+check tone.auto_same_png cmp -s "$TDIR/auto.png" "$TDIR/sea.png"
+if have python3 python3; then
+    cat >"$TDIR/span.py" <<'PY'
+import struct, sys, zlib
+def png8(path):
+    """The samples of an 8-bit grey PNG of filters None and Sub (seabake's)."""
+    d = open(path, "rb").read(); i, idat = 8, b""
+    while i < len(d):
+        n, t = struct.unpack(">I4s", d[i:i + 8])
+        if t == b"IHDR": w, h, bits = struct.unpack(">IIB", d[i + 8:i + 17])
+        if t == b"IDAT": idat += d[i + 8:i + 8 + n]
+        i += 12 + n
+    assert bits == 8
+    raw, out = zlib.decompress(idat), []
+    for y in range(h):
+        f, row = raw[y * (w + 1)], bytearray(raw[y * (w + 1) + 1:(y + 1) * (w + 1)])
+        assert f in (0, 1)
+        if f == 1:
+            for x in range(1, w): row[x] = (row[x] + row[x - 1]) & 255
+        out += list(row)
+    return out
+grey = png8(sys.argv[1])
+level = [float(l.split(",")[2]) for l in open(sys.argv[2]).read().splitlines()[1:]]
+sea = [g for g, l in zip(grey, level) if l > 0]
+sky = len(level) - len(sea)
+print("%.1f %d %d" % (100.0 * (max(sea) - min(sea)) / 255, len(sea), sky))
+PY
+    read -r span_scene nsea nsky <<<"$(python3 "$TDIR/span.py" "$TDIR/scene.png" "$TDIR/scene.level.csv")"
+    read -r span_sea _ _ <<<"$(python3 "$TDIR/span.py" "$TDIR/sea.png" "$TDIR/sea.level.csv")"
+    num_check tone.sky_in_view 'k > 500 && s > 2000' "k=${nsky:-0}" "s=${nsea:-0}"
+    num_check tone.scene_span 'p < 35' "p=${span_scene:-100}"
+    num_check tone.sea_span 'p >= 90' "p=${span_sea:-0}"
+fi
+# tiny.ini has no sky in view: auto keeps the scene's curve.
+sb_run render "$RSCENE" -o "$TDIR/tiny_auto.exr" --quiet
+sb_run render "$RSCENE" -o "$TDIR/tiny_scene.exr" --png-tone scene --quiet
+check tone.no_sky_auto_is_scene cmp -s "$TDIR/tiny_auto.png" "$TDIR/tiny_scene.png"
+sb_run render "$RSCENE" -o "$TDIR/e.exr" --png-tone dark
+check_error tone.bad_name 2 "--png-tone: 'dark' is not a tone \(allowed: auto, scene, sea\)"
+sb_run render "$RSCENE" -o "$TDIR/e.exr" --png-tone sea --png-range 270:300
+check_error tone.with_range 2 "--png-tone and --png-range: choose one"
+sb_run render "$RSCENE" -o "$TDIR/e.exr" --png-tone sea --png none
+check_error tone.without_png 2 "--png-tone applies only to a preview"
+
 finish

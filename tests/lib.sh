@@ -228,6 +228,28 @@ have() {
     return 1
 }
 
+# numpy_python: sets NUMPY_PY to a Python 3 that imports numpy (python3 on
+# the PATH, else Debian's /usr/bin/python3: a pyenv or venv python3 may lack
+# the Debian module) and succeeds; where there is none, as have: a SKIP line,
+# or a failure under SEABAKE_REQUIRE_TOOLS=1 (scripts/setup installs
+# python3-numpy).
+NUMPY_PY=
+numpy_python() {
+    local py
+    for py in python3 /usr/bin/python3; do
+        if command -v "$py" >/dev/null 2>&1 && "$py" -c 'import numpy' >/dev/null 2>&1; then
+            NUMPY_PY=$py
+            return 0
+        fi
+    done
+    if [ "${SEABAKE_REQUIRE_TOOLS:-0}" = 1 ]; then
+        fail have.numpy "no python3 imports numpy (Debian package python3-numpy; scripts/setup installs it)"
+    else
+        skip "no python3 imports numpy (Debian package python3-numpy): its checks are skipped"
+    fi
+    return 1
+}
+
 # wait_until COMMAND...: waits for an event (a file appearing, a line
 # written) by running COMMAND every 50 ms until it succeeds; nothing depends
 # on how long the work before the event takes.  A guard of 20 minutes (a

@@ -8,7 +8,10 @@
 # a line ending with a backslash continues on the next one.  The roff
 # escapes used in commands (\- \e \(dq \(aq \&) are undone first.  A shell
 # loop "for VAR in V1 V2 ...; do" ... "done" around such lines runs them
-# once per value, $VAR replaced by it.
+# once per value, $VAR replaced by it.  A Python program written as
+# "python3 - <<'EOF'" ... "EOF" in such a block runs with a python3 that
+# has numpy (lib.sh's numpy_python): it must succeed and print something;
+# a program that reads a file reads what the commands before it wrote.
 # $(SHELL) may be a plain POSIX sh: these scripts need bash.
 [ -n "${BASH_VERSION:-}" ] || exec bash "$0" "$@"
 set -u
@@ -23,10 +26,29 @@ if [ ! -r "$MANPAGE" ]; then
 fi
 
 # One command per line, continuations joined, without the leading "seabake".
-awk '
+awk -v pydir="$SB_TMP" '
     /^\.EX/ { inex = 1; next }
     /^\.EE/ { inex = 0; next }
     !inex { next }
+    inpy && /^EOF$/ { inpy = 0; close(pyfile); next }
+    inpy {
+        line = $0
+        gsub(/\\-/, "-", line)
+        gsub(/\\\(dq/, "\"", line)
+        gsub(/\\\(aq/, "\047", line)
+        gsub(/\\&/, "", line)
+        gsub(/\\e/, "\\", line)
+        print line > pyfile
+        next
+    }
+    /^python3 \\- <<\\\(aqEOF\\\(aq$/ {
+        npy++
+        pyfile = pydir "/example" npy ".py"
+        printf "" > pyfile
+        print "@python " pyfile
+        inpy = 1
+        next
+    }
     /^for [A-Za-z_][A-Za-z0-9_]* in .*; do$/ {
         loopvar = $2
         nvals = 0
@@ -79,6 +101,20 @@ ln -s "$(cd "${top_srcdir:-$(dirname "$0")/..}" && pwd)/examples" "$SB_TMP/cwd/e
 i=0
 while IFS= read -r example; do
     i=$((i + 1))
+    case $example in
+    "@python "*)
+        pyfile=${example#@python }
+        SB_CMD="python3 $pyfile: $(tr '\n' ';' <"$pyfile")"
+        if numpy_python; then
+            SB_OUT=$("$NUMPY_PY" "$pyfile" 2>"$SB_TMP/err")
+            SB_RC=$?
+            SB_ERR=$(cat "$SB_TMP/err")
+            check_ok "example $i: $SB_CMD"
+            check_no_match "example $i nan/inf: $SB_CMD" "$SB_OUT" "[Nn][Aa][Nn]|[Ii][Nn][Ff]"
+        fi
+        continue
+        ;;
+    esac
     # The manual's own quoting splits the words, as a shell user would.
     eval "set -- $example"
     sb_run "$@"
@@ -91,6 +127,13 @@ while IFS= read -r example; do
     " convergence "* | " bench "*)
         # A table on stdout and files in a directory, not CSV on stdout.
         check_ok "example $i: seabake $example"
+        ;;
+    " convert "*)
+        # The output goes to a file: nothing on stdout, and with --quiet
+        # nothing on stderr.
+        check_rc "example $i: seabake $example" 0
+        check_eq "example $i stdout: seabake $example" "$SB_OUT" ""
+        check_eq "example $i stderr: seabake $example" "$SB_ERR" ""
         ;;
     *" -o "*)
         # The output goes to a file: nothing on stdout or stderr.

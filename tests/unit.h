@@ -43,6 +43,7 @@ int test_bake_register(void);
 int test_bakedir_register(void);
 int test_preview_register(void);
 int test_exr_register(void);
+int test_arrays_register(void);
 int test_stability_register(void);
 int test_multires_register(void);
 int test_mc_register(void);

@@ -12,7 +12,7 @@
 # the CI past its 45 minutes; ASan, UBSan and LeakSanitizer run them whole
 # (scripts/test), and the bake directory's writer (bakedir), the image files
 # (exr, preview) and the loaders stay here.
-A_SUITES="optics,shadow,waves,scene,water,spectrum,sensor,preview"
+A_SUITES="optics,shadow,waves,scene,water,spectrum,sensor,preview,arrays"
 VALGRIND_SKIP="render,bake,swell,multires,stability,mc oracle"
 unit="${SEABAKE%/src/seabake}/tests/unit"
 case ${HALF:?} in

@@ -145,6 +145,7 @@ extern const sea_cli_command sea_cli_cmd_bench;        /* bench.c */
 extern const sea_cli_command sea_cli_cmd_render;       /* render.c */
 extern const sea_cli_command sea_cli_cmd_bake;         /* bake.c */
 extern const sea_cli_command sea_cli_cmd_compare;      /* compare.c */
+extern const sea_cli_command sea_cli_cmd_convert;      /* convert.c */
 
 /* Number of elements of an array (option tables). */
 #define SEA_CLI_COUNT(a) (sizeof(a) / sizeof((a)[0]))

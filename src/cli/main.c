@@ -22,7 +22,7 @@ static const sea_cli_command *const SEA_CLI_COMMANDS[] = {
     &sea_cli_cmd_spectrum, &sea_cli_cmd_emissivity, &sea_cli_cmd_reflectivity,
     &sea_cli_cmd_energy,   &sea_cli_cmd_slopes,     &sea_cli_cmd_convergence,
     &sea_cli_cmd_bench,    &sea_cli_cmd_render,     &sea_cli_cmd_bake,
-    &sea_cli_cmd_compare,
+    &sea_cli_cmd_compare,  &sea_cli_cmd_convert,
 };
 
 /* The subcommand called name, or NULL. */
@@ -54,7 +54,8 @@ static void sea_cli_print_usage(FILE *f)
           "header row, then one row per case; convergence and bench print a table\n"
           "and write their files into a directory; render writes EXR and PNG\n"
           "images of a scene file (seabake-scene(5)), bake its per-level maps and a\n"
-          "manifest into a directory.  Exit status: 0 success,\n"
+          "manifest into a directory; compare prints a CSV row, convert writes an\n"
+          "EXR's channels as .npy or CSV.  Exit status: 0 success,\n"
           "1 runtime failure, 2 usage error, 3 input/output error.  See seabake(1).\n",
           f);
 }

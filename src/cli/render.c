@@ -57,6 +57,13 @@ static const char RENDER_HELP[] =
     "                      hot tail is short), all from the first frame; each\n"
     "                      AOV gets OUT.<aov>.png (level in colour, one hue per\n"
     "                      facet size, sky black)\n"
+    "  --png-tone T        the temperature previews' curve, from the first frame:\n"
+    "                      scene (the ramps above, over every pixel), sea (one\n"
+    "                      ramp from the sea pixels alone: their 0.5 % quantile\n"
+    "                      black, 99.5 % white, the sky clamped) or auto\n"
+    "                      (default): sea when the sky is far from the sea (its\n"
+    "                      median beyond the sea's 0.5-99.5 % range by more than\n"
+    "                      that range), else scene\n"
     "  --png-range LO:HI   kelvin, 0 < LO < HI <= 10000: one linear ramp instead,\n"
     "                      LO black, HI white (the temperature previews)\n"
     "  --png-depth D       bits per sample of the previews, 8 (default) or 16\n"
@@ -254,6 +261,31 @@ static sea_status parse_png_range(const sea_cli_args *args, sea_cli_render *s, s
     return SEA_OK;
 }
 
+/* --png-tone auto|scene|sea (auto when absent); not with --png-range,
+ * which fixes the curve, nor --png none. */
+static sea_status parse_png_tone(const sea_cli_args *args, sea_cli_render *s, sea_error *err)
+{
+    const char *text = sea_cli_args_get(args, "png-tone");
+    s->png_tone = RENDER_TONE_AUTO;
+    if (text == NULL)
+        return SEA_OK;
+    if (!s->png)
+        return sea_fail(err, SEA_ERR_DOMAIN, "--png-tone applies only to a preview, not --png none");
+    if (s->png_range)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "--png-tone and --png-range: choose one (--png-range fixes the curve)");
+    if (strcmp(text, "auto") == 0)
+        s->png_tone = RENDER_TONE_AUTO;
+    else if (strcmp(text, "scene") == 0)
+        s->png_tone = RENDER_TONE_SCENE;
+    else if (strcmp(text, "sea") == 0)
+        s->png_tone = RENDER_TONE_SEA;
+    else
+        return sea_fail(err, SEA_ERR_PARSE,
+                        "--png-tone: '%s' is not a tone (allowed: auto, scene, sea)", text);
+    return SEA_OK;
+}
+
 /* The default output: the scene file's base name, its extension replaced
  * by .exr, in the current directory. */
 static char *default_stem(const char *scene_path)
@@ -290,7 +322,8 @@ static sea_status render_parse(const sea_cli_args *args, sea_cli_render *s, sea_
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "--png-depth applies only to a preview, not --png none");
     s->png_depth = (int)depth;
-    if ((st = parse_png_range(args, s, err)) != SEA_OK)
+    if ((st = parse_png_range(args, s, err)) != SEA_OK ||
+        (st = parse_png_tone(args, s, err)) != SEA_OK)
         return st;
     const char *aov = sea_cli_args_get(args, "aov");
     if (aov != NULL && (st = parse_aovs(aov, s->aov, err)) != SEA_OK)
@@ -409,6 +442,7 @@ static const sea_cli_option RENDER_OPTIONS[] = {
     {"set", SEA_CLI_OPT_ACCUMULATE},
     {"unset", SEA_CLI_OPT_ACCUMULATE},
     {"png-range", 0},
+    {"png-tone", 0},
     {"threads", 0},
     {"tolerance", 0},
     {"reflections", 0},

@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "exr.h"
+#include "preview.h"
 
 /* Arbitrary output variables, each in its own file OUT.<name>.exr. */
 typedef enum { AOV_LEVEL, AOV_EMISSIVITY, AOV_REFLECTIVITY, AOV_TEMPERATURE, AOV_COUNT } render_aov;
@@ -20,6 +21,11 @@ typedef struct {
 } render_aov_info;
 extern const render_aov_info RENDER_AOVS[AOV_COUNT];
 
+/* --png-tone: the temperature previews' curve from every pixel (scene),
+ * from the sea pixels alone (sea), or sea when the sky lies far from the
+ * sea (auto, the default: sea_png_sky_apart), else scene. */
+typedef enum { RENDER_TONE_AUTO, RENDER_TONE_SCENE, RENDER_TONE_SEA } render_tone;
+
 /* The render's setup from its options and scene file. */
 typedef struct {
     const char *scene_path;
@@ -30,6 +36,7 @@ typedef struct {
     bool png;
     int png_depth;
     bool png_range; /* --png-range given: png_lo:png_hi, K */
+    int png_tone;   /* --png-tone: a render_tone */
     double png_lo, png_hi;
     bool aov[AOV_COUNT];
     bool framed;
@@ -47,6 +54,25 @@ typedef struct {
     bool tol_from_netd;
     double tol_netd;
 } sea_cli_render;
+
+/* The previews' mappings, fixed by the first frame (or --png-range) for
+ * the whole run, so that a sequence does not flicker. */
+typedef struct {
+    bool ready;
+    sea_png_tone tone[AOV_COUNT]; /* AOV_TEMPERATURE also the main preview */
+    char text[AOV_COUNT][160];    /* the tEXt "seabake:tone" of each */
+    char range[AOV_COUNT][64];    /* the tEXt "seabake:range[_K]": LO:HI */
+    const sea_clip_level *levels; /* the level AOV's palette */
+    size_t n_levels;
+    char palette[SEA_CLIP_MAX_LEVELS * 32];
+} render_previews;
+/* render_previews.c.  Every mapping, from the first frame (sets
+ * pv->ready); pv->levels and pv->n_levels are the caller's. */
+sea_status render_previews_setup(const sea_cli_render *s, const sea_image *img,
+                                render_previews *pv, sea_error *err);
+/* The preview of AOV k (k < 0: the main preview) of one frame, to path. */
+sea_status render_write_preview(const sea_cli_render *s, const sea_image *img, int k,
+                                const render_previews *pv, const char *path, sea_error *err);
 
 /* render_frames.c.  The directories of the outputs, checked before the
  * rendering: a typing mistake in -o must not cost a whole render. */
