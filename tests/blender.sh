@@ -238,6 +238,18 @@ run_blender frames_bad "$fdir/seabake_import.py" -- "$fdir/manifest.json" --fram
 check_rc frames.bad_frame.rc 1
 check_match frames.bad_frame.msg "$(cat "$SB_TMP/frames_bad.out")" \
     "seabake_import: error: .*manifest.json: frame 9 was not baked \\(frames 0 to $LAST\\)"
+# The import's choices: --single-frame (frame 1's files alone, the scene's
+# range that frame), --max-level 0 (the finest ring alone, no horizon mesh)
+# and --no-projection (the sensor's image not projected), in the summary.
+run_blender frames_one "$fdir/seabake_import.py" -- "$fdir/manifest.json" --frame 1 \
+    --single-frame --max-level 0 --no-projection
+check_rc frames.choices.rc 0
+check_match frames.choices.summary "$(cat "$SB_TMP/frames_one.out")" \
+    '^seabake_import: 1 ring \(1 with waves\) of 2 levels, frame 1, material emission,'
+run_blender frames_level "$fdir/seabake_import.py" -- "$fdir/manifest.json" --max-level -1
+check_rc frames.bad_level.rc 1
+check_match frames.bad_level.msg "$(cat "$SB_TMP/frames_level.out")" \
+    'seabake_import: error: .*manifest.json: no level of index -1 or finer \(levels \[0, 7\]\)'
 
 # The visible material: a Sun lamp where [sun] is (30 deg from the zenith,
 # azimuth 200 deg: its glint lies in this nadir view), a sky and 64 samples.
