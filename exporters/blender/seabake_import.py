@@ -13,6 +13,17 @@
 # --no-projection the maps everywhere, though the bake has the sensor's
 # image (see below).
 #
+# It is also the Blender add-on's importer: seabake-blender.zip (built by
+# make, installed as PKGDATADIR/blender/seabake-blender.zip) holds it as
+# seabake/seabake_import.py beside seabake/__init__.py, which registers it.
+# Install the zip from Edit > Preferences > Add-ons > Install..., enable
+# "seabake bake importer", then File > Import > seabake bake (manifest.json)
+# imports into a new scene (the operator import_scene.seabake, at the end of
+# this file), its options the switches above: Frames All or One (--frame F
+# --single-frame), Levels All or Up to (--max-level N), Sensor projection
+# (off: --no-projection) and Material Infrared or Visible (--material).  Both
+# run import_bake(); headless scripts can call it too.
+#
 # What it builds, mirroring the POV-Ray export (scene.pov):
 #   - one mesh per clipmap level, a flat ring at sea level: the level's
 #     rectangle minus the next finer level's ("hole" in the manifest); the
@@ -60,6 +71,8 @@ import traceback
 
 import bpy
 import numpy as np
+from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
+from bpy_extras.io_utils import ImportHelper
 from mathutils import Matrix
 
 FORMAT = "seabake-bake"
@@ -727,7 +740,8 @@ def build(manifest_path, frame, material, single_frame=False, max_level=None, pr
     sky = sky_scaled(m, manifest_path)
 
     # A clean scene: --factory-startup has a cube, a light and a camera.
-    # Only this scene's: other scenes keep their objects.
+    # Only this scene's: the add-on imports into a new scene, and the
+    # user's other scenes keep their objects.
     for obj in list(bpy.context.scene.objects):
         bpy.data.objects.remove(obj, do_unlink=True)
     scene = bpy.context.scene
@@ -914,7 +928,7 @@ def import_bake(manifest_path, frame=None, material="emission", single_frame=Fal
                 max_level=None, projection=True, save=None, render=None, render_frames=None):
     """The import into the current scene (bpy.context.scene), which it
     empties first, then the optional save and renders: what the command line
-    runs, and what other scripts can call.  Arguments as the
+    and the add-on's File > Import operator both run.  Arguments as the
     command line's switches (projection=False is --no-projection).  Raises
     ImportError_ with a message naming the file.  Returns the manifest."""
     m = build(manifest_path, frame, material, single_frame, max_level, projection)
@@ -946,6 +960,108 @@ def main():
         traceback.print_exc()
         print("seabake_import: error: unexpected failure (see above)", file=sys.stderr)
         sys.exit(1)
+
+
+# ------------------------------------------------------------------- add-on
+# The add-on (seabake-blender.zip: seabake/__init__.py registers this
+# module): File > Import > seabake bake (manifest.json) runs import_bake
+# with the options below, each one a switch of the command line.
+
+class IMPORT_SCENE_OT_seabake(bpy.types.Operator, ImportHelper):
+    """Import a seabake bake (manifest.json) into a new scene"""
+    bl_idname = "import_scene.seabake"
+    bl_label = "Import seabake bake"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".json"
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+    frames: EnumProperty(
+        name="Frames",
+        items=(("ALL", "All", "Every baked frame, as image sequences: the scene's frame "
+                "range is the bake's"),
+               ("ONE", "One", "Only the frame below, as still images (--single-frame)")),
+        default="ALL")
+    frame: IntProperty(name="Frame", default=0,
+                       description="The baked frame to load (Frames: One; --frame)")
+    levels: EnumProperty(
+        name="Levels",
+        items=(("ALL", "All", "Every level, the low-resolution sea to the horizon included"),
+               ("UP_TO", "Up to", "The levels of index Max Level and finer only (--max-level)")),
+        default="ALL")
+    max_level: IntProperty(name="Max Level", default=0, min=0,
+                           description="The coarsest level imported (0 is the finest)")
+    projection: BoolProperty(
+        name="Sensor projection", default=True,
+        description="The sensor's image where the sensor sees, when the bake has it "
+                    "(bake --emission-space sensor); off: the maps everywhere "
+                    "(--no-projection)")
+    material: EnumProperty(
+        name="Material",
+        items=(("emission", "Infrared", "The infrared radiance emitted (the maps' values "
+                "render exactly)"),
+               ("visible", "Visible", "Principled BSDF with the normal and roughness maps, a "
+                "sun lamp and a sky (--material visible)")),
+        default="emission")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.prop(self, "frames")
+        row = layout.row()
+        row.active = self.frames == "ONE"
+        row.prop(self, "frame")
+        layout.prop(self, "levels")
+        row = layout.row()
+        row.active = self.levels == "UP_TO"
+        row.prop(self, "max_level")
+        layout.prop(self, "projection")
+        layout.prop(self, "material")
+
+    def execute(self, context):
+        # A new scene, shown in the window: the import empties the scene it
+        # builds and sets its camera, world and render settings, which must
+        # not be the user's.
+        window = context.window
+        if window is None:
+            self.report({"ERROR"}, "seabake: no window to show the imported scene in")
+            return {"CANCELLED"}
+        previous = window.scene
+        name = os.path.basename(os.path.dirname(os.path.abspath(self.filepath)))
+        scene = bpy.data.scenes.new(name or "seabake")
+        window.scene = scene
+        try:
+            import_bake(self.filepath,
+                        frame=self.frame if self.frames == "ONE" else None,
+                        material=self.material,
+                        single_frame=self.frames == "ONE",
+                        max_level=self.max_level if self.levels == "UP_TO" else None,
+                        projection=self.projection)
+        except Exception as e:
+            window.scene = previous
+            bpy.data.scenes.remove(scene)
+            if isinstance(e, ImportError_):
+                self.report({"ERROR"}, "seabake_import: error: %s" % e)
+            else:
+                traceback.print_exc()
+                self.report({"ERROR"}, "seabake_import: error: unexpected failure: %s" % e)
+            return {"CANCELLED"}
+        self.report({"INFO"}, "seabake: %s imported into scene %s"
+                    % (self.filepath, scene.name))
+        return {"FINISHED"}
+
+
+def menu_import(self, context):
+    self.layout.operator(IMPORT_SCENE_OT_seabake.bl_idname,
+                         text="seabake bake (manifest.json)")
+
+
+def register():
+    bpy.utils.register_class(IMPORT_SCENE_OT_seabake)
+    bpy.types.TOPBAR_MT_file_import.append(menu_import)
+
+
+def unregister():
+    bpy.types.TOPBAR_MT_file_import.remove(menu_import)
+    bpy.utils.unregister_class(IMPORT_SCENE_OT_seabake)
 
 
 if __name__ == "__main__":
