@@ -2,8 +2,27 @@
 # `seabake bake --blender` wrote (a copy of this script sits in it).
 #
 #   blender -b --factory-startup --python seabake_import.py -- DIR/manifest.json
-#           [--frame F] [--material emission|visible] [--save FILE.blend]
+#           [--frame F] [--single-frame] [--max-level N] [--no-projection]
+#           [--material emission|visible] [--save FILE.blend]
 #           [--render OUT.exr] [--render-frames OUT_####.exr]
+#
+# --single-frame loads only the --frame's maps (default the first frame's)
+# as still images, the scene's frame range that frame alone; --max-level N
+# only the levels of index N and finer (0 is the finest; each coarser level
+# surrounds the finer ones, so the sea stays whole, only smaller);
+# --no-projection the maps everywhere, though the bake has the sensor's
+# image (see below).
+#
+# It is also the Blender add-on's importer: seabake-blender.zip (built by
+# make, installed as PKGDATADIR/blender/seabake-blender.zip) holds it as
+# seabake/seabake_import.py beside seabake/__init__.py, which registers it.
+# Install the zip from Edit > Preferences > Add-ons > Install..., enable
+# "seabake bake importer", then File > Import > seabake bake (manifest.json)
+# imports into a new scene (the operator import_scene.seabake, at the end of
+# this file), its options the switches above: Frames All or One (--frame F
+# --single-frame), Levels All or Up to (--max-level N), Sensor projection
+# (off: --no-projection) and Material Infrared or Visible (--material).  Both
+# run import_bake(); headless scripts can call it too.
 #
 # What it builds, mirroring the POV-Ray export (scene.pov):
 #   - one mesh per clipmap level, a flat ring at sea level: the level's
@@ -52,6 +71,8 @@ import traceback
 
 import bpy
 import numpy as np
+from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
+from bpy_extras.io_utils import ImportHelper
 from mathutils import Matrix
 
 FORMAT = "seabake-bake"
@@ -696,12 +717,18 @@ def render_settings(scene, material="emission"):
 
 # --------------------------------------------------------------------- main
 
-def build(manifest_path, frame, material):
+def build(manifest_path, frame, material, single_frame=False, max_level=None, projection=True):
     global SEQUENCE, SENSOR
     m = load_manifest(manifest_path)
     first, last = frame_range(m, manifest_path)
     if frame is not None and not first <= frame <= last:
         fail("%s: frame %d was not baked (frames %d to %d)" % (manifest_path, frame, first, last))
+    if single_frame:
+        # --single-frame: that frame's files alone, as a bake of one frame.
+        first = last = first if frame is None else frame
+    if max_level is not None and not any(lv["index"] <= max_level for lv in m["levels"]):
+        fail("%s: no level of index %d or finer (levels %s)"
+             % (manifest_path, max_level, [lv.get("index") for lv in m["levels"]]))
     SEQUENCE = (first, last - first + 1) if last > first else None
     directory = os.path.dirname(os.path.abspath(manifest_path))
     scale = float(m["emission_scale"])
@@ -713,14 +740,16 @@ def build(manifest_path, frame, material):
     sky = sky_scaled(m, manifest_path)
 
     # A clean scene: --factory-startup has a cube, a light and a camera.
-    for obj in list(bpy.data.objects):
+    # Only this scene's: the add-on imports into a new scene, and the
+    # user's other scenes keep their objects.
+    for obj in list(bpy.context.scene.objects):
         bpy.data.objects.remove(obj, do_unlink=True)
     scene = bpy.context.scene
     set_frames(scene, m, first, last)
     render_settings(scene, material)
     cam_obj = make_camera(scene, cam)
     SENSOR = None
-    sensor = m.get("sensor")
+    sensor = m.get("sensor") if projection else None
     if sensor is not None:
         # A sequence is loaded from its first frame's file.
         entries = sensor.get("frames") or fail("%s: \"sensor\" lists no frames" % manifest_path)
@@ -749,6 +778,8 @@ def build(manifest_path, frame, material):
     horizon_built = False
     for lv in levels:
         idx = lv["index"]
+        if max_level is not None and idx > max_level:
+            continue  # --max-level: the finer levels only
         if lv["low_res"]:
             x0 = cam["position_m"][0] - far
             y0 = cam["position_m"][1] - far
@@ -853,6 +884,17 @@ def parse_args(argv):
                    help="the baked frame to show (default: the first)")
     p.add_argument("--material", choices=("emission", "visible"), default="emission",
                    help="the active material of the sea (default: emission)")
+    p.add_argument("--single-frame", action="store_true",
+                   help="load only the --frame's maps (default: the first frame's) as still "
+                        "images, the scene's frame range that frame alone (default: every "
+                        "baked frame, as image sequences)")
+    p.add_argument("--max-level", type=int, default=None, metavar="N",
+                   help="import the levels of index N and finer only (0 is the finest; "
+                        "default: every level, the low-resolution sea included)")
+    p.add_argument("--no-projection", action="store_true",
+                   help="the maps everywhere, even where the bake has the sensor's image "
+                        "(bake --emission-space sensor; default: that image where the sensor "
+                        "sees)")
     p.add_argument("--save", metavar="FILE.blend", help="save the scene")
     p.add_argument("--render", metavar="OUT.exr",
                    help="render the current frame with Cycles to a 32-bit EXR")
@@ -882,22 +924,35 @@ def render_still(scene, path):
         fail("%s: the render was not written" % path)
 
 
+def import_bake(manifest_path, frame=None, material="emission", single_frame=False,
+                max_level=None, projection=True, save=None, render=None, render_frames=None):
+    """The import into the current scene (bpy.context.scene), which it
+    empties first, then the optional save and renders: what the command line
+    and the add-on's File > Import operator both run.  Arguments as the
+    command line's switches (projection=False is --no-projection).  Raises
+    ImportError_ with a message naming the file.  Returns the manifest."""
+    m = build(manifest_path, frame, material, single_frame, max_level, projection)
+    scene = bpy.context.scene
+    if save:
+        bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(save))
+    if render:
+        render_still(scene, render)
+    if render_frames:
+        current = scene.frame_current
+        for f in range(scene.frame_start, scene.frame_end + 1):
+            scene.frame_set(f)
+            render_still(scene, frame_file(render_frames, f))
+        scene.frame_set(current)
+    return m
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     args = parse_args(argv)
     try:
-        build(args.manifest, args.frame, args.material)
-        scene = bpy.context.scene
-        if args.save:
-            bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(args.save))
-        if args.render:
-            render_still(scene, args.render)
-        if args.render_frames:
-            current = scene.frame_current
-            for f in range(scene.frame_start, scene.frame_end + 1):
-                scene.frame_set(f)
-                render_still(scene, frame_file(args.render_frames, f))
-            scene.frame_set(current)
+        import_bake(args.manifest, args.frame, args.material, args.single_frame,
+                    args.max_level, not args.no_projection, args.save, args.render,
+                    args.render_frames)
     except ImportError_ as e:
         print("seabake_import: error: %s" % e, file=sys.stderr)
         sys.exit(1)
@@ -905,6 +960,108 @@ def main():
         traceback.print_exc()
         print("seabake_import: error: unexpected failure (see above)", file=sys.stderr)
         sys.exit(1)
+
+
+# ------------------------------------------------------------------- add-on
+# The add-on (seabake-blender.zip: seabake/__init__.py registers this
+# module): File > Import > seabake bake (manifest.json) runs import_bake
+# with the options below, each one a switch of the command line.
+
+class IMPORT_SCENE_OT_seabake(bpy.types.Operator, ImportHelper):
+    """Import a seabake bake (manifest.json) into a new scene"""
+    bl_idname = "import_scene.seabake"
+    bl_label = "Import seabake bake"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".json"
+    filter_glob: StringProperty(default="*.json", options={"HIDDEN"})
+    frames: EnumProperty(
+        name="Frames",
+        items=(("ALL", "All", "Every baked frame, as image sequences: the scene's frame "
+                "range is the bake's"),
+               ("ONE", "One", "Only the frame below, as still images (--single-frame)")),
+        default="ALL")
+    frame: IntProperty(name="Frame", default=0,
+                       description="The baked frame to load (Frames: One; --frame)")
+    levels: EnumProperty(
+        name="Levels",
+        items=(("ALL", "All", "Every level, the low-resolution sea to the horizon included"),
+               ("UP_TO", "Up to", "The levels of index Max Level and finer only (--max-level)")),
+        default="ALL")
+    max_level: IntProperty(name="Max Level", default=0, min=0,
+                           description="The coarsest level imported (0 is the finest)")
+    projection: BoolProperty(
+        name="Sensor projection", default=True,
+        description="The sensor's image where the sensor sees, when the bake has it "
+                    "(bake --emission-space sensor); off: the maps everywhere "
+                    "(--no-projection)")
+    material: EnumProperty(
+        name="Material",
+        items=(("emission", "Infrared", "The infrared radiance emitted (the maps' values "
+                "render exactly)"),
+               ("visible", "Visible", "Principled BSDF with the normal and roughness maps, a "
+                "sun lamp and a sky (--material visible)")),
+        default="emission")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.prop(self, "frames")
+        row = layout.row()
+        row.active = self.frames == "ONE"
+        row.prop(self, "frame")
+        layout.prop(self, "levels")
+        row = layout.row()
+        row.active = self.levels == "UP_TO"
+        row.prop(self, "max_level")
+        layout.prop(self, "projection")
+        layout.prop(self, "material")
+
+    def execute(self, context):
+        # A new scene, shown in the window: the import empties the scene it
+        # builds and sets its camera, world and render settings, which must
+        # not be the user's.
+        window = context.window
+        if window is None:
+            self.report({"ERROR"}, "seabake: no window to show the imported scene in")
+            return {"CANCELLED"}
+        previous = window.scene
+        name = os.path.basename(os.path.dirname(os.path.abspath(self.filepath)))
+        scene = bpy.data.scenes.new(name or "seabake")
+        window.scene = scene
+        try:
+            import_bake(self.filepath,
+                        frame=self.frame if self.frames == "ONE" else None,
+                        material=self.material,
+                        single_frame=self.frames == "ONE",
+                        max_level=self.max_level if self.levels == "UP_TO" else None,
+                        projection=self.projection)
+        except Exception as e:
+            window.scene = previous
+            bpy.data.scenes.remove(scene)
+            if isinstance(e, ImportError_):
+                self.report({"ERROR"}, "seabake_import: error: %s" % e)
+            else:
+                traceback.print_exc()
+                self.report({"ERROR"}, "seabake_import: error: unexpected failure: %s" % e)
+            return {"CANCELLED"}
+        self.report({"INFO"}, "seabake: %s imported into scene %s"
+                    % (self.filepath, scene.name))
+        return {"FINISHED"}
+
+
+def menu_import(self, context):
+    self.layout.operator(IMPORT_SCENE_OT_seabake.bl_idname,
+                         text="seabake bake (manifest.json)")
+
+
+def register():
+    bpy.utils.register_class(IMPORT_SCENE_OT_seabake)
+    bpy.types.TOPBAR_MT_file_import.append(menu_import)
+
+
+def unregister():
+    bpy.types.TOPBAR_MT_file_import.remove(menu_import)
+    bpy.utils.unregister_class(IMPORT_SCENE_OT_seabake)
 
 
 if __name__ == "__main__":
