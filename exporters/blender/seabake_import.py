@@ -548,8 +548,13 @@ def visible_material(name, normal_img=None, rough_img=None, constants=None):
     bsdf.location = (300, 0)
     bsdf.inputs["Base Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     bsdf.inputs["Metallic"].default_value = 0.0
-    # Water, n = 1.33: F0 = 0.02 = 0.08 Specular.
-    bsdf.inputs["Specular"].default_value = 0.25
+    # Water, n = 1.33: F0 = 0.02 = 0.08 Specular (Blender 3); Blender 4
+    # renamed the socket "Specular IOR Level", whose 0.5 takes F0 from the
+    # IOR (untested here: Debian's Blender is 3.4).
+    if "Specular" in bsdf.inputs:
+        bsdf.inputs["Specular"].default_value = 0.25
+    elif "Specular IOR Level" in bsdf.inputs:
+        bsdf.inputs["Specular IOR Level"].default_value = 0.5
     bsdf.inputs["IOR"].default_value = 1.33
     nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
     # The anisotropy axes follow the UV map's u (east); unlinked, Cycles
