@@ -1657,6 +1657,19 @@ check camera.nogain_exr test -s "$RDIR/cam2.camera.exr"
 check camera.nogain_no_counts test ! -e "$RDIR/cam2.counts.png"
 check camera.nogain_no_png test ! -e "$RDIR/cam2.camera.png"
 check_match camera.half_stays_float "$(exr_header "$RDIR/cam2.camera.exr")" "^25000000540002000000"
+# The camera's image is uncompressed unless --compression is given (its
+# noise barely compresses); OUT.exr keeps the default ZIP.
+if have exrheader openexr; then
+    check_match camera.uncompressed "$(exrheader "$RDIR/cam.camera.exr" 2>&1)" \
+        "compression \(type compression\): none"
+    check_match camera.main_zip "$(exrheader "$RDIR/cam.exr" 2>&1)" \
+        "compression \(type compression\): zip"
+    sb_run render "$RSCENE" -o "$RDIR/cam3.exr" --set sensor.netd=0.05 --png none --quiet \
+        --compression zip
+    check_rc camera.zip_rc 0
+    check_match camera.zip_given "$(exrheader "$RDIR/cam3.camera.exr" 2>&1)" \
+        "compression \(type compression\): zip"
+fi
 
 # The noise has zero mean: over the image, the camera's temperature is
 # the ideal one's within 5 standard errors of a pixel's noise (0.1 K at

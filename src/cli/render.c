@@ -75,10 +75,11 @@ static const char RENDER_HELP[] =
     "mtf, fill_factor, netd, fpn_gain, fpn_offset, gain; seabake-scene(5)) gets,\n"
     "for each frame, what that camera makes of the radiance image beside it\n"
     "(OUT.exr unchanged): OUT.camera.exr (channel T: apparent brightness\n"
-    "temperature, K; Y: the camera's radiance; always float), its preview\n"
-    "OUT.camera.png (the main preview's tone curve) and, with a gain,\n"
-    "OUT.counts.png (the counts as they are, 8-bit for bit_depth 8, else\n"
-    "16-bit); the summary line counts the saturated pixels.\n"
+    "temperature, K; Y: the camera's radiance; always float; uncompressed\n"
+    "unless --compression is given), its preview OUT.camera.png (the main\n"
+    "preview's tone curve) and, with a gain, OUT.counts.png (the counts as they\n"
+    "are, 8-bit for bit_depth 8, else 16-bit); the summary line counts the\n"
+    "saturated pixels.\n"
     "\n"
     "Frames:\n"
     "  --frames A:B        frames A to B, integers, 0 <= A <= B <= 999999, at most\n"
@@ -336,6 +337,7 @@ static sea_status render_parse(const sea_cli_args *args, sea_cli_render *s, sea_
         return st;
     if ((st = sea_cli_opt_exr(args, &s->exr, err)) != SEA_OK)
         return st;
+    s->camera_compression = sea_cli_given(args, "compression") ? s->exr.compression : SEA_EXR_NONE;
     s->quiet = sea_cli_given(args, "quiet");
     s->explain = sea_cli_given(args, "explain");
     s->progress = !s->quiet && isatty(STDERR_FILENO);

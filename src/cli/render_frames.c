@@ -141,7 +141,7 @@ static sea_status write_camera(const sea_cli_render *s, const sea_imager_image *
     if (cam->counts != NULL)
         a[n++] = (sea_exr_attr){"seabake:saturated", saturated};
     /* Always FLOAT: HALF's steps are 0.25 K at 300 K, more than a NETD. */
-    const sea_exr_options opt = {SEA_EXR_FLOAT, s->exr.compression};
+    const sea_exr_options opt = {SEA_EXR_FLOAT, s->camera_compression};
     const sea_exr_channel ch[2] = {{"T", cam->temperature}, {"Y", cam->radiance}};
     char *path = frame_path(s->out_stem, s->framed, frame, CAMERA_MIDDLE, s->out_ext);
     if (path == NULL)
