@@ -332,7 +332,9 @@ static cJSON *horizon_json(const sea_bake_horizon *hz, const sea_camera *cam)
     cJSON_AddStringToObject(o, "grid",
                             "node (i, j) at map point nadir + arc_m[i] (cos, sin)(azimuth_deg[j]) "
                             "(spherical: azimuthal equidistant, on the sphere); map texel (j, "
-                            "row n_arc - 1 - i) holds its radiance x emission_scale");
+                            "row n_arc - 1 - i) holds the radiance the sensor receives from it "
+                            "(across the air along the range: tau L + path with [atmosphere]) "
+                            "x emission_scale");
     const double nadir[2] = {hz->x0, hz->y0};
     cJSON_AddItemToObject(o, "nadir_m", vec(nadir, 2));
     cJSON_AddStringToObject(o, "earth", cam->earth == SEA_EARTH_FLAT ? "flat" : "spherical");
