@@ -32,9 +32,7 @@
 #     [sun] with its angular diameter (none when the sun is below the
 #     horizon), a light-blue sky and SAMPLES_VISIBLE samples with bounces,
 #     so that a visible-light render is lit and not noisy.
-#   - the sensor's camera, the sky as the World background (one value, or
-#     with [sky] model = clear or table the sky toward each ray, from the
-#     manifest's blender.sky_table by the ray's zenith cosine) and Cycles
+#   - the sensor's camera, the sky as a constant World background and Cycles
 #     settings that reproduce the emission exactly (view transform Standard,
 #     no pixel filter, no bounces, 32-bit EXR output).
 #
