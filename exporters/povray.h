@@ -89,15 +89,29 @@ typedef struct {
      * horizon mesh show it projected from the camera's position (the value
      * of the pixel whose ray meets the point), elsewhere their maps. */
     const char *sensor_file;
+    /* The sky toward each direction (sky_n 0: sky_scaled everywhere, a
+     * background): a sky_sphere whose pigment is the function
+     * s = sqrt(max(y, 0)) of the ray's direction (POV y is up: its zenith
+     * cosine) through a color_map of sky_n entries (2 to 256), sky_s[i]
+     * from 0 to 1, increasing, sky_value[i] >= 0 the scaled radiance there,
+     * linear between them (so the horizon's below it).  sky_error: the
+     * interpolation's largest relative error, as measured by the caller,
+     * stated in a comment. */
+    size_t sky_n;
+    const double *sky_s, *sky_value;
+    double sky_error;
 } sea_pov_options;
 
 /* Largest value POV-Ray can read from or write to a half-float EXR. */
 #define SEA_POV_HALF_MAX 65504.0
+/* Most entries of a POV-Ray color_map. */
+#define SEA_POV_SKY_MAX 256
 
 /* Writes dir/sea.inc, dir/scene.pov, dir/scene.ini and dir/seabake.inc.
  *
  * sea.inc is the sea alone, for a scene of the user's own: it includes
- * seabake.inc and declares Seabake_Radiance_Scale, Seabake_Sky_Radiance,
+ * seabake.inc and declares Seabake_Radiance_Scale, Seabake_Sky_Radiance
+ * (with a sky table also Seabake_Sky_Pigment, the sky_sphere's pigment),
  * Seabake_Camera (the sensor), Seabake_Sea (the rings), with frames
  * Seabake_Frame and Seabake_Time, and with spectral samples
  * Seabake_Blackbody(T).  scene.pov includes it and adds the camera, the
@@ -114,7 +128,9 @@ typedef struct {
  * top-right corner, so a map of nx x ny texels over nx x ny facets puts
  * each texel on its facet; emission_file is a relative path without '"',
  * '\\' or control characters (it is not opened here).  A level without one
- * emits `constant`.  sky_scaled: the colour of rays that meet no ring.
+ * emits `constant`.  sky_scaled: the colour of rays that meet no ring
+ * (with opt's sky table, the floor's under the waves; the table's
+ * horizon value is the natural choice).
  * constant and sky_scaled in [0, SEA_POV_HALF_MAX]; scale > 0, finite: the
  * factor already applied to the radiances (POV value = radiance * scale),
  * written to scene.pov as Seabake_Radiance_Scale.

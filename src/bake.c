@@ -40,9 +40,9 @@ void sea_bake_free(sea_bake *b)
 }
 
 /* Directions from the sea point (x, y) toward the sensor and the sun, in
- * the local frame there. */
+ * the local frame there, and the range from the sensor to it, m. */
 static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, double y,
-                       sea_dir *obs, sea_dir *sun)
+                       sea_dir *obs, sea_dir *sun, double *range)
 {
     sea_pixel_geom g;
     memset(&g, 0, sizeof g);
@@ -50,6 +50,7 @@ static void texel_dirs(const sea_camera *c, const double sun_vec[3], double x, d
     sea_camera_sea_point(c, x, y, q, g.normal);
     double d[3] = { c->pos[0] - q[0], c->pos[1] - q[1], c->pos[2] - q[2] };
     const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    *range = len;
     for (int i = 0; i < 3; i++)
         d[i] /= len;
     *obs = sea_camera_local_dir(&g, d);
@@ -111,12 +112,15 @@ static sea_status level_arrays(const sea_multires_frame *f, sea_bake_level *bl,
     return SEA_OK;
 }
 
+/* The optics of a texel at range (m) from the sensor, with what the
+ * sensor receives of it across the air (o->seen). */
 static sea_status texel_optics(const sea_render *r, sea_slope_stats s, sea_dir obs, sea_dir sun,
-                               sea_facet_optics *o, const sea_bake_level *bl, size_t i,
-                               size_t row, sea_error *err)
+                               double range, sea_facet_optics *o, const sea_bake_level *bl,
+                               size_t i, size_t row, sea_error *err)
 {
-    sea_status st = sea_render_facet_optics(r, &s, obs, sun, o, err);
-    if (st == SEA_OK && !(isfinite(o->radiance) && isfinite(o->reflectivity)))
+    sea_status st = sea_render_facet_seen(r, &s, obs, sun, range, o, err);
+    if (st == SEA_OK &&
+        !(isfinite(o->radiance) && isfinite(o->reflectivity) && isfinite(o->seen)))
         st = sea_fail(err, SEA_ERR_NUMERIC, "radiance %g at texel (%zu, %zu) of level %d",
                       o->radiance, i, row, bl->level.level);
     return st;
@@ -216,7 +220,9 @@ static int synth_report(void *ctx, double fraction)
 /* The optics of one high-resolution level: of its own facets (view 0), or
  * of what the sensor sees on its view grid (view 1: the frame's answer for
  * the ray through the texel centre; where the mask is 0, or that ray meets
- * no sea, the facet's own optics). */
+ * no sea, the facet's own optics).  The view texels hold what the sensor
+ * receives, across the air along the range the ray meets the sea at (the
+ * facet's own: along the range to its centre), as seabake render's pixel. */
 static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
                                sea_bake_level *bl, int view, const unsigned char *mask,
                                size_t row0, size_t step, bake_progress *bp, sea_error *err)
@@ -264,29 +270,31 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
             sea_error e1;
             sea_status s1 = SEA_OK;
             if (view && !mask[q]) {
-                bl->view[q] = (float)bl->optics[(R / k) * nx + i / k].radiance;
+                bl->view[q] = (float)bl->optics[(R / k) * nx + i / k].seen;
                 continue;
             }
             const double x = (double)lv->i0 * lv->facet + ((double)i + 0.5) * cell;
             sea_dir obs = { 0.0, 0.0 }, sun = { 0.0, 0.0 };
+            double range = 0.0;
             if (!view)
-                texel_dirs(cam, sun_vec, x, y, &obs, &sun);
+                texel_dirs(cam, sun_vec, x, y, &obs, &sun, &range);
             if (!view) {
                 s1 = texel_optics(r, sea_facet_stats(&south[(ny - 1 - R) * nx + i]), obs, sun,
-                                  &bl->optics[q], bl, i, R, &e1);
+                                  range, &bl->optics[q], bl, i, R, &e1);
             } else {
                 sea_multires_sample vs;
                 double u, v;
                 if (!sea_multires_look_at(f, x, y, &vs, &u, &v)) {
-                    bl->view[q] = (float)bl->optics[(R / k) * nx + i / k].radiance;
+                    bl->view[q] = (float)bl->optics[(R / k) * nx + i / k].seen;
                     continue;
                 }
                 sea_pixel_geom g;
                 memcpy(g.normal, vs.normal, sizeof g.normal);
                 sea_facet_optics o;
                 s1 = texel_optics(r, sea_moments_stats(&vs.moments), vs.obs,
-                                  sea_camera_local_dir(&g, sun_vec), &o, bl, i, R, &e1);
-                bl->view[q] = (float)o.radiance;
+                                  sea_camera_local_dir(&g, sun_vec), vs.range, &o, bl, i, R,
+                                  &e1);
+                bl->view[q] = (float)o.seen;
             }
             if (s1 != SEA_OK) {
 #pragma omp critical(sea_bake_error)

@@ -55,6 +55,28 @@ SEA_INTERNAL int sea_bakemaps_height_samples(const sea_clip_level *lv);
 /* The sensor's image: "sensor.exr", with frames "sensor_FFFF.exr". */
 #define SEA_BAKE_SENSOR_PREFIX "sensor_"
 
+/* ------------------------------------------------------- the exports' sky */
+
+/* A directional sky ([sky] model = clear or table) for the exports, as a
+ * function of s = sqrt(max(cos zenith, 0)) (the horizon's value at and
+ * below it, as seabake render's sky): n nodes s[0] = 0 < ... < s[n-1] = 1
+ * and the radiance x emission scale at each, linear between them (a
+ * POV-Ray color_map, a Blender image).  The square root spreads the nodes
+ * toward the horizon, where a clear sky of small zenith emissivity
+ * changes fastest in cos zenith; the nodes are then placed where the
+ * interpolation misses most (sea_bakedir_sky_table).  n = 0: an isotropic
+ * sky, one radiance. */
+enum { SEA_BAKE_SKY_MAX = 256 };
+typedef struct {
+    size_t n;
+    double s[SEA_BAKE_SKY_MAX];
+    double value[SEA_BAKE_SKY_MAX];
+    double max_err; /* the largest relative error of the interpolation, measured */
+} sea_bake_sky;
+/* The table of r's sky (values in the images' units, to be scaled by the
+ * caller); n = 0 for an isotropic sky. */
+SEA_INTERNAL void sea_bakedir_sky_table(const sea_render *r, sea_bake_sky *out);
+
 /* ------------------------------------------------------------ the writer */
 
 /* The mapping of each group's preview, one for every level and frame of a
@@ -94,6 +116,7 @@ struct sea_bake_writer {
     cJSON *manifest;
     sea_bake_horizon hz;
     int have_hz;
+    sea_bake_sky sky;          /* a directional sky's table (n = 0: isotropic) */
     double lr_radiance[SEA_CLIP_MAX_LEVELS];
     /* emission space sensor: each level's and frame's height range,
      * level l's frame f at l n_frames + f - first */

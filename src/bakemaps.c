@@ -46,7 +46,8 @@ const bake_quantity_info SEA_BAKE_Q[Q_COUNT] = {
     [Q_ZERO] = {"unused", "1", "0 (unused)"},
     [Q_EMISSIVITY] = {"emissivity", "1", "effective emissivity toward the sensor"},
     [Q_REFLECTIVITY] = {"reflectivity", "sr^-1", "effective reflectivity sun -> sensor"},
-    [Q_RADIANCE] = {"radiance", NULL, "Eq 23 radiance toward the sensor"},
+    [Q_RADIANCE] = {"radiance", NULL,
+                    "Eq 23 radiance toward the sensor, as it leaves the sea (no air)"},
     [Q_TEMPERATURE] = {"temperature", "K", "brightness temperature"},
     [Q_NX] = {"normal_x", "1", "(n_x + 1) / 2, tangent space, +x east"},
     [Q_NY] = {"normal_y", "1", "(n_y + 1) / 2, tangent space, +y north"},
@@ -56,7 +57,9 @@ const bake_quantity_info SEA_BAKE_Q[Q_COUNT] = {
     [Q_ROTATION] = {"rotation", "turn", "major axis of C from east, counter-clockwise / 2 pi"},
     [Q_EMISSION] = {"emission", NULL,
                     "radiance x emission_scale of what the sensor sees there: the moments "
-                    "seabake render reads (the level its footprint chooses, blended)"},
+                    "seabake render reads (the level its footprint chooses, blended), "
+                    "across the air along the range to the sensor (with [atmosphere]: "
+                    "tau L + path, as seabake render's pixel)"},
 };
 
 const bake_group SEA_BAKE_GROUPS[BAKE_N_GROUPS] = {

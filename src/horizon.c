@@ -32,7 +32,8 @@ typedef struct {
 } hz_ctx;
 
 /* The radiance seabake render gives a low-resolution pixel at the map
- * point (arc, az), in the images' units.  At the horizon itself the view
+ * point (arc, az), in the images' units: across the air along the range
+ * from the sensor to the point (sea_render_facet_seen).  At the horizon itself the view
  * is tangent: the local zenith angle is held just below 90 deg. */
 static sea_status hz_radiance(const hz_ctx *c, double arc, double az, double *L, sea_error *err)
 {
@@ -48,11 +49,11 @@ static sea_status hz_radiance(const hz_ctx *c, double arc, double az, double *L,
     obs.theta = fmin(obs.theta, 89.999 * M_PI / 180.0);
     const sea_dir sun = sea_camera_local_dir(&g, c->sun);
     sea_facet_optics o;
-    sea_status st = sea_render_facet_optics(c->r, &c->lr, obs, sun, &o, err);
-    if (st == SEA_OK && !(isfinite(o.radiance) && o.radiance >= 0.0))
+    sea_status st = sea_render_facet_seen(c->r, &c->lr, obs, sun, len, &o, err);
+    if (st == SEA_OK && !(isfinite(o.seen) && o.seen >= 0.0))
         st = sea_fail(err, SEA_ERR_NUMERIC, "horizon: radiance %g at %.6g m, azimuth %.6g deg",
-                      o.radiance, arc, az * 180.0 / M_PI);
-    *L = o.radiance;
+                      o.seen, arc, az * 180.0 / M_PI);
+    *L = o.seen;
     return st;
 }
 

@@ -300,8 +300,10 @@ static cJSON *levels_json(const sea_scene *sc, const sea_bake *b)
 
 /* What the Blender import needs: the script and the values it needs that
  * the rest of the manifest does not give directly. */
-static cJSON *blender_json(const sea_render *r, double scale)
+static cJSON *blender_json(const sea_bake_writer *w)
 {
+    const sea_render *r = w->r;
+    const double scale = w->scale;
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "script", SEA_BLENDER_SCRIPT);
     cJSON_AddStringToObject(o, "command",
@@ -311,9 +313,24 @@ static cJSON *blender_json(const sea_render *r, double scale)
                             "[--render-frames OUT_####.exr]");
     cJSON *written = cJSON_AddArrayToObject(o, "written");
     cJSON_AddItemToArray(written, cJSON_CreateString(SEA_BLENDER_SCRIPT));
-    /* As the POV-Ray scene's sky: band-weighted, in the maps' units. */
-    cJSON_AddNumberToObject(o, "sky_radiance", sea_manifest_sky_radiance(r));
-    cJSON_AddNumberToObject(o, "sky_emission", sea_manifest_sky_radiance(r) * scale);
+    /* As the POV-Ray scene's sky: band-weighted, in the maps' units; a
+     * directional sky by direction (sky_table), its horizon's value here. */
+    if (w->sky.n > 0) {
+        cJSON_AddNumberToObject(o, "sky_radiance", w->sky.value[0] / scale);
+        cJSON_AddNumberToObject(o, "sky_emission", w->sky.value[0]);
+        cJSON *t = cJSON_AddObjectToObject(o, "sky_table");
+        cJSON_AddStringToObject(t, "coordinate",
+                                "s = sqrt(max(cos zenith, 0)) of the ray's direction (world z "
+                                "up): the sky's radiance x emission_scale toward it is "
+                                "emission, linear in s between the nodes (the horizon's at and "
+                                "below it), as seabake render gives a sky pixel");
+        cJSON_AddItemToObject(t, "s", vec(w->sky.s, w->sky.n));
+        cJSON_AddItemToObject(t, "emission", vec(w->sky.value, w->sky.n));
+        cJSON_AddNumberToObject(t, "max_relative_error", w->sky.max_err);
+    } else {
+        cJSON_AddNumberToObject(o, "sky_radiance", sea_manifest_sky_radiance(r));
+        cJSON_AddNumberToObject(o, "sky_emission", sea_manifest_sky_radiance(r) * scale);
+    }
     /* The normal maps need no Blender-specific copy: (n + 1) / 2 with +x
      * east and +y north is the Normal Map node's tangent space for UVs
      * that run east and north, as the import's do. */
@@ -332,7 +349,9 @@ static cJSON *horizon_json(const sea_bake_horizon *hz, const sea_camera *cam)
     cJSON_AddStringToObject(o, "grid",
                             "node (i, j) at map point nadir + arc_m[i] (cos, sin)(azimuth_deg[j]) "
                             "(spherical: azimuthal equidistant, on the sphere); map texel (j, "
-                            "row n_arc - 1 - i) holds its radiance x emission_scale");
+                            "row n_arc - 1 - i) holds the radiance the sensor receives from it "
+                            "(across the air along the range: tau L + path with [atmosphere]) "
+                            "x emission_scale");
     const double nadir[2] = {hz->x0, hz->y0};
     cJSON_AddItemToObject(o, "nadir_m", vec(nadir, 2));
     cJSON_AddStringToObject(o, "earth", cam->earth == SEA_EARTH_FLAT ? "flat" : "spherical");
@@ -398,7 +417,7 @@ cJSON *sea_manifest_make(const sea_bake_writer *w, const sea_bake *b)
         cJSON_AddArrayToObject(s, "frames");
     }
     if (o->blender)
-        cJSON_AddItemToObject(m, "blender", blender_json(w->r, w->scale));
+        cJSON_AddItemToObject(m, "blender", blender_json(w));
     return m;
 }
 

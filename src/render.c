@@ -45,6 +45,7 @@ struct sea_render {
     double *sky_x, *sky_v;             /* sky_v[k sky_nx + i] */
     double *atm_x, *atm_tau, *atm_path; /* [k atm_nx + i] */
     double atm_range_max;
+    double air_L;    /* sum_k w_k lair[k]: the band's B(T_air), SI */
     double complex *N;
     double wsum;
     /* the band's ln radiance at ln T = TB_LNT0 + k TB_STEP (several samples):
@@ -241,6 +242,9 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
                          : sea_planck_radiance(r->wl[i], sc->air_temperature);
         r->wsum += r->wt[i];
     }
+    r->air_L = 0.0;
+    for (size_t i = 0; i < k; i++)
+        r->air_L += r->wt[i] * r->lair[i];
     r->sky = (sea_sky){ sc->sky_model, sc->sky_zenith_emissivity,
                         sc->sky_model == SEA_SKY_CLEAR ? r->lair : r->lsky, 0, NULL };
     /* the tables' profiles at each sample's wavelength */
@@ -441,7 +445,70 @@ sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *s
     out->reflectivity = rho;
     out->radiance = L * radiance_unit(r);
     out->temperature = band_temperature(r, L);
+    out->seen = out->radiance;
     return SEA_OK;
+}
+
+/* The extinction of the air, 1/m: 0 without [atmosphere]. */
+static double air_extinction(const sea_render *r)
+{
+    return isnan(r->sc.air_temperature) ? 0.0 : r->sc.extinction;
+}
+
+/* What the sensor receives of a sea point at range (m) whose radiance is
+ * L (SI, summed over the samples with their weights; Lk per sample, read
+ * with a table only): Beer-Lambert, tau L + (1 - tau) B(T_air) with
+ * tau = exp(-extinction range); or per sample the table's transmittance
+ * x Lk + path radiance at the range (linear in range, its ends held
+ * beyond); L itself without air. */
+static double through_air(const sea_render *r, double L, const double *Lk, double range)
+{
+    const double ext = air_extinction(r);
+    if (ext > 0.0) {
+        const double tau = exp(-ext * range);
+        return tau * L + (1.0 - tau) * r->air_L;
+    }
+    if (r->atm_grid == NULL)
+        return L;
+    double s = 0.0;
+    for (size_t k = 0; k < r->nsamp; k++) {
+        const double *tk = &r->atm_tau[k * r->atm_nx], *pk = &r->atm_path[k * r->atm_nx];
+        s += r->wt[k] * (sea_profile_at(r->atm_x, tk, r->atm_nx, range) * Lk[k] +
+                         sea_profile_at(r->atm_x, pk, r->atm_nx, range));
+    }
+    return s;
+}
+
+int sea_render_has_air(const sea_render *r)
+{
+    return air_extinction(r) > 0.0 || r->atm_grid != NULL;
+}
+
+sea_status sea_render_facet_seen(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+                                 sea_dir sun, double range, sea_facet_optics *out,
+                                 sea_error *err)
+{
+    double L, e, rho;
+    double Lk[SEA_SCENE_BAND_MAX];
+    sea_status s = facet_radiance(r, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
+                                  r->atm_grid != NULL ? Lk : NULL, err);
+    if (s != SEA_OK)
+        return s;
+    const double unit = radiance_unit(r);
+    out->emissivity = e;
+    out->reflectivity = rho;
+    out->radiance = L * unit;
+    out->temperature = band_temperature(r, L);
+    out->seen = sea_render_has_air(r) ? through_air(r, L, Lk, range) * unit : out->radiance;
+    return SEA_OK;
+}
+
+double sea_render_sky_toward(const sea_render *r, double cos_zenith)
+{
+    double L = 0.0;
+    for (size_t k = 0; k < r->nsamp; k++)
+        L += r->wt[k] * sea_sky_radiance(&r->sky, k, cos_zenith);
+    return L * radiance_unit(r);
 }
 
 const sea_scene *sea_render_scene(const sea_render *r)
@@ -652,7 +719,7 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
 typedef struct {
     double facet[SEA_CLIP_MAX_LEVELS]; /* facet size of each level, m */
     double sun_vec[3];
-    double sky_L, air_L, unit, ext;
+    double sky_L, unit, ext;
     float sky_T;
 } pixel_consts;
 
@@ -689,24 +756,17 @@ static sea_status shade_pixel(const sea_render *r, const pixel_consts *pc,
     double Lk[SEA_SCENE_BAND_MAX];
     sea_status st = facet_radiance(r, &ss, s->obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
                                    r->atm_grid != NULL ? Lk : NULL, err);
-    if (pc->ext > 0.0) {
-        const double tau = exp(-pc->ext * s->range);
-        L = tau * L + (1.0 - tau) * pc->air_L;
-    } else if (st == SEA_OK && r->atm_grid != NULL) {
-        /* the table's transmittance and path radiance at the range met */
-        if (s->range > r->atm_range_max)
-            st = sea_fail(err, SEA_ERR_DOMAIN,
-                          "pixel (%zu, %zu) meets the sea at %.6g m, beyond the "
-                          "[atmosphere] table's last range_m %.6g (allowed: a table that "
-                          "reaches the farthest sea in view)",
-                          i, j, s->range, r->atm_range_max);
-        L = 0.0;
-        for (size_t k = 0; k < r->nsamp; k++) {
-            const double *tk = &r->atm_tau[k * r->atm_nx], *pk = &r->atm_path[k * r->atm_nx];
-            L += r->wt[k] * (sea_profile_at(r->atm_x, tk, r->atm_nx, s->range) * Lk[k] +
-                             sea_profile_at(r->atm_x, pk, r->atm_nx, s->range));
-        }
-    }
+    /* the air along the range met (through_air, shared with the bake's
+     * maps: sea_render_facet_seen); the table's transmittance and path
+     * radiance must reach that range */
+    if (st == SEA_OK && pc->ext == 0.0 && r->atm_grid != NULL && s->range > r->atm_range_max)
+        st = sea_fail(err, SEA_ERR_DOMAIN,
+                      "pixel (%zu, %zu) meets the sea at %.6g m, beyond the "
+                      "[atmosphere] table's last range_m %.6g (allowed: a table that "
+                      "reaches the farthest sea in view)",
+                      i, j, s->range, r->atm_range_max);
+    if (pc->ext > 0.0 || (st == SEA_OK && r->atm_grid != NULL))
+        L = through_air(r, L, Lk, s->range);
     if (st == SEA_OK && !(isfinite(L) && L > 0.0 && isfinite(rho)))
         st = sea_fail(err, SEA_ERR_NUMERIC, "radiance %g at pixel (%zu, %zu)", L, i, j);
     if (st != SEA_OK)
@@ -792,10 +852,8 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
     pc.unit = radiance_unit(r); /* per um */
     pc.sky_T = (float)band_temperature(r, pc.sky_L);
     /* the air between the sensor and the sea: Beer-Lambert along the range
-     * met, the path radiating (1 - tau) B(T_air) */
-    for (size_t i = 0; i < r->nsamp; i++)
-        pc.air_L += r->wt[i] * r->lair[i];
-    pc.ext = isnan(sc->air_temperature) ? 0.0 : sc->extinction;
+     * met, the path radiating (1 - tau) B(T_air) (through_air) */
+    pc.ext = air_extinction(r);
     size_t rows_done = 0;
     int failed = 0, cancelled = 0, nomem = 0;
     sea_error first = { { 0 } };

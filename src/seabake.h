@@ -1533,6 +1533,11 @@ typedef struct {
     double radiance;     /* Eq 23: W m^-2 sr^-1 um^-1 (one wavelength) or W m^-2 sr^-1
                             (band), the units of sea_image.radiance */
     double temperature;  /* brightness temperature of the radiance, K */
+    double seen;         /* what the sensor receives of it: the radiance carried
+                            across the air along the range to the sensor
+                            (sea_render_facet_seen: tau radiance + path, in the
+                            same units); `radiance` itself without [atmosphere]
+                            and from sea_render_facet_optics */
 } sea_facet_optics;
 
 /* Optics of a facet of statistics st seen from obs with the sun at sun
@@ -1542,6 +1547,26 @@ typedef struct {
  * Reads r, fills out. */
 sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
                                    sea_dir sun, sea_facet_optics *out, sea_error *err);
+/* sea_render_facet_optics of a facet at range (m, >= 0) from the sensor,
+ * with out->seen what the sensor receives of it across the air, as
+ * sea_render_frame gives a pixel that meets the sea at that range:
+ * tau L + (1 - tau) B(T_air), tau = exp(-extinction range), or per
+ * spectral sample the [atmosphere] table's transmittance x L + path
+ * radiance at that range (beyond the table's last range its last row:
+ * sea_render_frame refuses a pixel there, a bake's texels the sensor does
+ * not see may lie there).  Without [atmosphere] seen = radiance exactly.
+ * Reads r, fills out. */
+sea_status sea_render_facet_seen(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+                                 sea_dir sun, double range, sea_facet_optics *out,
+                                 sea_error *err);
+/* Non-zero when the air changes what the sensor receives ([atmosphere]
+ * with extinction > 0 or a table).  Reads r. */
+int sea_render_has_air(const sea_render *r);
+/* The sky's band radiance toward a direction of zenith cosine cos_zenith
+ * (world frame, +z up), in the images' units, as sea_render_frame gives a
+ * sky pixel whose ray has that cosine: sum_k w_k L_sky,k(cos_zenith)
+ * (sea_sky_radiance; the horizon's value at and below it).  Pure given r. */
+double sea_render_sky_toward(const sea_render *r, double cos_zenith);
 
 /* ------------------------------------------------------ the camera (imager.c)
  *
@@ -1740,13 +1765,17 @@ typedef struct {
     sea_clip_level level;
     sea_facet *moments;       /* nx ny, from sea_waves_facets with level.sub_n (the
                                  frame's surfaces' facets, sea_facet_of) */
-    sea_facet_optics *optics; /* nx ny, toward the sensor from each texel centre */
+    sea_facet_optics *optics; /* nx ny, toward the sensor from each texel centre
+                                 (seen: across the air along the range to it) */
     size_t view_k;            /* view texels per facet side */
     float *view;              /* (k nx) x (k ny), rows north first: the radiance the
                                  sensor sees at the centre of view texel (I, R), as
                                  float (the maps are float or half), i.e.
                                  of sea_render_view_moments at map point
-                                 ((i0 + (I + 1/2)/k) L, (j0 + ny - (R + 1/2)/k) L) */
+                                 ((i0 + (I + 1/2)/k) L, (j0 + ny - (R + 1/2)/k) L),
+                                 carried across the air along the range its ray
+                                 meets the sea at (sea_render_facet_seen), as
+                                 seabake render's pixel there */
     sea_moments lr_moments;
     sea_facet_optics lr_optics;
     sea_dir lr_obs, lr_sun;   /* the directions lr_optics was computed for */
@@ -1834,7 +1863,8 @@ sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int ro
  * azimuthal equidistant map of sensor.c, placed on the sphere by
  * sea_camera_sea_point): at each node the radiance that seabake render
  * gives a low-resolution pixel there (the low-resolution slope statistics
- * seen from the sensor, the sun in the local frame), in the images' units.
+ * seen from the sensor, the sun in the local frame, across the air along
+ * the range from the sensor: sea_render_facet_seen), in the images' units.
  * Time does not enter.  The grid reaches every sea point the image's pixel
  * corners and centres meet (spherical: at most the horizon, the farthest ring on it,
  * so the silhouette is the sphere's); the azimuths span those points (the

@@ -468,6 +468,24 @@ static int do_compare(const char *ref, const char *level, const char *povimg, do
     if (hn)
         printf("  the %d rows below the horizon: %zu pixels, relative RMS %.3g, max %.3g\n",
                HORIZON_ROWS, hn, hrms, hmax);
+    /* the sky pixels alone, and how much the reference's sky varies (a
+     * sky that changes with the direction: more than the error allowed, or
+     * one radiance everywhere would pass too) */
+    double ssum2 = 0.0, smax = 0.0, slo = INFINITY, shi = 0.0;
+    size_t sn = 0;
+    for (size_t i = 0; i < W * H; i++) {
+        if (pl[i] != 0.0f)
+            continue;
+        const double rel = fabs(pb[i] / scale - pa[i]) / fmax(fabs(pa[i]), 1e-30);
+        ssum2 += rel * rel;
+        smax = fmax(smax, rel);
+        slo = fmin(slo, pa[i]);
+        shi = fmax(shi, pa[i]);
+        sn++;
+    }
+    if (sn)
+        printf("  the sky: %zu pixels, relative RMS %.3g, max %.3g, spread %.3g\n", sn,
+               sqrt(ssum2 / (double)sn), smax, shi / slo - 1.0);
     /* the whole image, sky included (a sea pixel shown as sky, or the
      * reverse, counts here) */
     double isum2 = 0.0, imax = 0.0;

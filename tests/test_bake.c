@@ -3,6 +3,7 @@
  * roughness and optics as documented; low-resolution levels constant. */
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "internal.h"
 #include "unit.h"
@@ -761,6 +762,194 @@ static void test_camera_hits(void)
     CU_ASSERT(hits > total / 10 && hits < total - total / 10);
 }
 
+/* The air in the maps (issue 45).  With [atmosphere] a view texel holds
+ * what the sensor receives of the sea there across the air, tau L + path,
+ * as seabake render's pixel: L is the same texel of the same bake without
+ * the air (the same waves), the range the one its ray meets the sea at
+ * (sea_multires_look_at at the texel's map point) or, for a texel the
+ * sensor does not see, the facet centre's on the mean surface.  Checked
+ * with Beer-Lambert (tau = exp(-b d), path (1 - tau) B(T_air), B from
+ * sea_planck_radiance) and with an [atmosphere] table of an unrelated shape
+ * (tau = 1 / (1 + d / 900 m), path rising as d / (d + 400 m), read here by
+ * linear interpolation between its rows), each texel within AIR_REL
+ * (float maps; measured below).  The optics map keeps the sea-leaving
+ * radiance, bit for bit the bake's without air; the horizon grid's nodes
+ * carry the air along their range (from sea_render_facet_optics' radiance
+ * and the range, within 1e-12). */
+static const double AIR_T = 281.3, AIR_EXT = 1.3e-3; /* K, 1/m */
+enum { AIR_ROWS = 401 };
+static const double AIR_STEP = 50.0; /* m between the table's rows */
+static const double AIR_REL = 1e-6;  /* float maps: a few roundings of 6e-8 */
+
+static double air_table_tau(double d)
+{
+    return 1.0 / (1.0 + d / 900.0);
+}
+
+static double air_table_path(double d)
+{
+    return 0.83 * d / (d + 400.0);
+}
+
+/* The table as the render reads it: linear between rows, the last beyond. */
+static void air_table_at(double d, double *tau, double *path)
+{
+    double x = d / AIR_STEP;
+    if (x >= AIR_ROWS - 1)
+        x = AIR_ROWS - 1;
+    const double k = floor(x) < AIR_ROWS - 1 ? floor(x) : AIR_ROWS - 2, a = x - k;
+    *tau = (1.0 - a) * air_table_tau(k * AIR_STEP) + a * air_table_tau((k + 1) * AIR_STEP);
+    *path = (1.0 - a) * air_table_path(k * AIR_STEP) + a * air_table_path((k + 1) * AIR_STEP);
+}
+
+static void air_expect(int table, double d, double B, double *tau, double *path)
+{
+    if (table) {
+        air_table_at(d, tau, path);
+    } else {
+        *tau = exp(-AIR_EXT * d);
+        *path = (1.0 - *tau) * B;
+    }
+}
+
+static void check_air_maps(int table, const char *table_path)
+{
+    sea_scene sc = bake_scene();
+    sea_render *r0 = prepare(&sc);
+    sc.air_temperature = AIR_T;
+    if (table)
+        snprintf(sc.atmosphere_table_file, sizeof sc.atmosphere_table_file, "%s", table_path);
+    else
+        sc.extinction = AIR_EXT;
+    sea_render *r = prepare(&sc);
+    CU_ASSERT(sea_render_has_air(r));
+    CU_ASSERT(!sea_render_has_air(r0));
+    const double B = sea_planck_radiance(sc.wavelength, AIR_T) * 1e-6; /* per um */
+    sea_bake b0, b;
+    bake(r0, 0.0, &b0);
+    bake(r, 0.0, &b);
+    sea_error err;
+    sea_multires_frame *f = NULL;
+    CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc(sea_render_multires(r), 0.0, NULL, NULL, &f,
+                                                   &err),
+                          SEA_OK);
+    const sea_camera *cam = sea_render_camera(r);
+    size_t n_ray = 0, n_facet = 0, n_off = 0, n_optics_diff = 0;
+    double worst = 0.0, tau_min = 1.0;
+    for (size_t l = 0; l < b.n_levels; l++) {
+        const sea_bake_level *bl = &b.levels[l], *bl0 = &b0.levels[l];
+        const sea_clip_level *lv = &bl->level;
+        if (lv->low_res)
+            continue;
+        CU_ASSERT_EQUAL_FATAL(bl->view_k, 1);
+        for (size_t R = 0; R < lv->ny; R++)
+            for (size_t i = 0; i < lv->nx; i++) {
+                const size_t q = R * lv->nx + i;
+                n_optics_diff += bl->optics[q].radiance != bl0->optics[q].radiance;
+                const double x = ((double)lv->i0 + (double)i + 0.5) * lv->facet;
+                const double y = ((double)lv->j0 + (double)(lv->ny - R) - 0.5) * lv->facet;
+                const double L = bl0->view[q], got = bl->view[q];
+                /* the ray's range, and the facet centre's */
+                double d_ray = -1.0, u, v, p[3], n[3], tau, path;
+                sea_multires_sample s;
+                if (sea_multires_look_at(f, x, y, &s, &u, &v))
+                    d_ray = s.range;
+                sea_camera_sea_point(cam, x, y, p, n);
+                const double d_facet = hypot(hypot(p[0] - cam->pos[0], p[1] - cam->pos[1]),
+                                             p[2] - cam->pos[2]);
+                double e_ray = INFINITY, tau_ray = 1.0;
+                if (d_ray >= 0.0) {
+                    air_expect(table, d_ray, B, &tau_ray, &path);
+                    e_ray = fabs(got - (tau_ray * L + path)) / got;
+                }
+                air_expect(table, d_facet, B, &tau, &path);
+                const double e_facet = fabs(got - (tau * L + path)) / got;
+                /* the closer of the two (they coincide where the ray meets
+                 * the mean surface near the facet centre) */
+                if (e_ray <= e_facet && e_ray < AIR_REL) {
+                    n_ray++;
+                    worst = fmax(worst, e_ray);
+                    tau_min = fmin(tau_min, tau_ray);
+                } else if (e_facet < AIR_REL) {
+                    n_facet++;
+                    worst = fmax(worst, e_facet);
+                } else {
+                    n_off++;
+                }
+            }
+    }
+    MEASURED("air in the view texels (%s): %zu along the ray's range, %zu along the facet "
+             "centre's, %zu neither; worst relative %.2g; least tau %.3f\n",
+             table ? "table" : "Beer-Lambert", n_ray, n_facet, n_off, worst, tau_min);
+    CU_ASSERT(n_ray > 500);
+    CU_ASSERT(n_facet > 100);
+    CU_ASSERT_EQUAL(n_off, 0);
+    CU_ASSERT(tau_min < 0.8); /* the air matters */
+    CU_ASSERT_EQUAL(n_optics_diff, 0);
+    /* the horizon grid */
+    sea_bake_horizon h;
+    CU_ASSERT_EQUAL_FATAL(sea_bake_horizon_make(r, 1e-3, &h, &err), SEA_OK);
+    const sea_scene *scr = sea_render_scene(r);
+    const double sv[3] = { sin(scr->sun_zenith) * cos(scr->sun_azimuth),
+                           sin(scr->sun_zenith) * sin(scr->sun_azimuth), cos(scr->sun_zenith) };
+    const sea_moments m = sea_render_lr_moments(r);
+    const sea_slope_stats st = sea_moments_stats(&m);
+    double hworst = 0.0;
+    for (size_t i = 0; i < h.n_arc; i++)
+        for (size_t j = 0; j < h.n_az; j++) {
+            double p[3], d[3];
+            sea_pixel_geom g;
+            sea_camera_sea_point(cam, h.x0 + h.arc[i] * cos(h.az[j]),
+                                 h.y0 + h.arc[i] * sin(h.az[j]), p, g.normal);
+            for (int k = 0; k < 3; k++)
+                d[k] = cam->pos[k] - p[k];
+            const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            for (int k = 0; k < 3; k++)
+                d[k] /= len;
+            sea_dir obs = sea_camera_local_dir(&g, d);
+            obs.theta = fmin(obs.theta, 89.999 * DEG); /* as horizon.c holds it */
+            sea_facet_optics o;
+            CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &st, obs,
+                                                          sea_camera_local_dir(&g, sv), &o,
+                                                          &err),
+                                  SEA_OK);
+            CU_ASSERT_EQUAL(o.seen, o.radiance);
+            double tau, path;
+            air_expect(table, len, B, &tau, &path);
+            const double want = tau * o.radiance + path;
+            hworst = fmax(hworst, fabs(h.radiance[i * h.n_az + j] - want) / want);
+        }
+    MEASURED("air at the horizon grid's %zu nodes (%s): worst relative %.2g\n",
+             h.n_arc * h.n_az, table ? "table" : "Beer-Lambert", hworst);
+    CU_ASSERT(hworst < 1e-12);
+    sea_bake_horizon_free(&h);
+    sea_multires_frame_free(f);
+    sea_bake_free(&b0);
+    sea_bake_free(&b);
+    sea_render_free(r0);
+    sea_render_free(r);
+}
+
+static void test_air_in_maps(void)
+{
+    check_air_maps(0, NULL);
+    char dir[] = "/tmp/seabake-air-XXXXXX";
+    CU_ASSERT_FATAL(mkdtemp(dir) != NULL);
+    char path[128];
+    snprintf(path, sizeof path, "%s/atm.csv", dir);
+    FILE *f = fopen(path, "w");
+    CU_ASSERT_FATAL(f != NULL);
+    fputs("range_m,wavelength_um,transmittance,path_radiance\n", f);
+    for (int k = 0; k < AIR_ROWS; k++)
+        for (int w = 0; w < 2; w++)
+            fprintf(f, "%.17g,%.17g,%.17g,%.17g\n", k * AIR_STEP, w ? 4.1 : 3.9,
+                    air_table_tau(k * AIR_STEP), air_table_path(k * AIR_STEP));
+    fclose(f);
+    check_air_maps(1, path);
+    remove(path);
+    rmdir(dir);
+}
+
 int test_bake_register(void)
 {
     CU_pSuite s = CU_add_suite("bake", NULL, NULL);
@@ -777,5 +966,7 @@ int test_bake_register(void)
            !CU_add_test(s, "rows: shares bit for bit", test_bake_rows) ||
            !CU_add_test(s, "horizon grid: extent and interpolation", test_horizon) ||
            !CU_add_test(s, "the view mask's hit test", test_camera_hits) ||
-           !CU_add_test(s, "errors, spherical earth", test_errors_and_earth);
+           !CU_add_test(s, "errors, spherical earth", test_errors_and_earth) ||
+           !CU_add_test(s, "the air in the view texels and the horizon grid",
+                        test_air_in_maps);
 }

@@ -181,19 +181,6 @@ static sea_status bake_parse(const sea_cli_args *args, sea_cli_bake *s, sea_erro
     if ((st = sea_cli_check_frame_times(s->sc.time, framed, o->first, o->last, o->frame_rate,
                                         err)) != SEA_OK)
         return st;
-    /* The exports' sky is one radiance (POV-Ray's background, Blender's
-     * world): the library refuses the rest (sea_bake_options_check); said
-     * here in the options' words, before any work. */
-    if ((o->pov || o->blender) &&
-        (s->sc.sky_model != SEA_SKY_ISOTROPIC || !isnan(s->sc.air_temperature) ||
-         s->sc.atmosphere_table_file[0] != '\0'))
-        return sea_fail(err, SEA_ERR_DOMAIN,
-                        "--%s: the exported scene has an isotropic sky and no atmosphere; %s "
-                        "(allowed: --pov and --blender with [sky] model = isotropic and no "
-                        "[atmosphere]; the maps alone are baked with any sky)",
-                        o->pov ? "pov" : "blender",
-                        s->sc.sky_model != SEA_SKY_ISOTROPIC ? "this scene's [sky] model is not"
-                                                             : "this scene has an [atmosphere]");
     if ((st = sea_bake_options_check(o, &s->sc, err)) != SEA_OK)
         return st;
     if ((s->dir = strndup(out, len)) == NULL)
