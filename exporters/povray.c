@@ -530,7 +530,13 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
             scale, o->sky_n > 0 ? "\n// Seabake_Sky_Pigment (the sky by direction)," : "",
             o->framed ? ", Seabake_Frame and\n// Seabake_Time (s)" : "",
             o->n_samples > 0 ? ", Seabake_Blackbody(T)" : "");
-    fputs("#include \"seabake.inc\"\n\n", f);
+    /* the POV-Ray library's conventions: an include guard, the caller's
+     * #version restored at the end */
+    fputs("#ifndef (Seabake_Sea_Inc_Temp)\n"
+          "#declare Seabake_Sea_Inc_Temp = version;\n"
+          "#version 3.7;\n\n"
+          "#include \"seabake.inc\"\n\n",
+          f);
     fprintf(f, "#declare Seabake_Radiance_Scale = %.17g;\n", scale);
     fprintf(f, "#declare Seabake_Sky_Radiance = %.9g;\n\n", sky_scaled);
     if (o->sky_n > 0) {
@@ -737,7 +743,7 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
         for (size_t m = 0; shown[k] && lv[k].height_file != NULL && m <= n; m++)
             if (has_curtain(lv, n, k, m))
                 fprintf(f, "  object { Seabake_Curtain_%zu_%zu }\n", k, m == n ? k : m);
-    fputs("}\n", f);
+    fputs("}\n\n#version Seabake_Sea_Inc_Temp;\n#end\n", f);
 }
 
 static void write_scene(FILE *f, const sea_pov_options *o)
@@ -799,9 +805,12 @@ static void write_ini(FILE *f, const sea_camera *cam, const sea_pov_options *o)
     if (o->framed)
         fprintf(f,
                 "; Frames %ld to %ld: POV-Ray writes scene<frame>.exr; +SF F +EF F renders\n"
-                "; frame F alone.\n"
-                "Initial_Frame=%ld\nFinal_Frame=%ld\n",
-                o->first, o->last, o->first, o->last);
+                "; frame F alone.  clock is the frame's time in seconds (sea.inc's\n"
+                "; Seabake_Time).\n"
+                "Initial_Frame=%ld\nFinal_Frame=%ld\n"
+                "Initial_Clock=%.17g\nFinal_Clock=%.17g\n",
+                o->first, o->last, o->first, o->last, o->time0 + (double)o->first / o->rate,
+                o->time0 + (double)o->last / o->rate);
 }
 
 sea_status sea_pov_write(const char *dir, const sea_camera *cam, const sea_pov_level *levels,

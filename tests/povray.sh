@@ -387,6 +387,14 @@ SB_RC=$?
 SB_ERR=$(cat "$SB_TMP/err")
 check_rc frames.bake.rc 0
 check_match frames.ini "$(cat "$fdir/scene.ini")" "Initial_Frame=0"$'\n'"Final_Frame=$LAST"
+# POV-Ray's clock is the frame's time in seconds (2 frames per second from 0)
+check_match frames.clock "$(cat "$fdir/scene.ini")" \
+    "Initial_Clock=0"$'\n'"Final_Clock=$(awk -v l="$LAST" 'BEGIN { print l / 2 }')"$'\n'
+# sea.inc follows the POV-Ray library's conventions: an include guard and
+# the includer's #version restored at its end
+check_match frames.guard "$(head -c 4000 "$fdir/sea.inc")" \
+    '#ifndef \(Seabake_Sea_Inc_Temp\)'$'\n''#declare Seabake_Sea_Inc_Temp = version;'$'\n''#version 3.7;'
+check_match frames.guard_end "$(tail -n 2 "$fdir/sea.inc")" '^#version Seabake_Sea_Inc_Temp;'$'\n''#end$'
 SB_CMD="(cd $fdir && povray scene.ini)"
 (cd "$fdir" && povray scene.ini) >"$SB_TMP/pov.out" 2>&1
 SB_RC=$?
@@ -432,11 +440,19 @@ done
 # exported sky radiance (to its 9 printed digits); Seabake_Time is frame 3's, 1.5 s; the
 # sphere's pixels hold the scaled Planck radiance at 4 um and 300 K that awk
 # computes here (within half-float precision, 4.9e-4 relative); every other
-# pixel is scene3.exr's, exactly.
-cat >"$fdir/mine.pov" <<'EOF'
-#version 3.7;
+# pixel is scene3.exr's, exactly.  The user's file is in a directory of its
+# own and finds sea.inc, seabake.inc and the maps through POV-Ray's
+# Library_Path (+L), includes sea.inc twice (the guard) and keeps its own
+# #version (3.6 before and after the include).
+udir="$SB_TMP/user"
+mkdir -p "$udir"
+cat >"$udir/mine.pov" <<'EOF'
+#version 3.6;
 global_settings { assumed_gamma 1.0 }
 #include "sea.inc"
+#include "sea.inc"
+#debug concat("version after ", str(version, 0, 1), "\n")
+#version 3.7;
 #debug concat("blackbody/sky ", str(Seabake_Blackbody(250) / Seabake_Sky_Radiance, 0, 12), "\n")
 #debug concat("time ", str(Seabake_Time, 0, 6), "\n")
 camera { Seabake_Camera }
@@ -444,15 +460,18 @@ Seabake_Sky(Seabake_Sky_Radiance)
 object { Seabake_Sea }
 sphere { <0, 30, 0>, 6 Seabake_Emission_Constant(Seabake_Blackbody(300)) }
 EOF
-SB_CMD="(cd $fdir && povray scene.ini +Imine.pov +Omine.exr +SF$MF +EF$MF)"
-(cd "$fdir" && povray scene.ini +Imine.pov +Omine.exr "+SF$MF" "+EF$MF") >"$SB_TMP/pov.out" 2>&1
+SB_CMD="(cd $udir && povray $fdir/scene.ini +Imine.pov +Omine.exr +L$fdir +SF$MF +EF$MF)"
+(cd "$udir" && povray "$fdir/scene.ini" +Imine.pov +Omine.exr "+L$fdir" "+SF$MF" "+EF$MF") \
+    >"$SB_TMP/pov.out" 2>&1
 SB_RC=$?
 SB_ERR=$(grep -A3 -E 'Error|error' "$SB_TMP/pov.out" | head -n 5)
 check_rc include.rc 0
+check_match include.version_kept "$(cat "$SB_TMP/pov.out")" "version after 3.6"
+check_eq include.no_copy "$(find "$udir" -name '*.inc' -o -name 'level_*' | wc -l)" 0
 ratio=$(sed -n 's/^blackbody\/sky //p' "$SB_TMP/pov.out")
 num_check include.blackbody_is_sky 'r > 1 - 1e-8 && r < 1 + 1e-8' "r=${ratio:-nan}"
 check_match include.time "$(cat "$SB_TMP/pov.out")" "time $(awk -v f="$MF" 'BEGIN { printf "%.6f", f / 2 }')"
-"$POV_DRIVER" dump "$fdir/mine$MF.exr" "$SB_TMP/mine.raw" >/dev/null 2>&1 &&
+"$POV_DRIVER" dump "$udir/mine$MF.exr" "$SB_TMP/mine.raw" >/dev/null 2>&1 &&
     "$POV_DRIVER" dump "$fdir/scene$MF.exr" "$SB_TMP/s3.raw" >/dev/null 2>&1
 check include.dump test -s "$SB_TMP/mine.raw"
 SB_CMD="sphere pixels of mine$MF.exr against Planck(4 um, 300 K) x $fscale"
