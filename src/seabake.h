@@ -48,11 +48,12 @@
  *    SEA_ERR_NOMEM.  A program that installs its own GSL handler afterwards
  *    must keep one that returns.
  *  - FFTW's planner, which is not thread-safe.  FFT wave plans
- *    (SEA_WAVES_FFT, and a scene's one-meter method) plan transforms in
- *    sea_waves_sample, sea_waves_facets, sea_render_frame and sea_bake_frame
- *    under a lock of the library's own; a program that also plans FFTW
- *    transforms in other threads at the same time must first call
- *    fftw_make_planner_thread_safe().
+ *    (SEA_WAVES_FFT, and a scene's one-meter method) plan their transforms
+ *    in sea_waves_create (so sea_render_prepare) and destroy them in
+ *    sea_waves_free, a camera in its creation and free, under a lock of the
+ *    library's own; sampling only executes them, without the lock.  A
+ *    program that also plans FFTW transforms in other threads at the same
+ *    time must first call fftw_make_planner_thread_safe().
  *  - OpenMP.  sea_waves_create (FFT plans), sea_waves_sample,
  *    sea_waves_facets, sea_render_prepare, sea_render_frame and
  *    sea_bake_frame spread their work over OpenMP threads (OMP_NUM_THREADS,
@@ -863,8 +864,11 @@ typedef struct sea_waves sea_waves;
  * row and column hold none), amplitude from Psi at the mode times dk^2, random
  * phase.  Both: deterministic amplitudes, random phases; each wave travels
  * with a phase velocity that has a non-negative component along the wind.
- * Thread-safe (FFT plans: OpenMP); *out is the caller's, freed with
- * sea_waves_free(), and only read by every other call: share it. */
+ * FFT plans also plan the inverse FFTW transform of every level they can
+ * sample (steps L0 2^m, 2^m <= N/2), with FFTW_ESTIMATE.  Thread-safe (FFT
+ * plans: OpenMP, and FFTW's planner under the library's lock); *out is the
+ * caller's, freed with sea_waves_free(), and only read by every other call:
+ * share it. */
 sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
                             sea_error *err);
 void sea_waves_free(sea_waves *w);
@@ -913,7 +917,7 @@ typedef struct {
  * time t (within SEA_TIME_MAX).  Any of h, sx, sy may be NULL.  FFT plans need step = L0 2^m and a
  * rectangle no wider than the period (so no tile repeats in the output).
  * Reads w, fills the caller's h, sx, sy (nx ny values each).  OpenMP; FFT
- * plans plan an FFTW transform (see Threads). */
+ * plans execute the FFTW transform sea_waves_create planned (see Threads). */
 sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, double *h,
                             double *sx, double *sy, sea_error *err);
 
@@ -945,8 +949,8 @@ sea_status sea_facet_method_n(const sea_waves *w, sea_facet_method m, int n, dou
  * mean and raw second moments of its 2^n x 2^n sub-facet slopes plus the
  * covariance C_<L/2^n of the waves shorter than a sub-facet.  Reads w,
  * fills the caller's out (nx * ny moments).  Threads: OpenMP; the result is
- * the same bit for bit for any thread count.  FFT plans plan an FFTW
- * transform (see Threads). */
+ * the same bit for bit for any thread count.  FFT plans execute the FFTW
+ * transform sea_waves_create planned (see Threads). */
 sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double t,
                             sea_moments *out, sea_error *err);
 

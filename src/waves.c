@@ -20,6 +20,7 @@
 #define _GNU_SOURCE /* sincos */
 #include "config.h"
 
+#include <assert.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -80,6 +81,12 @@ struct sea_waves {
     size_t nmodes;
     uint8_t *swell_mode; /* with swell: 1 where a swell holds most of the mode (it travels
                             along its own k), else NULL */
+    /* FFT: the inverse real transform of level m (M = N / 2^m cells a side,
+     * 2^m <= N/2: the steps fft_level accepts), planned once here and only
+     * executed by the sampling calls, on arrays aligned as plan_align */
+    size_t nlevels;
+    fftw_plan *plans;
+    int plan_align;    /* fftw_alignment_of the planning arrays */
 };
 
 /* FFTW's planner is not thread-safe; execution is. */
@@ -475,6 +482,47 @@ static sea_status create_fft(sea_waves *w, sea_error *err)
     return SEA_OK;
 }
 
+/* Plans the inverse real FFT of every level the sampling calls may ask for,
+ * with FFTW_ESTIMATE (as chosen before the plans were kept: FFTW_MEASURE
+ * would overwrite the arrays, time transforms that may never run and make
+ * the plan, so the round-off, depend on the machine's load).  The planning
+ * arrays are those of the largest level; the smaller levels plan on their
+ * prefixes, which have the same alignment. */
+static sea_status create_fft_plans(sea_waves *w, sea_error *err)
+{
+    const size_t N = w->N, mh = N / 2 + 1;
+    size_t n = 0;
+    while (((size_t)2 << n) <= N) /* 2^m <= N/2 */
+        n++;
+    sea_status st = sea_check_size(N * mh, sizeof(fftw_complex) + 2 * sizeof(double),
+                                   "FFT planning arrays", err);
+    if (st != SEA_OK)
+        return st;
+    w->plans = calloc(n, sizeof *w->plans);
+    fftw_complex *in = fftw_malloc(N * mh * sizeof(fftw_complex));
+    double *out = fftw_malloc(N * N * sizeof(double));
+    if (w->plans == NULL || in == NULL || out == NULL) {
+        fftw_free(in);
+        fftw_free(out);
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for planning a %zu x %zu FFT", N,
+                        N);
+    }
+    w->nlevels = n;
+    w->plan_align = fftw_alignment_of(out);
+    sea_fftw_planner_lock();
+    for (size_t m = 0; m < n && st == SEA_OK; m++) {
+        const size_t M = N >> m;
+        w->plans[m] = fftw_plan_dft_c2r_2d((int)M, (int)M, in, out, FFTW_ESTIMATE);
+        if (w->plans[m] == NULL)
+            st = sea_fail(err, SEA_ERR_NOMEM, "FFTW could not plan a %zu x %zu transform", M,
+                          M);
+    }
+    sea_fftw_planner_unlock();
+    fftw_free(in);
+    fftw_free(out);
+    return st;
+}
+
 sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
                             sea_error *err)
 {
@@ -506,6 +554,8 @@ sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, se
     w->k_max = M_PI / p->finest;
     w->strict = p->kind == SEA_WAVES_FFT;
     sea_status st = p->kind == SEA_WAVES_SINUSOIDS ? create_sinusoids(w, err) : create_fft(w, err);
+    if (st == SEA_OK && p->kind == SEA_WAVES_FFT)
+        st = create_fft_plans(w, err);
     if (st != SEA_OK) {
         sea_waves_free(w);
         return st;
@@ -553,6 +603,14 @@ void sea_waves_free(sea_waves *w)
     free(w->phs);
     free(w->modes);
     free(w->swell_mode);
+    if (w->plans != NULL) {
+        sea_fftw_planner_lock();
+        for (size_t m = 0; m < w->nlevels; m++)
+            if (w->plans[m] != NULL)
+                fftw_destroy_plan(w->plans[m]);
+        sea_fftw_planner_unlock();
+        free(w->plans);
+    }
     free(w);
 }
 
@@ -776,8 +834,10 @@ static void sinusoid_tile(const sea_waves *w, size_t nc, double step, long i0, l
 #undef SEA_TILE_ADD
 
 /* Checks a lattice step against an FFT plan: step = L0 2^m; returns the
- * level grid size M = N / 2^m through *M. */
-static sea_status fft_level(const sea_waves *w, double step, size_t *M, sea_error *err)
+ * level m (the index of its FFTW plan) through *level and its grid size
+ * M = N / 2^m through *M. */
+static sea_status fft_level(const sea_waves *w, double step, size_t *level, size_t *M,
+                            sea_error *err)
 {
     const double r = step / w->p.finest;
     const double m = round(log2(r));
@@ -786,15 +846,20 @@ static sea_status fft_level(const sea_waves *w, double step, size_t *M, sea_erro
                         "step %g m: an FFT plan samples steps %g m x 2^m up to %g m "
                         "(half its period)",
                         step, w->p.finest, w->p.finest * (double)w->N / 2.0);
+    *level = (size_t)m;
     *M = w->N >> (int)m;
     return SEA_OK;
 }
 
-/* The whole level grid M x M of step `step` at time t: h, sx, sy (M*M each,
- * row by row, cell (i, j) centred at ((i + 1/2) step, (j + 1/2) step)). */
-static sea_status fft_sample_level(const sea_waves *w, double step, size_t M, double t, double *h,
-                                   double *sx, double *sy, sea_error *err)
+/* The whole level grid M x M (level m = `level`) of step `step` at time t:
+ * h, sx, sy (M*M each, row by row, cell (i, j) centred at
+ * ((i + 1/2) step, (j + 1/2) step)).  Executes the level's plan, made by
+ * sea_waves_create: FFTW's new-array execute is thread-safe, so sampling
+ * takes no lock. */
+static sea_status fft_sample_level(const sea_waves *w, double step, size_t level, size_t M,
+                                   double t, double *h, double *sx, double *sy, sea_error *err)
 {
+    assert(level < w->nlevels && (w->N >> level) == M);
     const size_t N = w->N, mh = M / 2 + 1;
     fftw_complex *in[3];
     double *outs[3] = { h, sx, sy };
@@ -833,38 +898,30 @@ static sea_status fft_sample_level(const sea_waves *w, double step, size_t M, do
             o2[q] = I * ky * H;
         }
     }
-    pthread_mutex_lock(&fftw_planner_lock);
-    fftw_plan plan = fftw_plan_dft_c2r_2d((int)M, (int)M, in[0], h, FFTW_ESTIMATE);
-    pthread_mutex_unlock(&fftw_planner_lock);
-    if (plan == NULL) {
-        for (int f = 0; f < 3; f++)
-            fftw_free(in[f]);
-        return sea_fail(err, SEA_ERR_NOMEM, "FFTW could not plan a %zu x %zu transform", M, M);
-    }
-    /* h, sx, sy come from the caller's malloc, which FFTW's new-array
-     * execute accepts only with its own alignment: go through a buffer. */
-    double *buf = fftw_malloc(M * M * sizeof(double));
-    if (buf == NULL) {
-        pthread_mutex_lock(&fftw_planner_lock);
-        fftw_destroy_plan(plan);
-        pthread_mutex_unlock(&fftw_planner_lock);
-        for (int f = 0; f < 3; f++)
-            fftw_free(in[f]);
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu FFT", M, M);
-    }
-    for (int f = 0; f < 3; f++) {
+    /* FFTW's new-array execute needs the alignment the plan was made with
+     * (fftw_malloc's, as in[f] have): an output aligned otherwise goes
+     * through a buffer. */
+    const fftw_plan plan = w->plans[level];
+    double *buf = NULL;
+    sea_status st = SEA_OK;
+    for (int f = 0; f < 3 && st == SEA_OK; f++) {
         if (outs[f] == NULL)
             continue;
+        if (fftw_alignment_of(outs[f]) == w->plan_align) {
+            fftw_execute_dft_c2r(plan, in[f], outs[f]);
+            continue;
+        }
+        if (buf == NULL && (buf = fftw_malloc(M * M * sizeof(double))) == NULL) {
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu FFT", M, M);
+            break;
+        }
         fftw_execute_dft_c2r(plan, in[f], buf);
         memcpy(outs[f], buf, M * M * sizeof(double));
     }
     fftw_free(buf);
-    pthread_mutex_lock(&fftw_planner_lock);
-    fftw_destroy_plan(plan);
-    pthread_mutex_unlock(&fftw_planner_lock);
     for (int f = 0; f < 3; f++)
         fftw_free(in[f]);
-    return SEA_OK;
+    return st;
 }
 
 static sea_status check_rect(const sea_waves *w, const sea_rect *r, sea_error *err)
@@ -895,8 +952,8 @@ sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, dou
     if ((st = sea_check_size(nx, ny * sizeof(double) * 3, "sampled fields", err)) != SEA_OK)
         return st;
     if (w->p.kind == SEA_WAVES_FFT) {
-        size_t M;
-        if ((st = fft_level(w, r->step, &M, err)) != SEA_OK)
+        size_t level, M;
+        if ((st = fft_level(w, r->step, &level, &M, err)) != SEA_OK)
             return st;
         if (nx > M || ny > M)
             return sea_fail(err, SEA_ERR_DOMAIN,
@@ -906,8 +963,8 @@ sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, dou
         double *f = malloc(3 * M * M * sizeof(double));
         if (f == NULL)
             return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu grid", M, M);
-        if ((st = fft_sample_level(w, r->step, M, t, f, f + M * M, f + 2 * M * M, err)) !=
-            SEA_OK) {
+        if ((st = fft_sample_level(w, r->step, level, M, t, f, f + M * M, f + 2 * M * M,
+                                   err)) != SEA_OK) {
             free(f);
             return st;
         }
@@ -1064,8 +1121,8 @@ sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double
     const double count = (double)sub * (double)sub;
 
     if (w->p.kind == SEA_WAVES_FFT) {
-        size_t M;
-        if ((st = fft_level(w, delta, &M, err)) != SEA_OK)
+        size_t level, M;
+        if ((st = fft_level(w, delta, &level, &M, err)) != SEA_OK)
             return st;
         if ((double)nx * (double)sub > (double)M || (double)ny * (double)sub > (double)M)
             return sea_fail(err, SEA_ERR_DOMAIN,
@@ -1077,7 +1134,8 @@ sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double
         double *f = malloc(3 * M * M * sizeof(double));
         if (f == NULL)
             return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %zu x %zu grid", M, M);
-        if ((st = fft_sample_level(w, delta, M, t, f, f + M * M, f + 2 * M * M, err)) != SEA_OK) {
+        if ((st = fft_sample_level(w, delta, level, M, t, f, f + M * M, f + 2 * M * M, err)) !=
+            SEA_OK) {
             free(f);
             return st;
         }

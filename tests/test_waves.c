@@ -373,6 +373,59 @@ static void test_determinism(void)
     free(b);
 }
 
+/* FFT plans are planned once, in sea_waves_create, and only executed by the
+ * sampling calls: several threads sampling every level of one plan at once,
+ * each at its own time, get what one thread gets, bit for bit.  N = 96 has
+ * levels 96 ... 3 (the odd one goes through FFTW's alignment buffer). */
+static void test_fft_concurrent_sampling(void)
+{
+    sea_spectrum s = sea_state(8.7, 0.6174);
+    const size_t N = 96;
+    sea_waves *w = plan(&s, SEA_WAVES_FFT, N, 17);
+    enum { LEVELS = 6, TIMES = 4, TASKS = LEVELS * TIMES };
+    double *one[TASKS], *many[TASKS];
+    size_t cells[TASKS];
+    for (int q = 0; q < TASKS; q++) {
+        const size_t M = N >> (q % LEVELS);
+        cells[q] = M * M;
+        one[q] = malloc(3 * cells[q] * sizeof(double));
+        many[q] = malloc(3 * cells[q] * sizeof(double));
+        CU_ASSERT_FATAL(one[q] != NULL && many[q] != NULL);
+    }
+#ifdef _OPENMP
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(1);
+#endif
+    int fails = 0;
+    for (int q = 0; q < TASKS; q++) {
+        const size_t M = N >> (q % LEVELS);
+        const sea_rect r = { exp2(q % LEVELS), -7, 3, M, M };
+        double *f = one[q];
+        sea_error err;
+        fails += sea_waves_sample(w, &r, 0.37 * q, f, f + cells[q], f + 2 * cells[q], &err) !=
+                 SEA_OK;
+    }
+#ifdef _OPENMP
+    omp_set_num_threads(saved);
+#pragma omp parallel for schedule(dynamic) num_threads(4) reduction(+ : fails)
+#endif
+    for (int q = TASKS - 1; q >= 0; q--) {
+        const size_t M = N >> (q % LEVELS);
+        const sea_rect r = { exp2(q % LEVELS), -7, 3, M, M };
+        double *f = many[q];
+        sea_error err;
+        fails += sea_waves_sample(w, &r, 0.37 * q, f, f + cells[q], f + 2 * cells[q], &err) !=
+                 SEA_OK;
+    }
+    CU_ASSERT_EQUAL(fails, 0);
+    for (int q = 0; q < TASKS; q++) {
+        CU_ASSERT(memcmp(one[q], many[q], 3 * cells[q] * sizeof(double)) == 0);
+        free(one[q]);
+        free(many[q]);
+    }
+    sea_waves_free(w);
+}
+
 /* A plan with another finest size shares the bins it has in common: the
  * waves of 4 m and longer are the same sea. */
 static void test_plans_share_bins(void)
@@ -636,6 +689,7 @@ int test_waves_register(void)
            !CU_add_test(s, "LEAN 2x2 averaging exact", test_lean_averaging_exact) ||
            !CU_add_test(s, "Variable Step = centre slope", test_variable_step_is_centre_slope) ||
            !CU_add_test(s, "determinism", test_determinism) ||
+           !CU_add_test(s, "FFT: concurrent sampling", test_fft_concurrent_sampling) ||
            !CU_add_test(s, "plans share bins", test_plans_share_bins) ||
            !CU_add_test(s, "phase speed", test_phase_speed) ||
            !CU_add_test(s, "loop period", test_loop_period) ||
