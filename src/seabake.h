@@ -1040,7 +1040,7 @@ int sea_camera_project(const sea_camera *c, const double p[3], double *u, double
  * spherical, azimuthal equidistant from the nadir point.  Pure. */
 void sea_camera_sea_point(const sea_camera *c, double x, double y, double q[3], double n[3]);
 
-/* ------------------------------------------------------- scenes (issue 4) */
+/* ---------------------------------------------------------------- scenes */
 
 /* Clipmap windows: `view`, each level as large as the pixels that read it
  * need (at most grid x grid facets); `clipmap`, every high-resolution level
@@ -1179,7 +1179,7 @@ typedef struct {
                                   radiance by more than SEA_AUTO_SKIP of the tolerance */
     int shadowing;             /* shadowing = smith | correlated: a sea_shadowing; correlated */
     int scales;                /* scales, [1, 2]: 2 adds the two-scale correction
-                                  (sea_render_two_scale_delta); 2 */
+                                  (sea_two_scale_delta); 2 */
     /* Not a key of the file: the program's --reference.  1: every
      * approximation the tolerance allows replaced by its exact form
      * (seabake(1), REFERENCE), with at least two surface hits. */
@@ -1770,12 +1770,13 @@ typedef struct {
     size_t view_k;            /* view texels per facet side */
     float *view;              /* (k nx) x (k ny), rows north first: the radiance the
                                  sensor sees at the centre of view texel (I, R), as
-                                 float (the maps are float or half), i.e.
-                                 of sea_render_view_moments at map point
+                                 float (the maps are float or half): the
+                                 surface sea_multires_look_at finds along the
+                                 sensor's ray to map point
                                  ((i0 + (I + 1/2)/k) L, (j0 + ny - (R + 1/2)/k) L),
-                                 carried across the air along the range its ray
-                                 meets the sea at (sea_render_facet_seen), as
-                                 seabake render's pixel there */
+                                 its radiance carried across the air along the
+                                 range the ray meets it at (sea_render_facet_seen),
+                                 as seabake render's pixel there */
     sea_moments lr_moments;
     sea_facet_optics lr_optics;
     sea_dir lr_obs, lr_sun;   /* the directions lr_optics was computed for */
