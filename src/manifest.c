@@ -175,7 +175,7 @@ static cJSON *scene_json(const sea_scene *sc)
         }
     }
     cJSON *mod = cJSON_AddObjectToObject(o, "model");
-    cJSON_AddStringToObject(mod, "method", sea_facet_method_name((sea_facet_method)sc->method));
+    cJSON_AddStringToObject(mod, "method", sea_facet_method_name(sc->method));
     cJSON_AddNumberToObject(mod, "n", sc->n);
     cJSON_AddNumberToObject(mod, "finest_m", sc->finest);
     if (sc->grid == SEA_GRID_AUTO)
@@ -183,7 +183,7 @@ static cJSON *scene_json(const sea_scene *sc)
     else
         cJSON_AddNumberToObject(mod, "grid", sc->grid);
     cJSON_AddStringToObject(mod, "emissivity",
-                            sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+                            sea_emis_method_name(sc->emissivity_method));
     cJSON_AddStringToObject(mod, "earth", sc->earth == SEA_EARTH_FLAT ? "flat" : "spherical");
     cJSON_AddStringToObject(mod, "windows",
                             sc->windows == SEA_WINDOWS_CLIPMAP ? "clipmap" : "view");
@@ -193,7 +193,7 @@ static cJSON *scene_json(const sea_scene *sc)
     else
         cJSON_AddNumberToObject(mod, "reflections", sc->reflections);
     cJSON_AddBoolToObject(mod, "reference", sc->reference != 0);
-    cJSON_AddStringToObject(mod, "shadowing", sea_shadowing_name((sea_shadowing)sc->shadowing));
+    cJSON_AddStringToObject(mod, "shadowing", sea_shadowing_name(sc->shadowing));
     cJSON_AddNumberToObject(mod, "scales", sc->scales);
     return o;
 }

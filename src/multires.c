@@ -1889,7 +1889,7 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         lv->j0 = j_lo;
         lv->nx = (size_t)(i_hi - i_lo + 1);
         lv->ny = (size_t)(j_hi - j_lo + 1);
-        switch ((sea_facet_method)sc->method) {
+        switch (sc->method) {
         case SEA_METHOD_VARIABLE_STEP: lv->sub_n = 0; break;
         case SEA_METHOD_VARIABLE_STEP_2N: lv->sub_n = sc->n < l ? sc->n : l; break;
         case SEA_METHOD_ONE_METER: lv->sub_n = l; break;

@@ -2587,7 +2587,7 @@ sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
          !(sky->zenith_emissivity > 0.0 && sky->zenith_emissivity <= 1.0)) ||
         (sky->model == SEA_SKY_TABLE && (sky->n_zenith < 2 || sky->zenith == NULL)))
         return sea_fail(err, SEA_ERR_DOMAIN, "sky model %d or zenith emissivity out of range",
-                        sky != NULL ? sky->model : -1);
+                        sky != NULL ? (int)sky->model : -1);
     return emissivity_general(p, method, rule, N, n, st, v, reflections, sky, NULL, eps, sky_out,
                               err);
 }

@@ -570,12 +570,12 @@ static sea_status set_model(sea_render *r, const sea_spectrum *spec, const sea_s
     r->model = NULL;
     sea_model_params mp;
     sea_model_params_default(&mp);
-    mp.shadowing = (sea_shadowing)sc->shadowing;
+    mp.shadowing = sc->shadowing;
     mp.scales = simple ? 1 : sc->scales;
     mp.reflections = simple ? 1 : sc->reflections;
     mp.tolerance = sc->tolerance;
     mp.reference = simple ? 0 : sc->reference;
-    mp.method = (sea_emis_method)sc->emissivity_method;
+    mp.method = sc->emissivity_method;
     double dmax = 0.0, lmin = 0.0;
     for (size_t k = 0; k < r->nsamp; k++) {
         const double s1 = sea_sky_radiance(&r->sky, k, 1.0), s0 = sea_sky_radiance(&r->sky, k, 0.0);
@@ -636,7 +636,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     }
     /* the optics */
     TRY(sc->water_file[0] ? sea_water_load(sc->water_file, sc->salinity, &r->water, err)
-                          : sea_water_alloc((sea_water_table)sc->water_table, sc->salinity,
+                          : sea_water_alloc(sc->water_table, sc->salinity,
                                             &r->water, err));
     /* the sky's and the air's tables */
     double x_max, w_min, w_max;
