@@ -1667,24 +1667,17 @@ static sea_status check_plan(size_t npix, sea_error *err)
     return SEA_OK;
 }
 
-sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
-                             sea_error *err)
+/* The low-resolution moments and each level's share of the slope variance
+ * it generates; the first level whose share stays under the
+ * low-resolution threshold is the low-resolution one.  *tr_lr: the trace
+ * of the whole sea's slope covariance. */
+static sea_status plan_levels(sea_multires *mr, double *tr_lr, sea_error *err)
 {
-    *out = NULL;
-    sea_multires *mr = calloc(1, sizeof *mr);
-    if (mr == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    mr->sc = *sc;
-    mr->cam = *cam;
+    const sea_scene *sc = &mr->sc;
     sea_status st;
-#define TRY(expr)                                                                                 \
-    do {                                                                                          \
-        if ((st = (expr)) != SEA_OK)                                                              \
-            goto fail;                                                                            \
-    } while (0)
-    TRY(sea_scene_spectrum(sc, &mr->spec, err));
     sea_cov2 lr;
-    TRY(sea_spectrum_slope_cov(&mr->spec, 0.0, &lr, err));
+    if ((st = sea_spectrum_slope_cov(&mr->spec, 0.0, &lr, err)) != SEA_OK)
+        return st;
     const sea_slope_stats lrs = { { 0.0, 0.0 }, lr };
     to_moments(&lrs, &mr->lr);
     const double L0 = sc->finest;
@@ -1696,33 +1689,32 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
      * pixels near the horizon of mast.ini by up to 5.4 % and midwave.ini's by
      * 1.2 %; a wind sea's slope variance falls from 1e-5 to 1e-14 in an
      * octave beyond its peak, so the thousandth costs a level or none.) */
-    const double tr_lr = lr.xx + lr.yy;
+    *tr_lr = lr.xx + lr.yy;
     const double lr_share =
         sc->reference ? SEA_REFERENCE_LR_SHARE : SEA_LR_SHARE_OF_TOL * sc->tolerance;
     mr->first_lr = LEVEL_MAX;
     for (int l = 0; l <= LEVEL_MAX; l++) {
         sea_cov2 c;
-        TRY(sea_spectrum_slope_cov(&mr->spec, M_PI / (L0 * exp2(l)), &c, err));
-        const double share = tr_lr > 0.0 ? 1.0 - (c.xx + c.yy) / tr_lr : 0.0;
+        if ((st = sea_spectrum_slope_cov(&mr->spec, M_PI / (L0 * exp2(l)), &c, err)) != SEA_OK)
+            return st;
+        const double share = *tr_lr > 0.0 ? 1.0 - (c.xx + c.yy) / *tr_lr : 0.0;
         mr->lev[l].level = l;
         mr->lev[l].facet = L0 * exp2(l);
         mr->lev[l].generated_share = fmax(share, 0.0);
         if (share < lr_share && mr->first_lr == LEVEL_MAX)
             mr->first_lr = l;
     }
+    return SEA_OK;
+}
 
-    /* per-pixel geometry and level choice */
+/* Per-pixel geometry and level choice, into mr->px (allocated).  Each
+ * pixel corner is shared by four pixels: a thread finds the corners of
+ * image line v = j + 1 once and keeps them for row j + 1
+ * (sea_camera_pixel_cornered: the same geometry as sea_camera_pixel). */
+static void plan_pixels(sea_multires *mr)
+{
+    const sea_camera *cam = &mr->cam;
     const size_t W = (size_t)cam->width, H = (size_t)cam->height;
-    mr->npix = W * H;
-    TRY(check_plan(mr->npix, err));
-    mr->px = malloc(mr->npix * sizeof(mr_pixel));
-    if (mr->px == NULL) {
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu pixels", mr->npix);
-        goto fail;
-    }
-    /* Each pixel corner is shared by four pixels: a thread finds the
-     * corners of image line v = j + 1 once and keeps them for row j + 1
-     * (sea_camera_pixel_cornered: the same geometry as sea_camera_pixel). */
 #pragma omp parallel
     {
         /* (without memory for them, each pixel finds its own) */
@@ -1770,12 +1762,12 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         free(line);
         free(met);
     }
+}
 
-    /* Windows, finest first: the bounding box of the ground points that read
-     * a level, capped at grid x grid facets around their centre.  Pixels
-     * outside a window, or in its fading edge, read the next coarser level
-     * too, so that level's window covers them. */
-    /* (and the levels some pixel reads: a level none reads is not scanned) */
+/* The levels some pixel reads (a level none reads is not scanned), as
+ * bits, and each level's count of pixels that chose it. */
+static uint32_t plan_needed(sea_multires *mr)
+{
     uint32_t needed = 0;
     size_t count[LEVEL_MAX + 1] = { 0 };
 #pragma omp parallel for schedule(static) reduction(| : needed) reduction(+ : count[:LEVEL_MAX + 1])
@@ -1786,8 +1778,154 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
     }
     for (int l = 0; l <= LEVEL_MAX; l++)
         mr->lev[l].pixels = count[l];
-    size_t fft_cells = 2;
-    int any_hr = 0;
+    return needed;
+}
+
+/* The bounding box of the ground points of the pixels that read level l
+ * (empty: xmin > xmax).  The level before's pixels in its window's fading
+ * edge (or outside it), edge_lv unless NULL, read level l too: marked
+ * here, their bits returned. */
+static uint32_t level_bounds(sea_multires *mr, int l, const sea_clip_level *edge_lv,
+                             double box[4])
+{
+    const uint32_t bit = (uint32_t)1 << l;
+    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    /* (on every thread: extremes are the same in any order) */
+    uint32_t more = 0;
+#pragma omp parallel for schedule(static) reduction(min : xmin, ymin) reduction(max : xmax, ymax) \
+    reduction(| : more)
+    for (size_t q = 0; q < mr->npix; q++) {
+        mr_pixel *p = &mr->px[q];
+        if (edge_lv != NULL && (p->need & (bit >> 1)) && edge_weight(edge_lv, p->x, p->y) < 1.0) {
+            p->need |= bit;
+            more |= bit;
+        }
+        if (!(p->need & bit))
+            continue;
+        xmin = min2(xmin, p->x);
+        xmax = max2(xmax, p->x);
+        ymin = min2(ymin, p->y);
+        ymax = max2(ymax, p->y);
+    }
+    box[0] = xmin, box[1] = xmax, box[2] = ymin, box[3] = ymax;
+    return more;
+}
+
+/* High-resolution level l's window from the bounding box of its pixels
+ * (xmin > xmax: none), capped at grid x grid facets, or for a clipmap
+ * grid x grid facets around the look point. */
+static sea_status level_window(sea_multires *mr, int l, const double box[4], int clipmap,
+                               double look_x, double look_y, sea_error *err)
+{
+    const sea_scene *sc = &mr->sc;
+    sea_clip_level *lv = &mr->lev[l];
+    const double xmin = box[0], xmax = box[1], ymin = box[2], ymax = box[3];
+    sea_status st;
+    const double L = lv->facet;
+    /* grid = auto: as large as the level's pixels need, up to the
+     * largest grid a scene may ask (a clipmap, which no pixel sizes,
+     * keeps the old default) */
+    size_t grid = sc->grid > 0 ? (size_t)sc->grid : clipmap ? 256 : SEA_GRID_AUTO_MAX;
+    long i_lo, i_hi, j_lo, j_hi;
+    if (xmin <= xmax) {
+        st = check_cells(l, L, fmax(fabs(xmin), fabs(xmax)), fmax(fabs(ymin), fabs(ymax)), err);
+        if (st != SEA_OK)
+            return st;
+        /* margin: the fading edge (see edge_weight) plus one facet, so
+         * that a window that is not capped holds its pixels at full
+         * weight */
+        const double span = fmax(xmax - xmin, ymax - ymin) / L;
+        const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
+        i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
+        j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
+        const size_t side = (size_t)(i_hi - i_lo + 1) > (size_t)(j_hi - j_lo + 1)
+                                ? (size_t)(i_hi - i_lo + 1)
+                                : (size_t)(j_hi - j_lo + 1);
+        if (side > mr->grid_needed)
+            mr->grid_needed = side + (side & 1);
+    } else {
+        /* No pixel reads this level (a clipmap window all the same):
+         * the bounds stay infinite, and converting them is undefined. */
+        i_lo = i_hi = j_lo = j_hi = 0;
+    }
+    if (clipmap) {
+        /* concentric: grid x grid facets around the look point */
+        if ((st = check_cells(l, L, look_x, look_y, err)) != SEA_OK)
+            return st;
+        i_lo = (long)floor(look_x / L) - (long)grid / 2;
+        j_lo = (long)floor(look_y / L) - (long)grid / 2;
+        i_hi = i_lo + (long)grid - 1;
+        j_hi = j_lo + (long)grid - 1;
+    } else if ((size_t)(i_hi - i_lo + 1) > grid || (size_t)(j_hi - j_lo + 1) > grid) {
+        /* capped: centre on the median ground point of the pixels whose
+         * footprint chose this level (the bounding box also holds
+         * pixels pushed up from finer windows) */
+        double cxm = 0.0, cym = 0.0;
+        if ((st = median_point(mr, l, &cxm, &cym, err)) != SEA_OK ||
+            (st = check_cells(l, L, cxm, cym, err)) != SEA_OK)
+            return st;
+        if ((size_t)(i_hi - i_lo + 1) > grid) {
+            i_lo = (long)floor(cxm / L) - (long)grid / 2;
+            i_hi = i_lo + (long)grid - 1;
+        }
+        if ((size_t)(j_hi - j_lo + 1) > grid) {
+            j_lo = (long)floor(cym / L) - (long)grid / 2;
+            j_hi = j_lo + (long)grid - 1;
+        }
+    }
+    lv->i0 = i_lo;
+    lv->j0 = j_lo;
+    lv->nx = (size_t)(i_hi - i_lo + 1);
+    lv->ny = (size_t)(j_hi - j_lo + 1);
+    return SEA_OK;
+}
+
+/* High-resolution level l's sub-facets: 2^sub_n per side by the method,
+ * and their share of the slope variance (tr_lr: the whole sea's). */
+static sea_status level_sub_facets(sea_multires *mr, int l, double tr_lr, sea_error *err)
+{
+    const sea_scene *sc = &mr->sc;
+    sea_clip_level *lv = &mr->lev[l];
+    const double L = lv->facet;
+    switch (sc->method) {
+    case SEA_METHOD_VARIABLE_STEP: lv->sub_n = 0; break;
+    case SEA_METHOD_VARIABLE_STEP_2N: lv->sub_n = sc->n < l ? sc->n : l; break;
+    case SEA_METHOD_ONE_METER: lv->sub_n = l; break;
+    }
+    if (lv->sub_n > 0) {
+        /* The sub-facets resolve the waves between L / 2^n and L: the
+         * slope variance they move from C into the spread of the mean
+         * slopes.  Below the tolerance of the total, variable-step-2n
+         * skips them (one-meter is the reference and keeps them). */
+        sea_cov2 c_l, c_fine;
+        sea_status st;
+        if ((st = sea_spectrum_slope_cov(&mr->spec, M_PI / L, &c_l, err)) != SEA_OK ||
+            (st = sea_spectrum_slope_cov(&mr->spec, M_PI * exp2(lv->sub_n) / L, &c_fine,
+                                         err)) != SEA_OK)
+            return st;
+        const double band = (c_l.xx + c_l.yy) - (c_fine.xx + c_fine.yy);
+        lv->sub_share = tr_lr > 0.0 ? fmax(band, 0.0) / tr_lr : 0.0;
+        if (sc->method == SEA_METHOD_VARIABLE_STEP_2N && lv->sub_share < sc->tolerance) {
+            lv->sub_n = 0;
+            lv->sub_skipped = 1;
+        }
+    }
+    return SEA_OK;
+}
+
+/* Windows, finest first: the bounding box of the ground points that read
+ * a level, capped at grid x grid facets around their centre.  Pixels
+ * outside a window, or in its fading edge, read the next coarser level
+ * too, so that level's window covers them.  *any_hr: 1 if some
+ * high-resolution level is used; *fft_cells: the power of two (>= 2)
+ * that spans every such level's window in cells of the finest size. */
+static sea_status plan_windows(sea_multires *mr, double tr_lr, int *any_hr, size_t *fft_cells,
+                               sea_error *err)
+{
+    const sea_scene *sc = &mr->sc;
+    const sea_camera *cam = &mr->cam;
+    sea_status st;
+    uint32_t needed = plan_needed(mr);
     /* The centre of clipmap windows: where the optical axis meets the sea,
      * else the nadir point. */
     double look_x = cam->pos[0], look_y = cam->pos[1];
@@ -1805,153 +1943,108 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
     for (int l = 0; l <= LEVEL_MAX; l++) {
         sea_clip_level *lv = &mr->lev[l];
         const uint32_t bit = (uint32_t)1 << l;
-        double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
-        if ((needed & bit) || edge_lv != NULL) {
-            /* (on every thread: extremes are the same in any order) */
-            uint32_t more = 0;
-#pragma omp parallel for schedule(static) reduction(min : xmin, ymin) reduction(max : xmax, ymax) \
-    reduction(| : more)
-            for (size_t q = 0; q < mr->npix; q++) {
-                mr_pixel *p = &mr->px[q];
-                if (edge_lv != NULL && (p->need & (bit >> 1)) &&
-                    edge_weight(edge_lv, p->x, p->y) < 1.0) {
-                    p->need |= bit;
-                    more |= bit;
-                }
-                if (!(p->need & bit))
-                    continue;
-                xmin = min2(xmin, p->x);
-                xmax = max2(xmax, p->x);
-                ymin = min2(ymin, p->y);
-                ymax = max2(ymax, p->y);
-            }
-            needed |= more;
-        }
+        double box[4] = { INFINITY, -INFINITY, INFINITY, -INFINITY };
+        if ((needed & bit) || edge_lv != NULL)
+            needed |= level_bounds(mr, l, edge_lv, box);
         edge_lv = NULL;
         const int clipmap = sc->windows == SEA_WINDOWS_CLIPMAP && l < mr->first_lr;
-        if (!(xmin <= xmax) && !clipmap)
+        if (!(box[0] <= box[1]) && !clipmap)
             continue;
         mr->used[l] = 1;
         lv->low_res = l >= mr->first_lr;
         if (lv->low_res)
             continue;
-        any_hr = 1;
-        const double L = lv->facet;
-        /* grid = auto: as large as the level's pixels need, up to the
-         * largest grid a scene may ask (a clipmap, which no pixel sizes,
-         * keeps the old default) */
-        size_t grid = sc->grid > 0 ? (size_t)sc->grid : clipmap ? 256 : SEA_GRID_AUTO_MAX;
-        long i_lo, i_hi, j_lo, j_hi;
-        if (xmin <= xmax) {
-            TRY(check_cells(l, L, fmax(fabs(xmin), fabs(xmax)), fmax(fabs(ymin), fabs(ymax)),
-                            err));
-            /* margin: the fading edge (see edge_weight) plus one facet, so
-             * that a window that is not capped holds its pixels at full
-             * weight */
-            const double span = fmax(xmax - xmin, ymax - ymin) / L;
-            const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
-            i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
-            j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
-            const size_t side = (size_t)(i_hi - i_lo + 1) > (size_t)(j_hi - j_lo + 1)
-                                    ? (size_t)(i_hi - i_lo + 1)
-                                    : (size_t)(j_hi - j_lo + 1);
-            if (side > mr->grid_needed)
-                mr->grid_needed = side + (side & 1);
-        } else {
-            /* No pixel reads this level (a clipmap window all the same):
-             * the bounds stay infinite, and converting them is undefined. */
-            i_lo = i_hi = j_lo = j_hi = 0;
-        }
-        if (clipmap) {
-            /* concentric: grid x grid facets around the look point */
-            TRY(check_cells(l, L, look_x, look_y, err));
-            i_lo = (long)floor(look_x / L) - (long)grid / 2;
-            j_lo = (long)floor(look_y / L) - (long)grid / 2;
-            i_hi = i_lo + (long)grid - 1;
-            j_hi = j_lo + (long)grid - 1;
-        } else if ((size_t)(i_hi - i_lo + 1) > grid || (size_t)(j_hi - j_lo + 1) > grid) {
-            /* capped: centre on the median ground point of the pixels whose
-             * footprint chose this level (the bounding box also holds
-             * pixels pushed up from finer windows) */
-            double cxm = 0.0, cym = 0.0;
-            TRY(median_point(mr, l, &cxm, &cym, err));
-            TRY(check_cells(l, L, cxm, cym, err));
-            if ((size_t)(i_hi - i_lo + 1) > grid) {
-                i_lo = (long)floor(cxm / L) - (long)grid / 2;
-                i_hi = i_lo + (long)grid - 1;
-            }
-            if ((size_t)(j_hi - j_lo + 1) > grid) {
-                j_lo = (long)floor(cym / L) - (long)grid / 2;
-                j_hi = j_lo + (long)grid - 1;
-            }
-        }
-        lv->i0 = i_lo;
-        lv->j0 = j_lo;
-        lv->nx = (size_t)(i_hi - i_lo + 1);
-        lv->ny = (size_t)(j_hi - j_lo + 1);
-        switch (sc->method) {
-        case SEA_METHOD_VARIABLE_STEP: lv->sub_n = 0; break;
-        case SEA_METHOD_VARIABLE_STEP_2N: lv->sub_n = sc->n < l ? sc->n : l; break;
-        case SEA_METHOD_ONE_METER: lv->sub_n = l; break;
-        }
-        if (lv->sub_n > 0) {
-            /* The sub-facets resolve the waves between L / 2^n and L: the
-             * slope variance they move from C into the spread of the mean
-             * slopes.  Below the tolerance of the total, variable-step-2n
-             * skips them (one-meter is the reference and keeps them). */
-            sea_cov2 c_l, c_fine;
-            TRY(sea_spectrum_slope_cov(&mr->spec, M_PI / L, &c_l, err));
-            TRY(sea_spectrum_slope_cov(&mr->spec, M_PI * exp2(lv->sub_n) / L, &c_fine, err));
-            const double band = (c_l.xx + c_l.yy) - (c_fine.xx + c_fine.yy);
-            lv->sub_share = tr_lr > 0.0 ? fmax(band, 0.0) / tr_lr : 0.0;
-            if (sc->method == SEA_METHOD_VARIABLE_STEP_2N && lv->sub_share < sc->tolerance) {
-                lv->sub_n = 0;
-                lv->sub_skipped = 1;
-            }
-        }
+        *any_hr = 1;
+        if ((st = level_window(mr, l, box, clipmap, look_x, look_y, err)) != SEA_OK ||
+            (st = level_sub_facets(mr, l, tr_lr, err)) != SEA_OK)
+            return st;
         const size_t ext = (lv->nx > lv->ny ? lv->nx : lv->ny) << l;
-        while (fft_cells < ext)
-            fft_cells *= 2;
+        while (*fft_cells < ext)
+            *fft_cells *= 2;
         if (l < LEVEL_MAX && (needed & bit))
             edge_lv = lv; /* (the next level's pass) */
     }
+    return SEA_OK;
+}
+
+/* The pixels that fall back to a coarser level than they ask for, for
+ * want of a larger grid. */
+static size_t plan_fallback(const sea_multires *mr)
+{
+    size_t fb = 0;
+#pragma omp parallel for schedule(static) reduction(+ : fb)
+    for (size_t q = 0; q < mr->npix; q++) {
+        const mr_pixel *p = &mr->px[q];
+        if (!p->hit || p->level >= mr->first_lr)
+            continue;
+        const sea_clip_level *lv = &mr->lev[p->level];
+        fb += edge_weight(lv, p->x, p->y) < 1.0;
+    }
+    return fb;
+}
+
+/* The waves the high-resolution levels read: a sum of components, or for
+ * one-meter an FFT patch of fft_cells cells of the finest size. */
+static sea_status plan_waves(sea_multires *mr, size_t fft_cells, sea_error *err)
+{
+    const sea_scene *sc = &mr->sc;
+    const double L0 = sc->finest;
+    sea_waves_params wp;
+    sea_waves_params_default(&wp);
+    wp.finest = L0;
+    wp.seed = sc->seed;
+    wp.loop_period = sc->loop_period;
+    if (sc->method == SEA_METHOD_ONE_METER) {
+        wp.kind = SEA_WAVES_FFT;
+        if (fft_cells > 16384)
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "one-meter: the levels span %zu cells of %g m, beyond the "
+                            "16384-cell FFT patch; use variable-step-2n or a smaller grid",
+                            fft_cells, L0);
+        wp.fft_size = fft_cells;
+    }
+    return sea_waves_create(&mr->spec, &wp, &mr->waves, err);
+}
+
+sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
+                             sea_error *err)
+{
+    *out = NULL;
+    sea_multires *mr = calloc(1, sizeof *mr);
+    if (mr == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    mr->sc = *sc;
+    mr->cam = *cam;
+    sea_status st;
+#define TRY(expr)                                                                                 \
+    do {                                                                                          \
+        if ((st = (expr)) != SEA_OK)                                                              \
+            goto fail;                                                                            \
+    } while (0)
+    TRY(sea_scene_spectrum(sc, &mr->spec, err));
+    double tr_lr;
+    TRY(plan_levels(mr, &tr_lr, err));
+
+    /* per-pixel geometry and level choice */
+    mr->npix = (size_t)cam->width * (size_t)cam->height;
+    TRY(check_plan(mr->npix, err));
+    mr->px = malloc(mr->npix * sizeof(mr_pixel));
+    if (mr->px == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu pixels", mr->npix);
+        goto fail;
+    }
+    plan_pixels(mr);
+
+    size_t fft_cells = 2;
+    int any_hr = 0;
+    TRY(plan_windows(mr, tr_lr, &any_hr, &fft_cells, err));
     /* Every pixel falls back to a coarser level when outside its window:
      * the low-resolution level closes the chain. */
     mr->used[mr->first_lr] = 1;
     mr->lev[mr->first_lr].low_res = 1;
-    /* the pixels that do, for want of a larger grid */
-    {
-        size_t fb = 0;
-#pragma omp parallel for schedule(static) reduction(+ : fb)
-        for (size_t q = 0; q < mr->npix; q++) {
-            const mr_pixel *p = &mr->px[q];
-            if (!p->hit || p->level >= mr->first_lr)
-                continue;
-            const sea_clip_level *lv = &mr->lev[p->level];
-            fb += edge_weight(lv, p->x, p->y) < 1.0;
-        }
-        mr->fallback = fb;
-    }
-
-    if (any_hr) {
-        sea_waves_params wp;
-        sea_waves_params_default(&wp);
-        wp.finest = L0;
-        wp.seed = sc->seed;
-        wp.loop_period = sc->loop_period;
-        if (sc->method == SEA_METHOD_ONE_METER) {
-            wp.kind = SEA_WAVES_FFT;
-            if (fft_cells > 16384) {
-                st = sea_fail(err, SEA_ERR_DOMAIN,
-                              "one-meter: the levels span %zu cells of %g m, beyond the "
-                              "16384-cell FFT patch; use variable-step-2n or a smaller grid",
-                              fft_cells, L0);
-                goto fail;
-            }
-            wp.fft_size = fft_cells;
-        }
-        TRY(sea_waves_create(&mr->spec, &wp, &mr->waves, err));
-    }
+    mr->fallback = plan_fallback(mr);
+    if (any_hr)
+        TRY(plan_waves(mr, fft_cells, err));
 #undef TRY
     for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++)
         if (mr->used[l])
