@@ -2183,7 +2183,7 @@ static sea_dir local_dir_at(const sea_camera *cam, double x, double y, const dou
 
 /* Whether ray B stays above the surface wherever a ray A of slope kA =
  * d_z / |d_h| and map direction (uxA, uyA) from the same sensor does (both
- * at one horizontal distance), as look() explains: B above A by more than
+ * at one horizontal distance), as look_rays() explains: B above A by more than
  * the surface can rise between their map points. */
 static int ray_above(const ray *B, double kA, double uxA, double uyA, double gmax)
 {
@@ -2197,66 +2197,40 @@ static int same_blend(const sea_level_blend *a, const sea_level_blend *b)
     return a->level == b->level && a->neighbour == b->neighbour && a->alpha == b->alpha;
 }
 
-static void look(const sea_multires_frame *f, double u, double v, const mr_pixel *p,
-                 const sea_multires_hint *below, sea_multires_hint *top,
-                 sea_multires_sample *out)
+/* look()'s pixel that reads the low-resolution level alone: the flat mean
+ * surface under its centre, no ray to march.  back: toward the sensor. */
+static inline void look_flat(const sea_multires *mr, const mr_pixel *p, const double back[3],
+                             sea_multires_sample *out)
 {
-    if (top != NULL)
-        top->n = 0;
-    const sea_multires *mr = f->mr;
     const sea_camera *cam = &mr->cam;
-    memset(out, 0, sizeof *out);
-    out->blend = (sea_level_blend){ p->level, p->neighbour, p->alpha };
-    if (!p->hit)
-        return;
-    out->hit = 1;
-    double dc[3], back[3];
-    sea_camera_ray(cam, u, v, dc);
-    for (int k = 0; k < 3; k++)
-        back[k] = -dc[k];
-    const int lr_only = p->level >= mr->first_lr &&
-                        (p->neighbour < 0 || p->alpha <= 0.0 || p->neighbour >= mr->first_lr);
-    if (lr_only) {
-        /* the flat mean surface: no ray to march */
-        double q[3];
-        out->x = p->x;
-        out->y = p->y;
-        out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, q);
-        out->range = sqrt((q[0] - cam->pos[0]) * (q[0] - cam->pos[0]) +
-                          (q[1] - cam->pos[1]) * (q[1] - cam->pos[1]) +
-                          (q[2] - cam->pos[2]) * (q[2] - cam->pos[2]));
-        out->moments = mr->lr;
-        out->level = mr->first_lr;
-        out->rays = 1;
-        return;
-    }
-    surface s;
-    surface_init(&s, f, out->blend);
-    const int nu = p->nu, nv = p->nv, ku = p->ku, kv = p->kv, many = nu * nv > 1;
-    /* one local frame for the pixel, at its mean-surface point: its rays
-     * and the points they meet are within a footprint (and the waves'
-     * heights) of it, where the vertical of the sphere turns by 1e-5 rad at
-     * most */
-    double qm[3];
-    out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
-    /* the view azimuth of the 1/D weights below (a pixel of one ray has
-     * none) */
-    double cphi = 1.0, sphi = 0.0;
-    if (many) {
-        cphi = cos(out->obs.phi);
-        sphi = sin(out->obs.phi);
-    }
-    /* The rays' hits, the lowest row of rays first.  At a horizontal
-     * distance s from the sensor a ray of slope k = d_z / |d_h| and map
-     * direction w = d_h / |d_h| is at z0 + k s over the map point o + s w.
-     * A ray B above ray A (of the same column) by more than the surface can
-     * rise between their map points, k_B - k_A >= RAY_ORDER_MARGIN gmax
-     * |w_B - w_A| (both sides grow as s), stays above the surface wherever
-     * A does, so B meets it no nearer than A did, and its march starts at
-     * that horizontal distance (the same first hit: only the march's path
-     * to it differs). */
-    double hit_t[SUB_MAX * SUB_MAX];
-    ray rays[SUB_MAX * SUB_MAX];
+    double q[3];
+    out->x = p->x;
+    out->y = p->y;
+    out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, q);
+    out->range = sqrt((q[0] - cam->pos[0]) * (q[0] - cam->pos[0]) +
+                      (q[1] - cam->pos[1]) * (q[1] - cam->pos[1]) +
+                      (q[2] - cam->pos[2]) * (q[2] - cam->pos[2]));
+    out->moments = mr->lr;
+    out->level = mr->first_lr;
+    out->rays = 1;
+}
+
+/* The rays' hits, the lowest row of rays first.  At a horizontal
+ * distance s from the sensor a ray of slope k = d_z / |d_h| and map
+ * direction w = d_h / |d_h| is at z0 + k s over the map point o + s w.
+ * A ray B above ray A (of the same column) by more than the surface can
+ * rise between their map points, k_B - k_A >= RAY_ORDER_MARGIN gmax
+ * |w_B - w_A| (both sides grow as s), stays above the surface wherever
+ * A does, so B meets it no nearer than A did, and its march starts at
+ * that horizontal distance (the same first hit: only the march's path
+ * to it differs).  dc: the ray through the pixel centre (u, v); hit_t[k]:
+ * where ray k met the surface, -1 if it did not. */
+static inline void look_rays(const surface *s, const sea_camera *cam, double u, double v,
+                             const double dc[3], const mr_pixel *p,
+                             const sea_multires_hint *below, const sea_level_blend *blend,
+                             ray *rays, double *hit_t)
+{
+    const int nu = p->nu, nv = p->nv;
     for (int b = nv - 1; b >= 0; b--)
         for (int a = 0; a < nu; a++) {
             const int k = b * nu + a;
@@ -2272,20 +2246,20 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
             ray_init(r, cam, d);
             hit_t[k] = -1.0;
             double t_a, t_b, t;
-            if (!ray_range(&s, r, &t_a, &t_b))
+            if (!ray_range(s, r, &t_a, &t_b))
                 continue;
             /* the horizontal distance B's march may start at: A's hit */
             double s0 = -1.0;
             if (b + 1 < nv && hit_t[k + nu] >= 0.0 && r->dh > 0.0 && rays[k + nu].dh > 0.0) {
                 const ray *A = &rays[k + nu];
-                if (ray_above(r, A->d[2] / A->dh, A->ux, A->uy, s.gmax))
+                if (ray_above(r, A->d[2] / A->dh, A->ux, A->uy, s->gmax))
                     s0 = hit_t[k + nu] * A->dh;
             } else if (b + 1 == nv && below != NULL && below->n > 0 && r->dh > 0.0 &&
-                       same_blend(&below->blend, &out->blend)) {
+                       same_blend(&below->blend, blend)) {
                 /* the pixel below's top rays, on the same surface */
                 for (int m = 0; m < below->n; m++)
                     if (below->s[m] > s0 &&
-                        ray_above(r, below->k[m], below->ux[m], below->uy[m], s.gmax))
+                        ray_above(r, below->k[m], below->ux[m], below->uy[m], s->gmax))
                         s0 = below->s[m];
             }
             if (s0 >= 0.0) {
@@ -2294,23 +2268,38 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
                     continue; /* above the surface over its whole range */
                 t_a = fmax(t_a, t0);
             }
-            if (march(&s, r, t_a, t_b, &t))
+            if (march(s, r, t_a, t_b, &t))
                 hit_t[k] = t;
         }
-    if (top != NULL) {
-        /* the top row of rays, for the pixel above */
-        top->blend = out->blend;
-        for (int a = 0; a < nu; a++) {
-            const ray *A = &rays[a];
-            if (!(A->dh > 0.0))
-                continue;
-            top->k[top->n] = A->d[2] / A->dh;
-            top->ux[top->n] = A->ux;
-            top->uy[top->n] = A->uy;
-            top->s[top->n] = hit_t[a] >= 0.0 ? hit_t[a] * A->dh : -1.0;
-            top->n++;
-        }
+}
+
+/* The top row of rays (nu of them), for the pixel above. */
+static inline void look_top(const ray *rays, const double *hit_t, int nu,
+                            const sea_level_blend *blend, sea_multires_hint *top)
+{
+    top->blend = *blend;
+    for (int a = 0; a < nu; a++) {
+        const ray *A = &rays[a];
+        if (!(A->dh > 0.0))
+            continue;
+        top->k[top->n] = A->d[2] / A->dh;
+        top->ux[top->n] = A->ux;
+        top->uy[top->n] = A->uy;
+        top->s[top->n] = hit_t[a] >= 0.0 ? hit_t[a] * A->dh : -1.0;
+        top->n++;
     }
+}
+
+/* The pixel's moments, point met and height: each ray's share of the
+ * footprint around the point it met, weighted by 1 / D when the pixel
+ * has many rays (view azimuth cos cphi, sin sphi); or, when every ray
+ * passed above the waves, what lies under the pixel centre's
+ * mean-surface point. */
+static inline void look_footprint(const surface *s, const mr_pixel *p, const ray *rays,
+                                  const double *hit_t, double cphi, double sphi,
+                                  sea_multires_sample *out)
+{
+    const int nu = p->nu, nv = p->nv, ku = p->ku, kv = p->kv, many = nu * nv > 1;
     sea_moments acc = { 0 };
     double wsum = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
     for (int b = 0; b < nv; b++)
@@ -2328,7 +2317,7 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
                 for (int i = 0; i < ku; i++) {
                     const double ou = ((i + 0.5) / ku - 0.5) / nu, ov = ((j + 0.5) / kv - 0.5) / nv;
                     int dom;
-                    const sea_moments q = surf_moments(&s, x + ou * p->eu[0] + ov * p->ev[0],
+                    const sea_moments q = surf_moments(s, x + ou * p->eu[0] + ov * p->ev[0],
                                                        y + ou * p->eu[1] + ov * p->ev[1], &dom);
                     axpy(&m, 1.0 / (ku * kv), &q);
                 }
@@ -2365,12 +2354,20 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
         /* every ray passed above the waves: what lies under the mean-surface
          * point of the pixel centre */
         int dom;
-        acc = surf_moments(&s, p->x, p->y, &dom);
+        acc = surf_moments(s, p->x, p->y, &dom);
         out->x = p->x;
         out->y = p->y;
         out->height = acc.h;
     }
     out->moments = acc;
+}
+
+/* The range to the point met and the level the sample reports: the
+ * pixel's, or its neighbour's where that weighs more. */
+static inline void look_range_level(const sea_multires_frame *f, const mr_pixel *p,
+                                    sea_multires_sample *out)
+{
+    const sea_camera *cam = &f->mr->cam;
     /* the point met: above the mean-surface point under it (the map
      * offset is at most a few hundred metres, along the ray's azimuth) */
     double q[3], n[3];
@@ -2389,6 +2386,56 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
         if (p->alpha * wn > (1.0 - p->alpha) * dw)
             out->level = dn;
     }
+}
+
+/* One pixel's sample (per pixel, in the render's inner loop: its phases
+ * are static inline so that the split costs no call). */
+static void look(const sea_multires_frame *f, double u, double v, const mr_pixel *p,
+                 const sea_multires_hint *below, sea_multires_hint *top,
+                 sea_multires_sample *out)
+{
+    if (top != NULL)
+        top->n = 0;
+    const sea_multires *mr = f->mr;
+    const sea_camera *cam = &mr->cam;
+    memset(out, 0, sizeof *out);
+    out->blend = (sea_level_blend){ p->level, p->neighbour, p->alpha };
+    if (!p->hit)
+        return;
+    out->hit = 1;
+    double dc[3], back[3];
+    sea_camera_ray(cam, u, v, dc);
+    for (int k = 0; k < 3; k++)
+        back[k] = -dc[k];
+    const int lr_only = p->level >= mr->first_lr &&
+                        (p->neighbour < 0 || p->alpha <= 0.0 || p->neighbour >= mr->first_lr);
+    if (lr_only) {
+        look_flat(mr, p, back, out);
+        return;
+    }
+    surface s;
+    surface_init(&s, f, out->blend);
+    const int many = p->nu * p->nv > 1;
+    /* one local frame for the pixel, at its mean-surface point: its rays
+     * and the points they meet are within a footprint (and the waves'
+     * heights) of it, where the vertical of the sphere turns by 1e-5 rad at
+     * most */
+    double qm[3];
+    out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
+    /* the view azimuth of the 1/D weights below (a pixel of one ray has
+     * none) */
+    double cphi = 1.0, sphi = 0.0;
+    if (many) {
+        cphi = cos(out->obs.phi);
+        sphi = sin(out->obs.phi);
+    }
+    double hit_t[SUB_MAX * SUB_MAX];
+    ray rays[SUB_MAX * SUB_MAX];
+    look_rays(&s, cam, u, v, dc, p, below, &out->blend, rays, hit_t);
+    if (top != NULL)
+        look_top(rays, hit_t, p->nu, &out->blend, top);
+    look_footprint(&s, p, rays, hit_t, cphi, sphi, out);
+    look_range_level(f, p, out);
 }
 
 /* look() at image point (u, v) with its pixel's plan made now (as
