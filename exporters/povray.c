@@ -507,9 +507,9 @@ static void put_object_texture(FILE *f, const char *tex, double drop, const sea_
         fprintf(f, "  translate <0, %.17g, 0> // below the finer levels\n", drop);
 }
 
-/* sea.inc: this bake's sea, for scene.pov or a scene of the user's own. */
-static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *lv, size_t n,
-                          double sky_scaled, double scale, const sea_pov_options *o)
+/* sea.inc's opening: what it is and declares, its include guard, the
+ * radiance scale and the sky's radiance. */
+static void put_sea_inc_head(FILE *f, double sky_scaled, double scale, const sea_pov_options *o)
 {
     fputs("// sea.inc - a sea exported by seabake for POV-Ray 3.7: the sea alone, to\n"
           "// #include in a scene (scene.pov is one; see its end for your own objects).\n"
@@ -539,70 +539,83 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
           f);
     fprintf(f, "#declare Seabake_Radiance_Scale = %.17g;\n", scale);
     fprintf(f, "#declare Seabake_Sky_Radiance = %.9g;\n\n", sky_scaled);
-    if (o->sky_n > 0) {
-        fprintf(f,
-                "// The sky toward each direction, as seabake render gives a sky pixel: its\n"
-                "// radiance (scaled) as a function of s = sqrt(max(y, 0)), y the ray's\n"
-                "// zenith cosine (POV y is up), linear between the %zu entries of the\n"
-                "// color_map, which are denser where the sky changes fastest; the horizon's\n"
-                "// value at and below it (Seabake_Sky_Radiance, also the floor's).  The\n"
-                "// interpolation's largest relative error, measured at 64 points inside\n"
-                "// every interval: %.2g.  scene.pov puts it on a sky_sphere.\n",
-                o->sky_n, o->sky_error);
-        fputs("#declare Seabake_Sky_Pigment = pigment {\n"
-              "  function { sqrt(max(y, 0)) }\n"
-              "  color_map {\n",
-              f);
-        for (size_t i = 0; i < o->sky_n; i++)
-            fprintf(f, "    [%.17g rgb %.9g]\n", o->sky_s[i], o->sky_value[i]);
-        fputs("  }\n}\n\n", f);
-    }
+}
 
-    if (o->framed) {
-        fprintf(f,
-                "// Frames %ld to %ld were baked, frame f at time %.17g + f / %.17g s.  The\n"
-                "// maps are POV-Ray's frame_number's: render them all with scene.ini, one\n"
-                "// with +SF f +EF f (a subset of scene.ini's frames; +KFI f +KFF f works\n"
-                "// too, except for frame 1, which POV-Ray takes as no animation).  Without\n"
-                "// an animation (clock_on = 0) the first frame is shown.\n",
-                o->first, o->last, o->time0, o->rate);
-        fprintf(f, "#declare Seabake_First_Frame = %ld;\n#declare Seabake_Last_Frame = %ld;\n",
-                o->first, o->last);
-        fputs("#if (clock_on)\n"
-              "  #declare Seabake_Frame = frame_number;\n"
-              "#else\n"
-              "  #declare Seabake_Frame = Seabake_First_Frame;\n"
-              "#end\n"
-              "#if (Seabake_Frame < Seabake_First_Frame | Seabake_Frame > Seabake_Last_Frame)\n"
-              "  #error concat(\"sea.inc: frame \", str(Seabake_Frame, 0, 0), \" was not baked "
-              "(frames \",\n"
-              "                str(Seabake_First_Frame, 0, 0), \" to \", "
-              "str(Seabake_Last_Frame, 0, 0), \")\")\n"
-              "#end\n",
-              f);
-        fprintf(f, "#declare Seabake_Time = %.17g + Seabake_Frame / %.17g;\n\n", o->time0,
-                o->rate);
-    }
+/* Seabake_Sky_Pigment: the sky by direction (o->sky_n > 0). */
+static void put_sky_pigment(FILE *f, const sea_pov_options *o)
+{
+    fprintf(f,
+            "// The sky toward each direction, as seabake render gives a sky pixel: its\n"
+            "// radiance (scaled) as a function of s = sqrt(max(y, 0)), y the ray's\n"
+            "// zenith cosine (POV y is up), linear between the %zu entries of the\n"
+            "// color_map, which are denser where the sky changes fastest; the horizon's\n"
+            "// value at and below it (Seabake_Sky_Radiance, also the floor's).  The\n"
+            "// interpolation's largest relative error, measured at 64 points inside\n"
+            "// every interval: %.2g.  scene.pov puts it on a sky_sphere.\n",
+            o->sky_n, o->sky_error);
+    fputs("#declare Seabake_Sky_Pigment = pigment {\n"
+          "  function { sqrt(max(y, 0)) }\n"
+          "  color_map {\n",
+          f);
+    for (size_t i = 0; i < o->sky_n; i++)
+        fprintf(f, "    [%.17g rgb %.9g]\n", o->sky_s[i], o->sky_value[i]);
+    fputs("  }\n}\n\n", f);
+}
 
-    if (o->n_samples > 0) {
-        fprintf(f,
-                "// Seabake_Blackbody(T): the scaled radiance of a blackbody at T kelvin in\n"
-                "// the maps' units, as seabake computes its sky: %g x the sum over the\n"
-                "// %zu spectral samples of weight x Planck(wavelength, T) (wavelengths in m,\n"
-                "// weights in m: quadrature weight x response).  Give an object a\n"
-                "// temperature:  Seabake_Emission_Constant(Seabake_Blackbody(300))\n",
-                o->unit, o->n_samples);
-        fprintf(f, "#declare Seabake_Spectral_Unit = %.17g;\n", o->unit);
-        fprintf(f, "#declare Seabake_Samples = %zu;\n", o->n_samples);
-        fprintf(f, "#declare Seabake_Wavelength = array[%zu] {\n", o->n_samples);
-        for (size_t i = 0; i < o->n_samples; i++)
-            fprintf(f, "  %.17g%s\n", o->wavelength[i], i + 1 < o->n_samples ? "," : "");
-        fprintf(f, "}\n#declare Seabake_Weight = array[%zu] {\n", o->n_samples);
-        for (size_t i = 0; i < o->n_samples; i++)
-            fprintf(f, "  %.17g%s\n", o->weight[i], i + 1 < o->n_samples ? "," : "");
-        fputs("}\n\n", f);
-    }
+/* The frames baked and Seabake_Frame, Seabake_Time (o->framed). */
+static void put_frames(FILE *f, const sea_pov_options *o)
+{
+    fprintf(f,
+            "// Frames %ld to %ld were baked, frame f at time %.17g + f / %.17g s.  The\n"
+            "// maps are POV-Ray's frame_number's: render them all with scene.ini, one\n"
+            "// with +SF f +EF f (a subset of scene.ini's frames; +KFI f +KFF f works\n"
+            "// too, except for frame 1, which POV-Ray takes as no animation).  Without\n"
+            "// an animation (clock_on = 0) the first frame is shown.\n",
+            o->first, o->last, o->time0, o->rate);
+    fprintf(f, "#declare Seabake_First_Frame = %ld;\n#declare Seabake_Last_Frame = %ld;\n",
+            o->first, o->last);
+    fputs("#if (clock_on)\n"
+          "  #declare Seabake_Frame = frame_number;\n"
+          "#else\n"
+          "  #declare Seabake_Frame = Seabake_First_Frame;\n"
+          "#end\n"
+          "#if (Seabake_Frame < Seabake_First_Frame | Seabake_Frame > Seabake_Last_Frame)\n"
+          "  #error concat(\"sea.inc: frame \", str(Seabake_Frame, 0, 0), \" was not baked "
+          "(frames \",\n"
+          "                str(Seabake_First_Frame, 0, 0), \" to \", "
+          "str(Seabake_Last_Frame, 0, 0), \")\")\n"
+          "#end\n",
+          f);
+    fprintf(f, "#declare Seabake_Time = %.17g + Seabake_Frame / %.17g;\n\n", o->time0,
+            o->rate);
+}
 
+/* Seabake_Blackbody(T)'s spectral samples (o->n_samples > 0). */
+static void put_blackbody(FILE *f, const sea_pov_options *o)
+{
+    fprintf(f,
+            "// Seabake_Blackbody(T): the scaled radiance of a blackbody at T kelvin in\n"
+            "// the maps' units, as seabake computes its sky: %g x the sum over the\n"
+            "// %zu spectral samples of weight x Planck(wavelength, T) (wavelengths in m,\n"
+            "// weights in m: quadrature weight x response).  Give an object a\n"
+            "// temperature:  Seabake_Emission_Constant(Seabake_Blackbody(300))\n",
+            o->unit, o->n_samples);
+    fprintf(f, "#declare Seabake_Spectral_Unit = %.17g;\n", o->unit);
+    fprintf(f, "#declare Seabake_Samples = %zu;\n", o->n_samples);
+    fprintf(f, "#declare Seabake_Wavelength = array[%zu] {\n", o->n_samples);
+    for (size_t i = 0; i < o->n_samples; i++)
+        fprintf(f, "  %.17g%s\n", o->wavelength[i], i + 1 < o->n_samples ? "," : "");
+    fprintf(f, "}\n#declare Seabake_Weight = array[%zu] {\n", o->n_samples);
+    for (size_t i = 0; i < o->n_samples; i++)
+        fprintf(f, "  %.17g%s\n", o->weight[i], i + 1 < o->n_samples ? "," : "");
+    fputs("}\n\n", f);
+}
+
+/* Seabake_Camera, the sensor, with a note on a spherical Earth, and the
+ * sensor's image (o->sensor_file). */
+static void put_camera(FILE *f, const sea_camera *cam, const sea_pov_level *lv, size_t n,
+                       const sea_pov_options *o)
+{
     fputs("// The sensor: a pinhole of focal length (width/2)/tan(hfov/2) pixels.  The\n"
           "// vectors are given explicitly (no look_at), so any look angle and roll map\n"
           "// exactly: a ray through pixel (u, v) is direction + (u/W - 1/2) right\n"
@@ -640,86 +653,119 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
     if (o->sensor_file != NULL)
         write_sensor(f, cam, o);
     fputs("\n", f);
+}
+
+/* Under the rings with waves, a floor: where neighbouring levels'
+ * surfaces meet at different heights a grazing ray can pass between
+ * them, and it then meets the floor, which shows the sensor's image as
+ * the rings do (elsewhere the sky's radiance, as the gap would).  Its
+ * rectangle spans the rings with waves; y: their lowest trough over the
+ * frames, infinite when no ring has waves. */
+typedef struct {
+    double x0, y0, x1, y1, y;
+} pov_floor;
+
+static pov_floor floor_of(const sea_pov_level *lv, size_t n, const sea_pov_options *o)
+{
+    pov_floor fl = { INFINITY, INFINITY, -INFINITY, -INFINITY, INFINITY };
+    for (size_t k = 0; k < n; k++)
+        if (lv[k].height_file != NULL) {
+            fl.x0 = fmin(fl.x0, lv[k].x0);
+            fl.y0 = fmin(fl.y0, lv[k].y0);
+            fl.x1 = fmax(fl.x1, lv[k].x0 + lv[k].w);
+            fl.y1 = fmax(fl.y1, lv[k].y0 + lv[k].h);
+            const size_t n_frames = o->framed ? (size_t)(o->last - o->first + 1) : 1;
+            for (size_t q = 0; q < n_frames; q++)
+                fl.y = fmin(fl.y, lv[k].height_lo[q]);
+        }
+    return fl;
+}
+
+/* Level k's texture and ring (Seabake_Texture_k, Seabake_Level_k), below
+ * the finer levels; 0 when the finer levels cover it all (no ring). */
+static int put_level(FILE *f, const sea_pov_level *lv, size_t n, size_t k, double finest,
+                     double floor_y, const sea_pov_options *o)
+{
+    const sea_pov_level *l = &lv[k];
+    double hx0 = 0.0, hy0 = 0.0, hx1 = 0.0, hy1 = 0.0;
+    const int hole = clip_hole(l, &hx0, &hy0, &hx1, &hy1);
+    fprintf(f, "\n// level %d: facets of %.17g m, rectangle [%.17g, %.17g] x [%.17g, %.17g]",
+            l->level, l->facet, l->x0, l->x0 + l->w, l->y0, l->y0 + l->h);
+    if (hole == 2) {
+        fputs(",\n// entirely covered by the finer levels: no ring\n", f);
+        return 0;
+    }
+    if (hole)
+        fprintf(f, ",\n//   minus the finer level: [%.17g, %.17g] x [%.17g, %.17g]", hx0, hx1,
+                hy0, hy1);
+    fputs("\n", f);
+    if (l->emission_file != NULL && l->height_file != NULL) {
+        fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Plane(", k);
+        put_map(f, l->emission_file, o);
+        fprintf(f, ", %.17g, %.17g, %.17g, %.17g)\n", l->x0, l->y0, l->w, l->h);
+    } else if (l->emission_file != NULL) {
+        fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Map(", k);
+        put_map(f, l->emission_file, o);
+        fputs(")\n", f);
+    } else {
+        fprintf(f,
+                "// low resolution: every facet has the same statistics\n"
+                "#declare Seabake_Texture_%zu = Seabake_Emission_Constant(%.9g)\n",
+                k, l->constant);
+    }
+    /* rank: how many levels are finer than this one */
+    size_t rank = 0;
+    for (size_t m = 0; m < n; m++)
+        rank += lv[m].facet < l->facet;
+    const double drop = -SEA_POV_LAYER * finest * (double)rank;
+    char tex[64];
+    snprintf(tex, sizeof tex, "Seabake_Texture_%zu", k);
+    if (l->height_file != NULL) {
+        write_waves(f, lv, n, k, tex, drop, floor_y - 1.0, o);
+        return 1;
+    }
+    fprintf(f,
+            "#declare Seabake_Level_%zu = object {\n"
+            "  Seabake_Ring(%.17g, %.17g, %.17g, %.17g, %d, %.17g, %.17g, %.17g, %.17g,\n"
+            "               ",
+            k, l->x0, l->y0, l->w, l->h, hole, hx0, hy0, hx1 - hx0, hy1 - hy0);
+    put_texture(f, tex, drop, o);
+    fputs(")\n", f);
+    if (rank > 0)
+        fprintf(f, "  translate <0, %.17g, 0> // below the finer levels\n", drop);
+    fputs("}\n", f);
+    return 1;
+}
+
+/* sea.inc: this bake's sea, for scene.pov or a scene of the user's own. */
+static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *lv, size_t n,
+                          double sky_scaled, double scale, const sea_pov_options *o)
+{
+    put_sea_inc_head(f, sky_scaled, scale, o);
+    if (o->sky_n > 0)
+        put_sky_pigment(f, o);
+    if (o->framed)
+        put_frames(f, o);
+    if (o->n_samples > 0)
+        put_blackbody(f, o);
+    put_camera(f, cam, lv, n, o);
 
     fprintf(f, "// The sea: one ring per clipmap level, each the level's rectangle minus the\n"
           "// next finer level's.  Each coarser level sits %g finest facets lower, so\n"
           "// that where windows overlap the finer level is seen.  Declared textures can\n"
           "// be replaced before the rings are made (#declare Seabake_Texture_0 = ...).\n",
           SEA_POV_LAYER);
-    /* Under the rings with waves, a floor: where neighbouring levels'
-     * surfaces meet at different heights a grazing ray can pass between
-     * them, and it then meets the floor, which shows the sensor's image as
-     * the rings do (elsewhere the sky's radiance, as the gap would). */
-    double fx0 = INFINITY, fy0 = INFINITY, fx1 = -INFINITY, fy1 = -INFINITY, floor_y = INFINITY;
-    for (size_t k = 0; k < n; k++)
-        if (lv[k].height_file != NULL) {
-            fx0 = fmin(fx0, lv[k].x0);
-            fy0 = fmin(fy0, lv[k].y0);
-            fx1 = fmax(fx1, lv[k].x0 + lv[k].w);
-            fy1 = fmax(fy1, lv[k].y0 + lv[k].h);
-            const size_t n_frames = o->framed ? (size_t)(o->last - o->first + 1) : 1;
-            for (size_t q = 0; q < n_frames; q++)
-                floor_y = fmin(floor_y, lv[k].height_lo[q]);
-        }
+    const pov_floor fl = floor_of(lv, n, o);
     int shown[n > 0 ? n : 1];
     double finest = INFINITY;
     for (size_t k = 0; k < n; k++)
         finest = fmin(finest, lv[k].facet);
-    for (size_t k = 0; k < n; k++) {
-        const sea_pov_level *l = &lv[k];
-        double hx0 = 0.0, hy0 = 0.0, hx1 = 0.0, hy1 = 0.0;
-        const int hole = clip_hole(l, &hx0, &hy0, &hx1, &hy1);
-        shown[k] = hole != 2;
-        fprintf(f, "\n// level %d: facets of %.17g m, rectangle [%.17g, %.17g] x [%.17g, %.17g]",
-                l->level, l->facet, l->x0, l->x0 + l->w, l->y0, l->y0 + l->h);
-        if (hole == 2) {
-            fputs(",\n// entirely covered by the finer levels: no ring\n", f);
-            continue;
-        }
-        if (hole)
-            fprintf(f, ",\n//   minus the finer level: [%.17g, %.17g] x [%.17g, %.17g]", hx0, hx1,
-                    hy0, hy1);
-        fputs("\n", f);
-        if (l->emission_file != NULL && l->height_file != NULL) {
-            fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Plane(", k);
-            put_map(f, l->emission_file, o);
-            fprintf(f, ", %.17g, %.17g, %.17g, %.17g)\n", l->x0, l->y0, l->w, l->h);
-        } else if (l->emission_file != NULL) {
-            fprintf(f, "#declare Seabake_Texture_%zu = Seabake_Emission_Map(", k);
-            put_map(f, l->emission_file, o);
-            fputs(")\n", f);
-        } else {
-            fprintf(f,
-                    "// low resolution: every facet has the same statistics\n"
-                    "#declare Seabake_Texture_%zu = Seabake_Emission_Constant(%.9g)\n",
-                    k, l->constant);
-        }
-        /* rank: how many levels are finer than this one */
-        size_t rank = 0;
-        for (size_t m = 0; m < n; m++)
-            rank += lv[m].facet < l->facet;
-        const double drop = -SEA_POV_LAYER * finest * (double)rank;
-        char tex[64];
-        snprintf(tex, sizeof tex, "Seabake_Texture_%zu", k);
-        if (l->height_file != NULL) {
-            write_waves(f, lv, n, k, tex, drop, floor_y - 1.0, o);
-            continue;
-        }
-        fprintf(f,
-                "#declare Seabake_Level_%zu = object {\n"
-                "  Seabake_Ring(%.17g, %.17g, %.17g, %.17g, %d, %.17g, %.17g, %.17g, %.17g,\n"
-                "               ",
-                k, l->x0, l->y0, l->w, l->h, hole, hx0, hy0, hx1 - hx0, hy1 - hy0);
-        put_texture(f, tex, drop, o);
-        fputs(")\n", f);
-        if (rank > 0)
-            fprintf(f, "  translate <0, %.17g, 0> // below the finer levels\n", drop);
-        fputs("}\n", f);
-    }
+    for (size_t k = 0; k < n; k++)
+        shown[k] = put_level(f, lv, n, k, finest, fl.y, o);
     if (o->horizon != NULL)
         write_horizon(f, cam, o->horizon, o->horizon_file,
                       n > 0 ? -SEA_POV_LAYER * finest * (double)n : 0.0, o, lv, n);
-    const int floor = isfinite(floor_y);
+    const int floor = isfinite(fl.y);
     if (floor) {
         fprintf(f,
                 "\n// Under the rings with waves, below their lowest trough: a grazing ray that\n"
@@ -727,7 +773,7 @@ static void write_sea_inc(FILE *f, const sea_camera *cam, const sea_pov_level *l
                 "// heights, meets it instead of nothing.\n"
                 "#declare Seabake_Floor = box {\n"
                 "  <%.17g, %.17g, %.17g>, <%.17g, %.17g, %.17g>\n  ",
-                fx0, floor_y - 2.0, fy0, fx1, floor_y - 1.0, fy1);
+                fl.x0, fl.y - 2.0, fl.y0, fl.x1, fl.y - 1.0, fl.y1);
         put_texture(f, "Seabake_Emission_Constant(Seabake_Sky_Radiance)", 0.0, o);
         fputs("\n}\n", f);
     }

@@ -370,12 +370,9 @@ static size_t share_rows(size_t ny, size_t row0, size_t step)
     return row0 < ny ? (ny - row0 + step - 1) / step : 0;
 }
 
-/* sea_bake_frame_rows, and with img not NULL sea_bake_frame_image. */
-static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0, int step,
-                             sea_image *img, sea_bake *out, sea_progress_fn progress, void *ctx,
-                             sea_bake_level_fn each, void *each_ctx, sea_error *err)
+/* The arguments bake_frame checks before anything is synthesised. */
+static sea_status bake_check_args(double t, int view_k, int row0, int step, sea_error *err)
 {
-    memset(out, 0, sizeof *out);
     if (sea_time_check(t, err) != SEA_OK)
         return SEA_ERR_DOMAIN;
     if (view_k < 1 || view_k > SEA_BAKE_VIEW_K_MAX)
@@ -385,50 +382,140 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "texel rows from %d every %d (allowed: step >= 1, 0 <= first row < step)",
                         row0, step);
-    sea_status st = img != NULL ? sea_render_check_image(r, img, err) : SEA_OK;
+    return SEA_OK;
+}
+
+/* The low-resolution constants every level carries: seen from the image
+ * centre, as the renderer's choice of spectral samples sees them. */
+typedef struct {
+    sea_dir obs, sun;
+    sea_moments moments;
+    sea_facet_optics optics;
+} bake_lr;
+
+static sea_status bake_lr_of(const sea_render *r, bake_lr *lr, sea_error *err)
+{
+    const sea_scene *sc = sea_render_scene(r);
+    const sea_camera *cam = sea_render_camera(r);
+    const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
+                                sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
+    sea_pixel_geom g;
+    sea_camera_pixel(cam, 0.5 * cam->width, 0.5 * cam->height, &g);
+    lr->obs = g.hit ? g.obs : (sea_dir){ sc->look_zenith, 0.0 };
+    lr->sun = sea_camera_local_dir(&g, sun_vec);
+    lr->moments = sea_render_lr_moments(r);
+    const sea_slope_stats lrs = sea_moments_stats(&lr->moments);
+    return sea_render_facet_optics(r, &lrs, lr->obs, lr->sun, &lr->optics, err);
+}
+
+/* One frame's bake in progress: what its levels share. */
+typedef struct {
+    const sea_render *r;
+    sea_multires_frame *f;
+    const sea_clip_level *lv;
+    size_t r0, rs;         /* texel rows r0, r0 + rs, ... */
+    bake_progress bp;
+    sea_bake_level spare;  /* (level_arrays) */
+    sea_bake_level_fn each;
+    void *each_ctx;
+    sea_bake *out;
+} bake_job;
+
+/* Counts work w done; once the caller asks to stop, st (if still SEA_OK)
+ * becomes SEA_ERR_CANCELLED.  Returns st. */
+static sea_status bake_done(bake_job *b, double w, sea_status st, sea_error *err)
+{
+    b->bp.done += w;
+    if (st == SEA_OK && report(&b->bp, 0.0))
+        st = sea_fail(err, SEA_ERR_CANCELLED, "bake cancelled");
+    return st;
+}
+
+/* High-resolution level l's maps: the optics of its facets, then of what
+ * the sensor sees on its view grid (where the mask says it is worth it),
+ * handed to b->each if set. */
+static sea_status bake_level(bake_job *b, size_t l, sea_error *err)
+{
+    const sea_clip_level *lv = b->lv;
+    sea_bake *out = b->out;
+    sea_bake_level *bl = &out->levels[l];
+    sea_status st;
+    if ((st = level_arrays(b->f, bl, &b->spare, b->each == NULL, err)) != SEA_OK)
+        return st;
+    double hole[4];
+    const int has_hole = l > 0 && !lv[l - 1].low_res;
+    if (has_hole) {
+        hole[0] = (double)lv[l - 1].i0 * lv[l - 1].facet;
+        hole[1] = (double)lv[l - 1].j0 * lv[l - 1].facet;
+        hole[2] = hole[0] + (double)lv[l - 1].nx * lv[l - 1].facet;
+        hole[3] = hole[1] + (double)lv[l - 1].ny * lv[l - 1].facet;
+    }
+    double t0 = now_s();
+    const double texels = (double)(lv[l].nx * share_rows(lv[l].ny, b->r0, b->rs));
+    if (st == SEA_OK)
+        st = level_optics(b->r, b->f, bl, 0, NULL, b->r0, b->rs, &b->bp, err);
+    st = bake_done(b, texels, st, err);
+    double t1 = now_s();
+    out->seconds.optics += t1 - t0;
+    t0 = t1;
+    unsigned char *mask = view_mask(sea_render_camera(b->r), &lv[l], bl->view_k,
+                                    has_hole ? hole : NULL);
+    if (mask == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the view mask of level %d",
+                        lv[l].level);
+    if (st == SEA_OK)
+        st = level_optics(b->r, b->f, bl, 1, mask, b->r0, b->rs, &b->bp, err);
+    st = bake_done(b, texels * (double)(bl->view_k * bl->view_k), st, err);
+    free(mask);
+    out->seconds.view += now_s() - t0;
+    if (st == SEA_OK && b->each != NULL) {
+        /* the frame's moments of the level, north first while each
+         * reads them (no look at the surfaces meanwhile) */
+        bl->moments = sea_multires_frame_flip_rows(b->f, lv[l].level);
+        st = b->each(b->each_ctx, out, l, err);
+        sea_multires_frame_flip_rows(b->f, lv[l].level);
+        bl->moments = NULL;
+        level_free(&b->spare);
+        b->spare = *bl;
+        bl->optics = NULL;
+        bl->view = NULL;
+    }
+    return st;
+}
+
+/* sea_bake_frame_rows, and with img not NULL sea_bake_frame_image. */
+static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0, int step,
+                             sea_image *img, sea_bake *out, sea_progress_fn progress, void *ctx,
+                             sea_bake_level_fn each, void *each_ctx, sea_error *err)
+{
+    memset(out, 0, sizeof *out);
+    sea_status st = bake_check_args(t, view_k, row0, step, err);
+    if (st != SEA_OK)
+        return st;
+    st = img != NULL ? sea_render_check_image(r, img, err) : SEA_OK;
     if (st != SEA_OK)
         return st; /* before the frame is synthesised */
     const size_t r0 = (size_t)row0, rs = (size_t)step;
     out->time = t;
     const sea_clip_level *lv;
     const size_t n = sea_render_levels(r, &lv);
-    const sea_scene *sc = sea_render_scene(r);
-    const sea_camera *cam = sea_render_camera(r);
-    const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
-                                sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
-    /* The low-resolution constants are seen from the image centre, as the
-     * renderer's choice of spectral samples sees them. */
-    sea_pixel_geom g;
-    sea_camera_pixel(cam, 0.5 * cam->width, 0.5 * cam->height, &g);
-    const sea_dir lr_obs = g.hit ? g.obs : (sea_dir){ sc->look_zenith, 0.0 };
-    const sea_dir lr_sun = sea_camera_local_dir(&g, sun_vec);
-    const sea_moments lrm = sea_render_lr_moments(r);
-    const sea_slope_stats lrs = sea_moments_stats(&lrm);
-    sea_facet_optics lro;
-    st = sea_render_facet_optics(r, &lrs, lr_obs, lr_sun, &lro, err);
-    if (st != SEA_OK)
+    bake_lr lr;
+    if ((st = bake_lr_of(r, &lr, err)) != SEA_OK)
         return st;
     out->n_levels = n;
     /* progress: facets synthesised, facet optics and view optics (the
      * view texels' count is an upper bound of their work) */
-    bake_progress bp = { progress, ctx, 0.0, 0.0, 0 };
+    bake_job b = { .r = r, .lv = lv, .r0 = r0, .rs = rs, .bp = { progress, ctx, 0.0, 0.0, 0 },
+                   .each = each, .each_ctx = each_ctx, .out = out };
     double synth = 0.0;
     for (size_t l = 0; l < n; l++)
         if (!lv[l].low_res) {
             synth += (double)(lv[l].nx * lv[l].ny);
-            bp.work += (double)(lv[l].nx * share_rows(lv[l].ny, r0, rs)) *
-                       (2.0 + (double)(view_k * view_k));
+            b.bp.work += (double)(lv[l].nx * share_rows(lv[l].ny, r0, rs)) *
+                         (2.0 + (double)(view_k * view_k));
         }
-#define PROGRESS(w)                                                                               \
-    do {                                                                                          \
-        bp.done += (w);                                                                           \
-        if (st == SEA_OK && report(&bp, 0.0))                                                     \
-            st = sea_fail(err, SEA_ERR_CANCELLED, "bake cancelled");                              \
-    } while (0)
-    synth_progress sp = { &bp, synth };
+    synth_progress sp = { &b.bp, synth };
     sea_multires_frame *f = NULL;
-    sea_bake_level spare; /* (level_arrays) */
-    memset(&spare, 0, sizeof spare);
     double t0 = now_s();
     /* The surfaces keep the bounds of their finest cells (8 bytes a facet)
      * where those take at most BAKE_STORED_BOUNDS_MAX; beyond, they compute
@@ -437,7 +524,8 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     st = (lean ? sea_multires_frame_alloc_lean : sea_multires_frame_alloc)(
         sea_render_multires(r), t, progress != NULL ? synth_report : NULL, &sp, &f, err);
     if (st == SEA_OK)
-        PROGRESS(synth);
+        st = bake_done(&b, synth, st, err);
+    b.f = f;
     double t1 = now_s();
     out->seconds.waves = t1 - t0;
     /* the sensor's image from the same surfaces, before the levels' maps
@@ -451,60 +539,16 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     for (size_t l = 0; l < n && st == SEA_OK; l++) {
         sea_bake_level *bl = &out->levels[l];
         bl->level = lv[l];
-        bl->lr_moments = lrm;
-        bl->lr_optics = lro;
-        bl->lr_obs = lr_obs;
-        bl->lr_sun = lr_sun;
+        bl->lr_moments = lr.moments;
+        bl->lr_optics = lr.optics;
+        bl->lr_obs = lr.obs;
+        bl->lr_sun = lr.sun;
         bl->view_k = (size_t)view_k;
     }
-    for (size_t l = 0; l < n && st == SEA_OK; l++) {
-        sea_bake_level *bl = &out->levels[l];
-        if (lv[l].low_res)
-            continue;
-        if ((st = level_arrays(f, bl, &spare, each == NULL, err)) != SEA_OK)
-            break;
-        double hole[4];
-        const int has_hole = l > 0 && !lv[l - 1].low_res;
-        if (has_hole) {
-            hole[0] = (double)lv[l - 1].i0 * lv[l - 1].facet;
-            hole[1] = (double)lv[l - 1].j0 * lv[l - 1].facet;
-            hole[2] = hole[0] + (double)lv[l - 1].nx * lv[l - 1].facet;
-            hole[3] = hole[1] + (double)lv[l - 1].ny * lv[l - 1].facet;
-        }
-        t0 = now_s();
-        const double texels = (double)(lv[l].nx * share_rows(lv[l].ny, r0, rs));
-        if (st == SEA_OK)
-            st = level_optics(r, f, bl, 0, NULL, r0, rs, &bp, err);
-        PROGRESS(texels);
-        t1 = now_s();
-        out->seconds.optics += t1 - t0;
-        t0 = t1;
-        unsigned char *mask = view_mask(cam, &lv[l], bl->view_k, has_hole ? hole : NULL);
-        if (mask == NULL) {
-            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the view mask of level %d",
-                          lv[l].level);
-            break;
-        }
-        if (st == SEA_OK)
-            st = level_optics(r, f, bl, 1, mask, r0, rs, &bp, err);
-        PROGRESS(texels * (double)(bl->view_k * bl->view_k));
-        free(mask);
-        out->seconds.view += now_s() - t0;
-        if (st == SEA_OK && each != NULL) {
-            /* the frame's moments of the level, north first while each
-             * reads them (no look at the surfaces meanwhile) */
-            bl->moments = sea_multires_frame_flip_rows(f, lv[l].level);
-            st = each(each_ctx, out, l, err);
-            sea_multires_frame_flip_rows(f, lv[l].level);
-            bl->moments = NULL;
-            level_free(&spare);
-            spare = *bl;
-            bl->optics = NULL;
-            bl->view = NULL;
-        }
-    }
-#undef PROGRESS
-    level_free(&spare);
+    for (size_t l = 0; l < n && st == SEA_OK; l++)
+        if (!lv[l].low_res)
+            st = bake_level(&b, l, err);
+    level_free(&b.spare);
     sea_multires_frame_free(f);
     if (st != SEA_OK)
         sea_bake_free(out);

@@ -115,6 +115,124 @@ size_t sea_interval_of(const double *x, size_t n, double at)
     return lo > n - 2 ? n - 2 : lo;
 }
 
+/* Splits line p at its commas in place: its fields into field[] (at most
+ * SEA_GRID_COLS_MAX + 1 kept); returns how many there are. */
+static size_t split_fields(char *p, char *field[SEA_GRID_COLS_MAX + 1])
+{
+    size_t nf = 0;
+    for (char *f = p;; nf++) {
+        char *comma = strchr(f, ',');
+        if (nf < SEA_GRID_COLS_MAX + 1)
+            field[nf] = f;
+        if (comma == NULL) {
+            nf++;
+            break;
+        }
+        *comma = '\0';
+        f = comma + 1;
+    }
+    return nf;
+}
+
+/* The header row: each of the spec's columns named once, in any order;
+ * order[field] = column of the spec. */
+static sea_status grid_header(const char *path, long lineno, const grid_spec *spec,
+                              char *const *field, int *order, sea_error *err)
+{
+    const size_t nc = spec->ncols;
+    int seen[SEA_GRID_COLS_MAX] = { 0 };
+    for (size_t f = 0; f < nc; f++) {
+        const char *name = sea_text_trim(field[f]);
+        size_t c = 0;
+        while (c < nc && strcmp(name, spec->col[c].name) != 0)
+            c++;
+        if (c == nc || seen[c]++)
+            return sea_fail(err, SEA_ERR_PARSE,
+                            "%s:%ld: the header must name the columns %s,%s,%s%s%s (any "
+                            "order), not '%.*s'",
+                            path, lineno, spec->col[0].name, spec->col[1].name,
+                            spec->col[2].name, nc > 3 ? "," : "",
+                            nc > 3 ? spec->col[3].name : "", SEA_GRID_QUOTE, name);
+        order[f] = (int)c;
+    }
+    return SEA_OK;
+}
+
+/* A data row: each field a number within its column's range, into row[]
+ * (by the spec's columns, SI). */
+static sea_status grid_row(const char *path, long lineno, const grid_spec *spec,
+                           char *const *field, const int *order, double *row, sea_error *err)
+{
+    const size_t nc = spec->ncols;
+    for (size_t f = 0; f < nc; f++) {
+        const grid_col *c = &spec->col[order[f]];
+        const char *t = sea_text_trim(field[f]);
+        double v;
+        if (sea_text_real(t, &v) != 0)
+            return sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%.*s' is not a number", path,
+                            lineno, c->name, SEA_GRID_QUOTE, t);
+        if (!(v >= c->lo && v <= c->hi)) {
+            /* as many digits as tell the value from the bound it passed */
+            char v_txt[SEA_TEXT_REAL_CHARS], lo[SEA_TEXT_REAL_CHARS], hi[SEA_TEXT_REAL_CHARS];
+            return sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is out of range (allowed: "
+                            "[%s, %s]%s%s)", path, lineno, c->name,
+                            sea_text_format_real(v, v_txt), sea_text_format_real(c->lo, lo),
+                            sea_text_format_real(c->hi, hi), c->unit[0] ? " " : "", c->unit);
+        }
+        row[order[f]] = v * c->scale;
+    }
+    if (spec->lit && row[2] == 0.0 && row[3] == 0.0)
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "%s:%ld: %s 0 and %s 0: a path that neither transmits nor radiates "
+                        "(allowed: %s > 0 where %s is 0, as the air radiates (1 - %s) "
+                        "B(T_air))",
+                        path, lineno, spec->col[2].name, spec->col[3].name, spec->col[3].name,
+                        spec->col[2].name, spec->col[2].name);
+    return SEA_OK;
+}
+
+/* The grid of g from the n rows read (nc values each, SI; lines: their
+ * line numbers): its distinct first and second columns, every pair once. */
+static sea_status grid_fill(const char *path, const grid_spec *spec, const double *rows,
+                            const long *lines, size_t n, sea_grid *g, sea_error *err)
+{
+    const size_t nc = spec->ncols;
+    g->nv = nc - 2;
+    g->nx = distinct(rows, n, nc, &g->x);
+    g->nw = distinct(rows + 1, n, nc, &g->w);
+    if (g->x == NULL || g->w == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
+    if (g->nx < 2)
+        return sea_fail(err, SEA_ERR_PARSE, "%s: %zu distinct %s, at least 2 needed", path,
+                        g->nx, spec->col[0].name);
+    if (n != g->nx * g->nw)
+        return sea_fail(err, SEA_ERR_PARSE,
+                        "%s: %zu rows do not fill the grid of %zu %s by %zu wavelength_um (%zu "
+                        "rows; allowed: every pair once)",
+                        path, n, g->nx, spec->col[0].name, g->nw, g->nx * g->nw);
+    g->v = malloc(n * g->nv * sizeof *g->v);
+    unsigned char *got = calloc(n, 1);
+    if (g->v == NULL || got == NULL) {
+        free(got);
+        return sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
+    }
+    for (size_t r = 0; r < n; r++) {
+        const size_t i = index_of(g->x, g->nx, rows[r * nc]);
+        const size_t j = index_of(g->w, g->nw, rows[r * nc + 1]);
+        const size_t q = i * g->nw + j;
+        if (got[q]++) {
+            free(got);
+            return sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s %g, wavelength_um %g: given twice",
+                            path, lines[r], spec->col[0].name, rows[r * nc] / spec->col[0].scale,
+                            rows[r * nc + 1] / spec->col[1].scale);
+        }
+        for (size_t c = 0; c < g->nv; c++)
+            g->v[q * g->nv + c] = rows[r * nc + 2 + c];
+    }
+    free(got);
+    return SEA_OK;
+}
+
 static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **out,
                             sea_error *err)
 {
@@ -133,18 +251,7 @@ static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **
     char *cursor = text;
     for (char *p; (p = sea_text_next_line(&cursor, &lineno)) != NULL;) {
         char *field[SEA_GRID_COLS_MAX + 1];
-        size_t nf = 0;
-        for (char *f = p;; nf++) {
-            char *comma = strchr(f, ',');
-            if (nf < SEA_GRID_COLS_MAX + 1)
-                field[nf] = f;
-            if (comma == NULL) {
-                nf++;
-                break;
-            }
-            *comma = '\0';
-            f = comma + 1;
-        }
+        const size_t nf = split_fields(p, field);
         if (nf != nc) {
             st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %zu fields, expected %zu (%s,%s,%s%s%s)",
                           path, lineno, nf, nc, spec->col[0].name, spec->col[1].name,
@@ -152,23 +259,8 @@ static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **
             goto fail;
         }
         if (!header) {
-            int seen[SEA_GRID_COLS_MAX] = { 0 };
-            for (size_t f = 0; f < nc; f++) {
-                const char *name = sea_text_trim(field[f]);
-                size_t c = 0;
-                while (c < nc && strcmp(name, spec->col[c].name) != 0)
-                    c++;
-                if (c == nc || seen[c]++) {
-                    st = sea_fail(err, SEA_ERR_PARSE,
-                                  "%s:%ld: the header must name the columns %s,%s,%s%s%s (any "
-                                  "order), not '%.*s'",
-                                  path, lineno, spec->col[0].name, spec->col[1].name,
-                                  spec->col[2].name, nc > 3 ? "," : "",
-                                  nc > 3 ? spec->col[3].name : "", SEA_GRID_QUOTE, name);
-                    goto fail;
-                }
-                order[f] = (int)c;
-            }
+            if ((st = grid_header(path, lineno, spec, field, order, err)) != SEA_OK)
+                goto fail;
             header = 1;
             continue;
         }
@@ -184,35 +276,8 @@ static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **
             }
             lines = nl;
         }
-        for (size_t f = 0; f < nc; f++) {
-            const grid_col *c = &spec->col[order[f]];
-            const char *t = sea_text_trim(field[f]);
-            double v;
-            if (sea_text_real(t, &v) != 0) {
-                st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%.*s' is not a number", path,
-                              lineno, c->name, SEA_GRID_QUOTE, t);
-                goto fail;
-            }
-            if (!(v >= c->lo && v <= c->hi)) {
-                /* as many digits as tell the value from the bound it passed */
-                char v_txt[SEA_TEXT_REAL_CHARS], lo[SEA_TEXT_REAL_CHARS], hi[SEA_TEXT_REAL_CHARS];
-                st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is out of range (allowed: "
-                              "[%s, %s]%s%s)", path, lineno, c->name,
-                              sea_text_format_real(v, v_txt), sea_text_format_real(c->lo, lo),
-                              sea_text_format_real(c->hi, hi), c->unit[0] ? " " : "", c->unit);
-                goto fail;
-            }
-            rows[n * nc + (size_t)order[f]] = v * c->scale;
-        }
-        if (spec->lit && rows[n * nc + 2] == 0.0 && rows[n * nc + 3] == 0.0) {
-            st = sea_fail(err, SEA_ERR_DOMAIN,
-                          "%s:%ld: %s 0 and %s 0: a path that neither transmits nor radiates "
-                          "(allowed: %s > 0 where %s is 0, as the air radiates (1 - %s) "
-                          "B(T_air))",
-                          path, lineno, spec->col[2].name, spec->col[3].name, spec->col[3].name,
-                          spec->col[2].name, spec->col[2].name);
+        if ((st = grid_row(path, lineno, spec, field, order, rows + n * nc, err)) != SEA_OK)
             goto fail;
-        }
         lines[n++] = lineno;
     }
     if (!header) {
@@ -226,47 +291,8 @@ static sea_status grid_load(const char *path, const grid_spec *spec, sea_grid **
         goto fail;
     }
     *out = g;
-    g->nv = nc - 2;
-    g->nx = distinct(rows, n, nc, &g->x);
-    g->nw = distinct(rows + 1, n, nc, &g->w);
-    if (g->x == NULL || g->w == NULL) {
-        st = sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
+    if ((st = grid_fill(path, spec, rows, lines, n, g, err)) != SEA_OK)
         goto fail;
-    }
-    if (g->nx < 2) {
-        st = sea_fail(err, SEA_ERR_PARSE, "%s: %zu distinct %s, at least 2 needed", path, g->nx,
-                      spec->col[0].name);
-        goto fail;
-    }
-    if (n != g->nx * g->nw) {
-        st = sea_fail(err, SEA_ERR_PARSE,
-                      "%s: %zu rows do not fill the grid of %zu %s by %zu wavelength_um (%zu "
-                      "rows; allowed: every pair once)",
-                      path, n, g->nx, spec->col[0].name, g->nw, g->nx * g->nw);
-        goto fail;
-    }
-    g->v = malloc(n * g->nv * sizeof *g->v);
-    unsigned char *got = calloc(n, 1);
-    if (g->v == NULL || got == NULL) {
-        free(got);
-        st = sea_fail(err, SEA_ERR_NOMEM, "%s: out of memory", path);
-        goto fail;
-    }
-    for (size_t r = 0; r < n; r++) {
-        const size_t i = index_of(g->x, g->nx, rows[r * nc]);
-        const size_t j = index_of(g->w, g->nw, rows[r * nc + 1]);
-        const size_t q = i * g->nw + j;
-        if (got[q]++) {
-            free(got);
-            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s %g, wavelength_um %g: given twice", path,
-                          lines[r], spec->col[0].name, rows[r * nc] / spec->col[0].scale,
-                          rows[r * nc + 1] / spec->col[1].scale);
-            goto fail;
-        }
-        for (size_t c = 0; c < g->nv; c++)
-            g->v[q * g->nv + c] = rows[r * nc + 2 + c];
-    }
-    free(got);
     free(rows);
     free(lines);
     free(text);

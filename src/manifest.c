@@ -50,10 +50,10 @@ static double deg(double rad)
     return rad * 180.0 / M_PI;
 }
 
-static cJSON *scene_json(const sea_scene *sc)
+/* [sea] and its [swell] sections. */
+static void sea_json(cJSON *o, const sea_scene *sc)
 {
     static const char *const tables[] = {"hale-querry", "segelstein"};
-    cJSON *o = cJSON_CreateObject();
     cJSON *sea = cJSON_AddObjectToObject(o, "sea");
     cJSON_AddNumberToObject(sea, "wind_speed_m_s", sc->wind_speed);
     cJSON_AddNumberToObject(sea, "wind_direction_deg", deg(sc->wind_dir));
@@ -83,6 +83,10 @@ static cJSON *scene_json(const sea_scene *sc)
             cJSON_AddItemToArray(swells, one);
         }
     }
+}
+
+static void sun_json(cJSON *o, const sea_scene *sc)
+{
     cJSON *sun = cJSON_AddObjectToObject(o, "sun");
     cJSON_AddNumberToObject(sun, "zenith_deg", deg(sc->sun_zenith));
     cJSON_AddNumberToObject(sun, "azimuth_deg", deg(sc->sun_azimuth));
@@ -92,6 +96,10 @@ static cJSON *scene_json(const sea_scene *sc)
     cJSON_AddNumberToObject(sun, "temperature_K", sc->sun_temperature);
     cJSON_AddNumberToObject(sun, "solid_angle_sr", sc->sun_solid_angle);
     cJSON_AddNumberToObject(sun, "transmittance", sc->sun_transmittance);
+}
+
+static void sky_json(cJSON *o, const sea_scene *sc)
+{
     /* The sky and the air that were used: an isotropic sky's radiance (null:
      * from its temperature), a clear sky's zenith emissivity, a table's
      * file; the keys of a model that was not used are left out, so that
@@ -122,6 +130,46 @@ static cJSON *scene_json(const sea_scene *sc)
         else
             cJSON_AddNumberToObject(air, "extinction_per_km", sc->extinction * 1e3);
     }
+}
+
+/* The camera's keys (absent without: a bake of no camera is as before).
+ * Recorded, not applied: the maps and exports are the ideal radiance's
+ * (seabake(1), bake). */
+static void camera_keys_json(cJSON *sen, const sea_scene *sc)
+{
+    sea_imager_params p;
+    if (!sea_imager_params_from_scene(sc, &p))
+        return;
+    static const char *const optics[] = {"none", "gaussian", "diffraction", "table"};
+    cJSON *c = cJSON_AddObjectToObject(sen, "camera");
+    cJSON_AddBoolToObject(c, "applied", 0);
+    cJSON_AddStringToObject(c, "optics", optics[p.psf]);
+    if (p.psf == SEA_PSF_GAUSSIAN)
+        cJSON_AddNumberToObject(c, "psf_sigma_px", p.psf_sigma);
+    if (p.psf == SEA_PSF_DIFFRACTION) {
+        cJSON_AddNumberToObject(c, "f_number", p.f_number);
+        cJSON_AddNumberToObject(c, "pitch_um", p.pitch * 1e6);
+    }
+    if (p.psf == SEA_PSF_TABLE)
+        cJSON_AddStringToObject(c, "mtf", sc->mtf_file);
+    cJSON_AddNumberToObject(c, "fill_factor", p.fill_factor);
+    cJSON_AddNumberToObject(c, "netd_K", p.netd);
+    cJSON_AddNumberToObject(c, "netd_temperature_K", p.netd_temperature);
+    cJSON_AddNumberToObject(c, "noise_seed", (double)p.noise_seed);
+    cJSON_AddNumberToObject(c, "fpn_gain", p.fpn_gain);
+    cJSON_AddNumberToObject(c, "fpn_offset_K", p.fpn_offset);
+    cJSON_AddNumberToObject(c, "fpn_seed", (double)p.fpn_seed);
+    if (p.gain > 0.0) {
+        cJSON_AddNumberToObject(c, "gain", p.gain);
+        cJSON_AddNumberToObject(c, "offset", p.offset);
+        cJSON_AddNumberToObject(c, "bit_depth", p.bit_depth);
+    } else {
+        cJSON_AddNullToObject(c, "gain");
+    }
+}
+
+static void sensor_json(cJSON *o, const sea_scene *sc)
+{
     cJSON *sen = cJSON_AddObjectToObject(o, "sensor");
     cJSON_AddNumberToObject(sen, "x_m", sc->sensor_x);
     cJSON_AddNumberToObject(sen, "y_m", sc->sensor_y);
@@ -142,40 +190,13 @@ static cJSON *scene_json(const sea_scene *sc)
     }
     cJSON_AddStringToObject(sen, "response", sc->response_file);
     cJSON_AddNumberToObject(sen, "samples", sc->band_samples);
-    sea_imager_params p;
-    if (sea_imager_params_from_scene(sc, &p)) {
-        /* The camera's keys (absent without: a bake of no camera is as
-         * before).  Recorded, not applied: the maps and exports are the
-         * ideal radiance's (seabake(1), bake). */
-        static const char *const optics[] = {"none", "gaussian", "diffraction", "table"};
-        cJSON *c = cJSON_AddObjectToObject(sen, "camera");
-        cJSON_AddBoolToObject(c, "applied", 0);
-        cJSON_AddStringToObject(c, "optics", optics[p.psf]);
-        if (p.psf == SEA_PSF_GAUSSIAN)
-            cJSON_AddNumberToObject(c, "psf_sigma_px", p.psf_sigma);
-        if (p.psf == SEA_PSF_DIFFRACTION) {
-            cJSON_AddNumberToObject(c, "f_number", p.f_number);
-            cJSON_AddNumberToObject(c, "pitch_um", p.pitch * 1e6);
-        }
-        if (p.psf == SEA_PSF_TABLE)
-            cJSON_AddStringToObject(c, "mtf", sc->mtf_file);
-        cJSON_AddNumberToObject(c, "fill_factor", p.fill_factor);
-        cJSON_AddNumberToObject(c, "netd_K", p.netd);
-        cJSON_AddNumberToObject(c, "netd_temperature_K", p.netd_temperature);
-        cJSON_AddNumberToObject(c, "noise_seed", (double)p.noise_seed);
-        cJSON_AddNumberToObject(c, "fpn_gain", p.fpn_gain);
-        cJSON_AddNumberToObject(c, "fpn_offset_K", p.fpn_offset);
-        cJSON_AddNumberToObject(c, "fpn_seed", (double)p.fpn_seed);
-        if (p.gain > 0.0) {
-            cJSON_AddNumberToObject(c, "gain", p.gain);
-            cJSON_AddNumberToObject(c, "offset", p.offset);
-            cJSON_AddNumberToObject(c, "bit_depth", p.bit_depth);
-        } else {
-            cJSON_AddNullToObject(c, "gain");
-        }
-    }
+    camera_keys_json(sen, sc);
+}
+
+static void model_json(cJSON *o, const sea_scene *sc)
+{
     cJSON *mod = cJSON_AddObjectToObject(o, "model");
-    cJSON_AddStringToObject(mod, "method", sea_facet_method_name((sea_facet_method)sc->method));
+    cJSON_AddStringToObject(mod, "method", sea_facet_method_name(sc->method));
     cJSON_AddNumberToObject(mod, "n", sc->n);
     cJSON_AddNumberToObject(mod, "finest_m", sc->finest);
     if (sc->grid == SEA_GRID_AUTO)
@@ -183,7 +204,7 @@ static cJSON *scene_json(const sea_scene *sc)
     else
         cJSON_AddNumberToObject(mod, "grid", sc->grid);
     cJSON_AddStringToObject(mod, "emissivity",
-                            sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+                            sea_emis_method_name(sc->emissivity_method));
     cJSON_AddStringToObject(mod, "earth", sc->earth == SEA_EARTH_FLAT ? "flat" : "spherical");
     cJSON_AddStringToObject(mod, "windows",
                             sc->windows == SEA_WINDOWS_CLIPMAP ? "clipmap" : "view");
@@ -193,8 +214,18 @@ static cJSON *scene_json(const sea_scene *sc)
     else
         cJSON_AddNumberToObject(mod, "reflections", sc->reflections);
     cJSON_AddBoolToObject(mod, "reference", sc->reference != 0);
-    cJSON_AddStringToObject(mod, "shadowing", sea_shadowing_name((sea_shadowing)sc->shadowing));
+    cJSON_AddStringToObject(mod, "shadowing", sea_shadowing_name(sc->shadowing));
     cJSON_AddNumberToObject(mod, "scales", sc->scales);
+}
+
+static cJSON *scene_json(const sea_scene *sc)
+{
+    cJSON *o = cJSON_CreateObject();
+    sea_json(o, sc);
+    sun_json(o, sc);
+    sky_json(o, sc);
+    sensor_json(o, sc);
+    model_json(o, sc);
     return o;
 }
 

@@ -1667,24 +1667,17 @@ static sea_status check_plan(size_t npix, sea_error *err)
     return SEA_OK;
 }
 
-sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
-                             sea_error *err)
+/* The low-resolution moments and each level's share of the slope variance
+ * it generates; the first level whose share stays under the
+ * low-resolution threshold is the low-resolution one.  *tr_lr: the trace
+ * of the whole sea's slope covariance. */
+static sea_status plan_levels(sea_multires *mr, double *tr_lr, sea_error *err)
 {
-    *out = NULL;
-    sea_multires *mr = calloc(1, sizeof *mr);
-    if (mr == NULL)
-        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
-    mr->sc = *sc;
-    mr->cam = *cam;
+    const sea_scene *sc = &mr->sc;
     sea_status st;
-#define TRY(expr)                                                                                 \
-    do {                                                                                          \
-        if ((st = (expr)) != SEA_OK)                                                              \
-            goto fail;                                                                            \
-    } while (0)
-    TRY(sea_scene_spectrum(sc, &mr->spec, err));
     sea_cov2 lr;
-    TRY(sea_spectrum_slope_cov(&mr->spec, 0.0, &lr, err));
+    if ((st = sea_spectrum_slope_cov(&mr->spec, 0.0, &lr, err)) != SEA_OK)
+        return st;
     const sea_slope_stats lrs = { { 0.0, 0.0 }, lr };
     to_moments(&lrs, &mr->lr);
     const double L0 = sc->finest;
@@ -1696,33 +1689,32 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
      * pixels near the horizon of mast.ini by up to 5.4 % and midwave.ini's by
      * 1.2 %; a wind sea's slope variance falls from 1e-5 to 1e-14 in an
      * octave beyond its peak, so the thousandth costs a level or none.) */
-    const double tr_lr = lr.xx + lr.yy;
+    *tr_lr = lr.xx + lr.yy;
     const double lr_share =
         sc->reference ? SEA_REFERENCE_LR_SHARE : SEA_LR_SHARE_OF_TOL * sc->tolerance;
     mr->first_lr = LEVEL_MAX;
     for (int l = 0; l <= LEVEL_MAX; l++) {
         sea_cov2 c;
-        TRY(sea_spectrum_slope_cov(&mr->spec, M_PI / (L0 * exp2(l)), &c, err));
-        const double share = tr_lr > 0.0 ? 1.0 - (c.xx + c.yy) / tr_lr : 0.0;
+        if ((st = sea_spectrum_slope_cov(&mr->spec, M_PI / (L0 * exp2(l)), &c, err)) != SEA_OK)
+            return st;
+        const double share = *tr_lr > 0.0 ? 1.0 - (c.xx + c.yy) / *tr_lr : 0.0;
         mr->lev[l].level = l;
         mr->lev[l].facet = L0 * exp2(l);
         mr->lev[l].generated_share = fmax(share, 0.0);
         if (share < lr_share && mr->first_lr == LEVEL_MAX)
             mr->first_lr = l;
     }
+    return SEA_OK;
+}
 
-    /* per-pixel geometry and level choice */
+/* Per-pixel geometry and level choice, into mr->px (allocated).  Each
+ * pixel corner is shared by four pixels: a thread finds the corners of
+ * image line v = j + 1 once and keeps them for row j + 1
+ * (sea_camera_pixel_cornered: the same geometry as sea_camera_pixel). */
+static void plan_pixels(sea_multires *mr)
+{
+    const sea_camera *cam = &mr->cam;
     const size_t W = (size_t)cam->width, H = (size_t)cam->height;
-    mr->npix = W * H;
-    TRY(check_plan(mr->npix, err));
-    mr->px = malloc(mr->npix * sizeof(mr_pixel));
-    if (mr->px == NULL) {
-        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu pixels", mr->npix);
-        goto fail;
-    }
-    /* Each pixel corner is shared by four pixels: a thread finds the
-     * corners of image line v = j + 1 once and keeps them for row j + 1
-     * (sea_camera_pixel_cornered: the same geometry as sea_camera_pixel). */
 #pragma omp parallel
     {
         /* (without memory for them, each pixel finds its own) */
@@ -1770,12 +1762,12 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
         free(line);
         free(met);
     }
+}
 
-    /* Windows, finest first: the bounding box of the ground points that read
-     * a level, capped at grid x grid facets around their centre.  Pixels
-     * outside a window, or in its fading edge, read the next coarser level
-     * too, so that level's window covers them. */
-    /* (and the levels some pixel reads: a level none reads is not scanned) */
+/* The levels some pixel reads (a level none reads is not scanned), as
+ * bits, and each level's count of pixels that chose it. */
+static uint32_t plan_needed(sea_multires *mr)
+{
     uint32_t needed = 0;
     size_t count[LEVEL_MAX + 1] = { 0 };
 #pragma omp parallel for schedule(static) reduction(| : needed) reduction(+ : count[:LEVEL_MAX + 1])
@@ -1786,8 +1778,154 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
     }
     for (int l = 0; l <= LEVEL_MAX; l++)
         mr->lev[l].pixels = count[l];
-    size_t fft_cells = 2;
-    int any_hr = 0;
+    return needed;
+}
+
+/* The bounding box of the ground points of the pixels that read level l
+ * (empty: xmin > xmax).  The level before's pixels in its window's fading
+ * edge (or outside it), edge_lv unless NULL, read level l too: marked
+ * here, their bits returned. */
+static uint32_t level_bounds(sea_multires *mr, int l, const sea_clip_level *edge_lv,
+                             double box[4])
+{
+    const uint32_t bit = (uint32_t)1 << l;
+    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    /* (on every thread: extremes are the same in any order) */
+    uint32_t more = 0;
+#pragma omp parallel for schedule(static) reduction(min : xmin, ymin) reduction(max : xmax, ymax) \
+    reduction(| : more)
+    for (size_t q = 0; q < mr->npix; q++) {
+        mr_pixel *p = &mr->px[q];
+        if (edge_lv != NULL && (p->need & (bit >> 1)) && edge_weight(edge_lv, p->x, p->y) < 1.0) {
+            p->need |= bit;
+            more |= bit;
+        }
+        if (!(p->need & bit))
+            continue;
+        xmin = min2(xmin, p->x);
+        xmax = max2(xmax, p->x);
+        ymin = min2(ymin, p->y);
+        ymax = max2(ymax, p->y);
+    }
+    box[0] = xmin, box[1] = xmax, box[2] = ymin, box[3] = ymax;
+    return more;
+}
+
+/* High-resolution level l's window from the bounding box of its pixels
+ * (xmin > xmax: none), capped at grid x grid facets, or for a clipmap
+ * grid x grid facets around the look point. */
+static sea_status level_window(sea_multires *mr, int l, const double box[4], int clipmap,
+                               double look_x, double look_y, sea_error *err)
+{
+    const sea_scene *sc = &mr->sc;
+    sea_clip_level *lv = &mr->lev[l];
+    const double xmin = box[0], xmax = box[1], ymin = box[2], ymax = box[3];
+    sea_status st;
+    const double L = lv->facet;
+    /* grid = auto: as large as the level's pixels need, up to the
+     * largest grid a scene may ask (a clipmap, which no pixel sizes,
+     * keeps the old default) */
+    size_t grid = sc->grid > 0 ? (size_t)sc->grid : clipmap ? 256 : SEA_GRID_AUTO_MAX;
+    long i_lo, i_hi, j_lo, j_hi;
+    if (xmin <= xmax) {
+        st = check_cells(l, L, fmax(fabs(xmin), fabs(xmax)), fmax(fabs(ymin), fabs(ymax)), err);
+        if (st != SEA_OK)
+            return st;
+        /* margin: the fading edge (see edge_weight) plus one facet, so
+         * that a window that is not capped holds its pixels at full
+         * weight */
+        const double span = fmax(xmax - xmin, ymax - ymin) / L;
+        const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
+        i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
+        j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
+        const size_t side = (size_t)(i_hi - i_lo + 1) > (size_t)(j_hi - j_lo + 1)
+                                ? (size_t)(i_hi - i_lo + 1)
+                                : (size_t)(j_hi - j_lo + 1);
+        if (side > mr->grid_needed)
+            mr->grid_needed = side + (side & 1);
+    } else {
+        /* No pixel reads this level (a clipmap window all the same):
+         * the bounds stay infinite, and converting them is undefined. */
+        i_lo = i_hi = j_lo = j_hi = 0;
+    }
+    if (clipmap) {
+        /* concentric: grid x grid facets around the look point */
+        if ((st = check_cells(l, L, look_x, look_y, err)) != SEA_OK)
+            return st;
+        i_lo = (long)floor(look_x / L) - (long)grid / 2;
+        j_lo = (long)floor(look_y / L) - (long)grid / 2;
+        i_hi = i_lo + (long)grid - 1;
+        j_hi = j_lo + (long)grid - 1;
+    } else if ((size_t)(i_hi - i_lo + 1) > grid || (size_t)(j_hi - j_lo + 1) > grid) {
+        /* capped: centre on the median ground point of the pixels whose
+         * footprint chose this level (the bounding box also holds
+         * pixels pushed up from finer windows) */
+        double cxm = 0.0, cym = 0.0;
+        if ((st = median_point(mr, l, &cxm, &cym, err)) != SEA_OK ||
+            (st = check_cells(l, L, cxm, cym, err)) != SEA_OK)
+            return st;
+        if ((size_t)(i_hi - i_lo + 1) > grid) {
+            i_lo = (long)floor(cxm / L) - (long)grid / 2;
+            i_hi = i_lo + (long)grid - 1;
+        }
+        if ((size_t)(j_hi - j_lo + 1) > grid) {
+            j_lo = (long)floor(cym / L) - (long)grid / 2;
+            j_hi = j_lo + (long)grid - 1;
+        }
+    }
+    lv->i0 = i_lo;
+    lv->j0 = j_lo;
+    lv->nx = (size_t)(i_hi - i_lo + 1);
+    lv->ny = (size_t)(j_hi - j_lo + 1);
+    return SEA_OK;
+}
+
+/* High-resolution level l's sub-facets: 2^sub_n per side by the method,
+ * and their share of the slope variance (tr_lr: the whole sea's). */
+static sea_status level_sub_facets(sea_multires *mr, int l, double tr_lr, sea_error *err)
+{
+    const sea_scene *sc = &mr->sc;
+    sea_clip_level *lv = &mr->lev[l];
+    const double L = lv->facet;
+    switch (sc->method) {
+    case SEA_METHOD_VARIABLE_STEP: lv->sub_n = 0; break;
+    case SEA_METHOD_VARIABLE_STEP_2N: lv->sub_n = sc->n < l ? sc->n : l; break;
+    case SEA_METHOD_ONE_METER: lv->sub_n = l; break;
+    }
+    if (lv->sub_n > 0) {
+        /* The sub-facets resolve the waves between L / 2^n and L: the
+         * slope variance they move from C into the spread of the mean
+         * slopes.  Below the tolerance of the total, variable-step-2n
+         * skips them (one-meter is the reference and keeps them). */
+        sea_cov2 c_l, c_fine;
+        sea_status st;
+        if ((st = sea_spectrum_slope_cov(&mr->spec, M_PI / L, &c_l, err)) != SEA_OK ||
+            (st = sea_spectrum_slope_cov(&mr->spec, M_PI * exp2(lv->sub_n) / L, &c_fine,
+                                         err)) != SEA_OK)
+            return st;
+        const double band = (c_l.xx + c_l.yy) - (c_fine.xx + c_fine.yy);
+        lv->sub_share = tr_lr > 0.0 ? fmax(band, 0.0) / tr_lr : 0.0;
+        if (sc->method == SEA_METHOD_VARIABLE_STEP_2N && lv->sub_share < sc->tolerance) {
+            lv->sub_n = 0;
+            lv->sub_skipped = 1;
+        }
+    }
+    return SEA_OK;
+}
+
+/* Windows, finest first: the bounding box of the ground points that read
+ * a level, capped at grid x grid facets around their centre.  Pixels
+ * outside a window, or in its fading edge, read the next coarser level
+ * too, so that level's window covers them.  *any_hr: 1 if some
+ * high-resolution level is used; *fft_cells: the power of two (>= 2)
+ * that spans every such level's window in cells of the finest size. */
+static sea_status plan_windows(sea_multires *mr, double tr_lr, int *any_hr, size_t *fft_cells,
+                               sea_error *err)
+{
+    const sea_scene *sc = &mr->sc;
+    const sea_camera *cam = &mr->cam;
+    sea_status st;
+    uint32_t needed = plan_needed(mr);
     /* The centre of clipmap windows: where the optical axis meets the sea,
      * else the nadir point. */
     double look_x = cam->pos[0], look_y = cam->pos[1];
@@ -1805,153 +1943,108 @@ sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_mul
     for (int l = 0; l <= LEVEL_MAX; l++) {
         sea_clip_level *lv = &mr->lev[l];
         const uint32_t bit = (uint32_t)1 << l;
-        double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
-        if ((needed & bit) || edge_lv != NULL) {
-            /* (on every thread: extremes are the same in any order) */
-            uint32_t more = 0;
-#pragma omp parallel for schedule(static) reduction(min : xmin, ymin) reduction(max : xmax, ymax) \
-    reduction(| : more)
-            for (size_t q = 0; q < mr->npix; q++) {
-                mr_pixel *p = &mr->px[q];
-                if (edge_lv != NULL && (p->need & (bit >> 1)) &&
-                    edge_weight(edge_lv, p->x, p->y) < 1.0) {
-                    p->need |= bit;
-                    more |= bit;
-                }
-                if (!(p->need & bit))
-                    continue;
-                xmin = min2(xmin, p->x);
-                xmax = max2(xmax, p->x);
-                ymin = min2(ymin, p->y);
-                ymax = max2(ymax, p->y);
-            }
-            needed |= more;
-        }
+        double box[4] = { INFINITY, -INFINITY, INFINITY, -INFINITY };
+        if ((needed & bit) || edge_lv != NULL)
+            needed |= level_bounds(mr, l, edge_lv, box);
         edge_lv = NULL;
         const int clipmap = sc->windows == SEA_WINDOWS_CLIPMAP && l < mr->first_lr;
-        if (!(xmin <= xmax) && !clipmap)
+        if (!(box[0] <= box[1]) && !clipmap)
             continue;
         mr->used[l] = 1;
         lv->low_res = l >= mr->first_lr;
         if (lv->low_res)
             continue;
-        any_hr = 1;
-        const double L = lv->facet;
-        /* grid = auto: as large as the level's pixels need, up to the
-         * largest grid a scene may ask (a clipmap, which no pixel sizes,
-         * keeps the old default) */
-        size_t grid = sc->grid > 0 ? (size_t)sc->grid : clipmap ? 256 : SEA_GRID_AUTO_MAX;
-        long i_lo, i_hi, j_lo, j_hi;
-        if (xmin <= xmax) {
-            TRY(check_cells(l, L, fmax(fabs(xmin), fabs(xmax)), fmax(fabs(ymin), fabs(ymax)),
-                            err));
-            /* margin: the fading edge (see edge_weight) plus one facet, so
-             * that a window that is not capped holds its pixels at full
-             * weight */
-            const double span = fmax(xmax - xmin, ymax - ymin) / L;
-            const long margin = (long)ceil(fmax(2.0, (span + 2.0) / 14.0)) + 2;
-            i_lo = (long)floor(xmin / L) - margin, i_hi = (long)floor(xmax / L) + margin;
-            j_lo = (long)floor(ymin / L) - margin, j_hi = (long)floor(ymax / L) + margin;
-            const size_t side = (size_t)(i_hi - i_lo + 1) > (size_t)(j_hi - j_lo + 1)
-                                    ? (size_t)(i_hi - i_lo + 1)
-                                    : (size_t)(j_hi - j_lo + 1);
-            if (side > mr->grid_needed)
-                mr->grid_needed = side + (side & 1);
-        } else {
-            /* No pixel reads this level (a clipmap window all the same):
-             * the bounds stay infinite, and converting them is undefined. */
-            i_lo = i_hi = j_lo = j_hi = 0;
-        }
-        if (clipmap) {
-            /* concentric: grid x grid facets around the look point */
-            TRY(check_cells(l, L, look_x, look_y, err));
-            i_lo = (long)floor(look_x / L) - (long)grid / 2;
-            j_lo = (long)floor(look_y / L) - (long)grid / 2;
-            i_hi = i_lo + (long)grid - 1;
-            j_hi = j_lo + (long)grid - 1;
-        } else if ((size_t)(i_hi - i_lo + 1) > grid || (size_t)(j_hi - j_lo + 1) > grid) {
-            /* capped: centre on the median ground point of the pixels whose
-             * footprint chose this level (the bounding box also holds
-             * pixels pushed up from finer windows) */
-            double cxm = 0.0, cym = 0.0;
-            TRY(median_point(mr, l, &cxm, &cym, err));
-            TRY(check_cells(l, L, cxm, cym, err));
-            if ((size_t)(i_hi - i_lo + 1) > grid) {
-                i_lo = (long)floor(cxm / L) - (long)grid / 2;
-                i_hi = i_lo + (long)grid - 1;
-            }
-            if ((size_t)(j_hi - j_lo + 1) > grid) {
-                j_lo = (long)floor(cym / L) - (long)grid / 2;
-                j_hi = j_lo + (long)grid - 1;
-            }
-        }
-        lv->i0 = i_lo;
-        lv->j0 = j_lo;
-        lv->nx = (size_t)(i_hi - i_lo + 1);
-        lv->ny = (size_t)(j_hi - j_lo + 1);
-        switch ((sea_facet_method)sc->method) {
-        case SEA_METHOD_VARIABLE_STEP: lv->sub_n = 0; break;
-        case SEA_METHOD_VARIABLE_STEP_2N: lv->sub_n = sc->n < l ? sc->n : l; break;
-        case SEA_METHOD_ONE_METER: lv->sub_n = l; break;
-        }
-        if (lv->sub_n > 0) {
-            /* The sub-facets resolve the waves between L / 2^n and L: the
-             * slope variance they move from C into the spread of the mean
-             * slopes.  Below the tolerance of the total, variable-step-2n
-             * skips them (one-meter is the reference and keeps them). */
-            sea_cov2 c_l, c_fine;
-            TRY(sea_spectrum_slope_cov(&mr->spec, M_PI / L, &c_l, err));
-            TRY(sea_spectrum_slope_cov(&mr->spec, M_PI * exp2(lv->sub_n) / L, &c_fine, err));
-            const double band = (c_l.xx + c_l.yy) - (c_fine.xx + c_fine.yy);
-            lv->sub_share = tr_lr > 0.0 ? fmax(band, 0.0) / tr_lr : 0.0;
-            if (sc->method == SEA_METHOD_VARIABLE_STEP_2N && lv->sub_share < sc->tolerance) {
-                lv->sub_n = 0;
-                lv->sub_skipped = 1;
-            }
-        }
+        *any_hr = 1;
+        if ((st = level_window(mr, l, box, clipmap, look_x, look_y, err)) != SEA_OK ||
+            (st = level_sub_facets(mr, l, tr_lr, err)) != SEA_OK)
+            return st;
         const size_t ext = (lv->nx > lv->ny ? lv->nx : lv->ny) << l;
-        while (fft_cells < ext)
-            fft_cells *= 2;
+        while (*fft_cells < ext)
+            *fft_cells *= 2;
         if (l < LEVEL_MAX && (needed & bit))
             edge_lv = lv; /* (the next level's pass) */
     }
+    return SEA_OK;
+}
+
+/* The pixels that fall back to a coarser level than they ask for, for
+ * want of a larger grid. */
+static size_t plan_fallback(const sea_multires *mr)
+{
+    size_t fb = 0;
+#pragma omp parallel for schedule(static) reduction(+ : fb)
+    for (size_t q = 0; q < mr->npix; q++) {
+        const mr_pixel *p = &mr->px[q];
+        if (!p->hit || p->level >= mr->first_lr)
+            continue;
+        const sea_clip_level *lv = &mr->lev[p->level];
+        fb += edge_weight(lv, p->x, p->y) < 1.0;
+    }
+    return fb;
+}
+
+/* The waves the high-resolution levels read: a sum of components, or for
+ * one-meter an FFT patch of fft_cells cells of the finest size. */
+static sea_status plan_waves(sea_multires *mr, size_t fft_cells, sea_error *err)
+{
+    const sea_scene *sc = &mr->sc;
+    const double L0 = sc->finest;
+    sea_waves_params wp;
+    sea_waves_params_default(&wp);
+    wp.finest = L0;
+    wp.seed = sc->seed;
+    wp.loop_period = sc->loop_period;
+    if (sc->method == SEA_METHOD_ONE_METER) {
+        wp.kind = SEA_WAVES_FFT;
+        if (fft_cells > 16384)
+            return sea_fail(err, SEA_ERR_DOMAIN,
+                            "one-meter: the levels span %zu cells of %g m, beyond the "
+                            "16384-cell FFT patch; use variable-step-2n or a smaller grid",
+                            fft_cells, L0);
+        wp.fft_size = fft_cells;
+    }
+    return sea_waves_create(&mr->spec, &wp, &mr->waves, err);
+}
+
+sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
+                             sea_error *err)
+{
+    *out = NULL;
+    sea_multires *mr = calloc(1, sizeof *mr);
+    if (mr == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+    mr->sc = *sc;
+    mr->cam = *cam;
+    sea_status st;
+#define TRY(expr)                                                                                 \
+    do {                                                                                          \
+        if ((st = (expr)) != SEA_OK)                                                              \
+            goto fail;                                                                            \
+    } while (0)
+    TRY(sea_scene_spectrum(sc, &mr->spec, err));
+    double tr_lr;
+    TRY(plan_levels(mr, &tr_lr, err));
+
+    /* per-pixel geometry and level choice */
+    mr->npix = (size_t)cam->width * (size_t)cam->height;
+    TRY(check_plan(mr->npix, err));
+    mr->px = malloc(mr->npix * sizeof(mr_pixel));
+    if (mr->px == NULL) {
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu pixels", mr->npix);
+        goto fail;
+    }
+    plan_pixels(mr);
+
+    size_t fft_cells = 2;
+    int any_hr = 0;
+    TRY(plan_windows(mr, tr_lr, &any_hr, &fft_cells, err));
     /* Every pixel falls back to a coarser level when outside its window:
      * the low-resolution level closes the chain. */
     mr->used[mr->first_lr] = 1;
     mr->lev[mr->first_lr].low_res = 1;
-    /* the pixels that do, for want of a larger grid */
-    {
-        size_t fb = 0;
-#pragma omp parallel for schedule(static) reduction(+ : fb)
-        for (size_t q = 0; q < mr->npix; q++) {
-            const mr_pixel *p = &mr->px[q];
-            if (!p->hit || p->level >= mr->first_lr)
-                continue;
-            const sea_clip_level *lv = &mr->lev[p->level];
-            fb += edge_weight(lv, p->x, p->y) < 1.0;
-        }
-        mr->fallback = fb;
-    }
-
-    if (any_hr) {
-        sea_waves_params wp;
-        sea_waves_params_default(&wp);
-        wp.finest = L0;
-        wp.seed = sc->seed;
-        wp.loop_period = sc->loop_period;
-        if (sc->method == SEA_METHOD_ONE_METER) {
-            wp.kind = SEA_WAVES_FFT;
-            if (fft_cells > 16384) {
-                st = sea_fail(err, SEA_ERR_DOMAIN,
-                              "one-meter: the levels span %zu cells of %g m, beyond the "
-                              "16384-cell FFT patch; use variable-step-2n or a smaller grid",
-                              fft_cells, L0);
-                goto fail;
-            }
-            wp.fft_size = fft_cells;
-        }
-        TRY(sea_waves_create(&mr->spec, &wp, &mr->waves, err));
-    }
+    mr->fallback = plan_fallback(mr);
+    if (any_hr)
+        TRY(plan_waves(mr, fft_cells, err));
 #undef TRY
     for (int l = 0; l < SEA_CLIP_MAX_LEVELS; l++)
         if (mr->used[l])
@@ -2090,7 +2183,7 @@ static sea_dir local_dir_at(const sea_camera *cam, double x, double y, const dou
 
 /* Whether ray B stays above the surface wherever a ray A of slope kA =
  * d_z / |d_h| and map direction (uxA, uyA) from the same sensor does (both
- * at one horizontal distance), as look() explains: B above A by more than
+ * at one horizontal distance), as look_rays() explains: B above A by more than
  * the surface can rise between their map points. */
 static int ray_above(const ray *B, double kA, double uxA, double uyA, double gmax)
 {
@@ -2104,66 +2197,40 @@ static int same_blend(const sea_level_blend *a, const sea_level_blend *b)
     return a->level == b->level && a->neighbour == b->neighbour && a->alpha == b->alpha;
 }
 
-static void look(const sea_multires_frame *f, double u, double v, const mr_pixel *p,
-                 const sea_multires_hint *below, sea_multires_hint *top,
-                 sea_multires_sample *out)
+/* look()'s pixel that reads the low-resolution level alone: the flat mean
+ * surface under its centre, no ray to march.  back: toward the sensor. */
+static inline void look_flat(const sea_multires *mr, const mr_pixel *p, const double back[3],
+                             sea_multires_sample *out)
 {
-    if (top != NULL)
-        top->n = 0;
-    const sea_multires *mr = f->mr;
     const sea_camera *cam = &mr->cam;
-    memset(out, 0, sizeof *out);
-    out->blend = (sea_level_blend){ p->level, p->neighbour, p->alpha };
-    if (!p->hit)
-        return;
-    out->hit = 1;
-    double dc[3], back[3];
-    sea_camera_ray(cam, u, v, dc);
-    for (int k = 0; k < 3; k++)
-        back[k] = -dc[k];
-    const int lr_only = p->level >= mr->first_lr &&
-                        (p->neighbour < 0 || p->alpha <= 0.0 || p->neighbour >= mr->first_lr);
-    if (lr_only) {
-        /* the flat mean surface: no ray to march */
-        double q[3];
-        out->x = p->x;
-        out->y = p->y;
-        out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, q);
-        out->range = sqrt((q[0] - cam->pos[0]) * (q[0] - cam->pos[0]) +
-                          (q[1] - cam->pos[1]) * (q[1] - cam->pos[1]) +
-                          (q[2] - cam->pos[2]) * (q[2] - cam->pos[2]));
-        out->moments = mr->lr;
-        out->level = mr->first_lr;
-        out->rays = 1;
-        return;
-    }
-    surface s;
-    surface_init(&s, f, out->blend);
-    const int nu = p->nu, nv = p->nv, ku = p->ku, kv = p->kv, many = nu * nv > 1;
-    /* one local frame for the pixel, at its mean-surface point: its rays
-     * and the points they meet are within a footprint (and the waves'
-     * heights) of it, where the vertical of the sphere turns by 1e-5 rad at
-     * most */
-    double qm[3];
-    out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
-    /* the view azimuth of the 1/D weights below (a pixel of one ray has
-     * none) */
-    double cphi = 1.0, sphi = 0.0;
-    if (many) {
-        cphi = cos(out->obs.phi);
-        sphi = sin(out->obs.phi);
-    }
-    /* The rays' hits, the lowest row of rays first.  At a horizontal
-     * distance s from the sensor a ray of slope k = d_z / |d_h| and map
-     * direction w = d_h / |d_h| is at z0 + k s over the map point o + s w.
-     * A ray B above ray A (of the same column) by more than the surface can
-     * rise between their map points, k_B - k_A >= RAY_ORDER_MARGIN gmax
-     * |w_B - w_A| (both sides grow as s), stays above the surface wherever
-     * A does, so B meets it no nearer than A did, and its march starts at
-     * that horizontal distance (the same first hit: only the march's path
-     * to it differs). */
-    double hit_t[SUB_MAX * SUB_MAX];
-    ray rays[SUB_MAX * SUB_MAX];
+    double q[3];
+    out->x = p->x;
+    out->y = p->y;
+    out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, q);
+    out->range = sqrt((q[0] - cam->pos[0]) * (q[0] - cam->pos[0]) +
+                      (q[1] - cam->pos[1]) * (q[1] - cam->pos[1]) +
+                      (q[2] - cam->pos[2]) * (q[2] - cam->pos[2]));
+    out->moments = mr->lr;
+    out->level = mr->first_lr;
+    out->rays = 1;
+}
+
+/* The rays' hits, the lowest row of rays first.  At a horizontal
+ * distance s from the sensor a ray of slope k = d_z / |d_h| and map
+ * direction w = d_h / |d_h| is at z0 + k s over the map point o + s w.
+ * A ray B above ray A (of the same column) by more than the surface can
+ * rise between their map points, k_B - k_A >= RAY_ORDER_MARGIN gmax
+ * |w_B - w_A| (both sides grow as s), stays above the surface wherever
+ * A does, so B meets it no nearer than A did, and its march starts at
+ * that horizontal distance (the same first hit: only the march's path
+ * to it differs).  dc: the ray through the pixel centre (u, v); hit_t[k]:
+ * where ray k met the surface, -1 if it did not. */
+static inline void look_rays(const surface *s, const sea_camera *cam, double u, double v,
+                             const double dc[3], const mr_pixel *p,
+                             const sea_multires_hint *below, const sea_level_blend *blend,
+                             ray *rays, double *hit_t)
+{
+    const int nu = p->nu, nv = p->nv;
     for (int b = nv - 1; b >= 0; b--)
         for (int a = 0; a < nu; a++) {
             const int k = b * nu + a;
@@ -2179,20 +2246,20 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
             ray_init(r, cam, d);
             hit_t[k] = -1.0;
             double t_a, t_b, t;
-            if (!ray_range(&s, r, &t_a, &t_b))
+            if (!ray_range(s, r, &t_a, &t_b))
                 continue;
             /* the horizontal distance B's march may start at: A's hit */
             double s0 = -1.0;
             if (b + 1 < nv && hit_t[k + nu] >= 0.0 && r->dh > 0.0 && rays[k + nu].dh > 0.0) {
                 const ray *A = &rays[k + nu];
-                if (ray_above(r, A->d[2] / A->dh, A->ux, A->uy, s.gmax))
+                if (ray_above(r, A->d[2] / A->dh, A->ux, A->uy, s->gmax))
                     s0 = hit_t[k + nu] * A->dh;
             } else if (b + 1 == nv && below != NULL && below->n > 0 && r->dh > 0.0 &&
-                       same_blend(&below->blend, &out->blend)) {
+                       same_blend(&below->blend, blend)) {
                 /* the pixel below's top rays, on the same surface */
                 for (int m = 0; m < below->n; m++)
                     if (below->s[m] > s0 &&
-                        ray_above(r, below->k[m], below->ux[m], below->uy[m], s.gmax))
+                        ray_above(r, below->k[m], below->ux[m], below->uy[m], s->gmax))
                         s0 = below->s[m];
             }
             if (s0 >= 0.0) {
@@ -2201,23 +2268,38 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
                     continue; /* above the surface over its whole range */
                 t_a = fmax(t_a, t0);
             }
-            if (march(&s, r, t_a, t_b, &t))
+            if (march(s, r, t_a, t_b, &t))
                 hit_t[k] = t;
         }
-    if (top != NULL) {
-        /* the top row of rays, for the pixel above */
-        top->blend = out->blend;
-        for (int a = 0; a < nu; a++) {
-            const ray *A = &rays[a];
-            if (!(A->dh > 0.0))
-                continue;
-            top->k[top->n] = A->d[2] / A->dh;
-            top->ux[top->n] = A->ux;
-            top->uy[top->n] = A->uy;
-            top->s[top->n] = hit_t[a] >= 0.0 ? hit_t[a] * A->dh : -1.0;
-            top->n++;
-        }
+}
+
+/* The top row of rays (nu of them), for the pixel above. */
+static inline void look_top(const ray *rays, const double *hit_t, int nu,
+                            const sea_level_blend *blend, sea_multires_hint *top)
+{
+    top->blend = *blend;
+    for (int a = 0; a < nu; a++) {
+        const ray *A = &rays[a];
+        if (!(A->dh > 0.0))
+            continue;
+        top->k[top->n] = A->d[2] / A->dh;
+        top->ux[top->n] = A->ux;
+        top->uy[top->n] = A->uy;
+        top->s[top->n] = hit_t[a] >= 0.0 ? hit_t[a] * A->dh : -1.0;
+        top->n++;
     }
+}
+
+/* The pixel's moments, point met and height: each ray's share of the
+ * footprint around the point it met, weighted by 1 / D when the pixel
+ * has many rays (view azimuth cos cphi, sin sphi); or, when every ray
+ * passed above the waves, what lies under the pixel centre's
+ * mean-surface point. */
+static inline void look_footprint(const surface *s, const mr_pixel *p, const ray *rays,
+                                  const double *hit_t, double cphi, double sphi,
+                                  sea_multires_sample *out)
+{
+    const int nu = p->nu, nv = p->nv, ku = p->ku, kv = p->kv, many = nu * nv > 1;
     sea_moments acc = { 0 };
     double wsum = 0.0, sx = 0.0, sy = 0.0, sz = 0.0;
     for (int b = 0; b < nv; b++)
@@ -2235,7 +2317,7 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
                 for (int i = 0; i < ku; i++) {
                     const double ou = ((i + 0.5) / ku - 0.5) / nu, ov = ((j + 0.5) / kv - 0.5) / nv;
                     int dom;
-                    const sea_moments q = surf_moments(&s, x + ou * p->eu[0] + ov * p->ev[0],
+                    const sea_moments q = surf_moments(s, x + ou * p->eu[0] + ov * p->ev[0],
                                                        y + ou * p->eu[1] + ov * p->ev[1], &dom);
                     axpy(&m, 1.0 / (ku * kv), &q);
                 }
@@ -2272,12 +2354,20 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
         /* every ray passed above the waves: what lies under the mean-surface
          * point of the pixel centre */
         int dom;
-        acc = surf_moments(&s, p->x, p->y, &dom);
+        acc = surf_moments(s, p->x, p->y, &dom);
         out->x = p->x;
         out->y = p->y;
         out->height = acc.h;
     }
     out->moments = acc;
+}
+
+/* The range to the point met and the level the sample reports: the
+ * pixel's, or its neighbour's where that weighs more. */
+static inline void look_range_level(const sea_multires_frame *f, const mr_pixel *p,
+                                    sea_multires_sample *out)
+{
+    const sea_camera *cam = &f->mr->cam;
     /* the point met: above the mean-surface point under it (the map
      * offset is at most a few hundred metres, along the ray's azimuth) */
     double q[3], n[3];
@@ -2296,6 +2386,56 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
         if (p->alpha * wn > (1.0 - p->alpha) * dw)
             out->level = dn;
     }
+}
+
+/* One pixel's sample (per pixel, in the render's inner loop: its phases
+ * are static inline so that the split costs no call). */
+static void look(const sea_multires_frame *f, double u, double v, const mr_pixel *p,
+                 const sea_multires_hint *below, sea_multires_hint *top,
+                 sea_multires_sample *out)
+{
+    if (top != NULL)
+        top->n = 0;
+    const sea_multires *mr = f->mr;
+    const sea_camera *cam = &mr->cam;
+    memset(out, 0, sizeof *out);
+    out->blend = (sea_level_blend){ p->level, p->neighbour, p->alpha };
+    if (!p->hit)
+        return;
+    out->hit = 1;
+    double dc[3], back[3];
+    sea_camera_ray(cam, u, v, dc);
+    for (int k = 0; k < 3; k++)
+        back[k] = -dc[k];
+    const int lr_only = p->level >= mr->first_lr &&
+                        (p->neighbour < 0 || p->alpha <= 0.0 || p->neighbour >= mr->first_lr);
+    if (lr_only) {
+        look_flat(mr, p, back, out);
+        return;
+    }
+    surface s;
+    surface_init(&s, f, out->blend);
+    const int many = p->nu * p->nv > 1;
+    /* one local frame for the pixel, at its mean-surface point: its rays
+     * and the points they meet are within a footprint (and the waves'
+     * heights) of it, where the vertical of the sphere turns by 1e-5 rad at
+     * most */
+    double qm[3];
+    out->obs = local_dir_at(cam, p->x, p->y, back, out->normal, qm);
+    /* the view azimuth of the 1/D weights below (a pixel of one ray has
+     * none) */
+    double cphi = 1.0, sphi = 0.0;
+    if (many) {
+        cphi = cos(out->obs.phi);
+        sphi = sin(out->obs.phi);
+    }
+    double hit_t[SUB_MAX * SUB_MAX];
+    ray rays[SUB_MAX * SUB_MAX];
+    look_rays(&s, cam, u, v, dc, p, below, &out->blend, rays, hit_t);
+    if (top != NULL)
+        look_top(rays, hit_t, p->nu, &out->blend, top);
+    look_footprint(&s, p, rays, hit_t, cphi, sphi, out);
+    look_range_level(f, p, out);
 }
 
 /* look() at image point (u, v) with its pixel's plan made now (as

@@ -2292,6 +2292,21 @@ static void second_hit_around(const sea_optics *p, const view_frame *f, double L
     }
 }
 
+/* The second hits of the facet's mirror rays (seabake-model(7), MULTIPLE
+ * REFLECTIONS): over the cross-slope nodes j, the pieces of the view
+ * window and each piece's nodes t, every mirror ray g's hit chance P and
+ * the facets met's E_(R-1) and K_(R-1) toward -g (recursively, or through
+ * the basis when factored), into T and D per index; in the sea around ar,
+ * second_hit_around.
+ *
+ * Kept as one function: the three nested quadratures share their sums
+ * (num, knum and den per cross-slope node, X and Y per node and XT, YT
+ * over all of them) and the factored and the recursive paths part only
+ * at the innermost node, so each piece split out would take most of the
+ * 15 arguments and those sums by pointer, and the order of the terms,
+ * which the result depends on bit for bit, would be spread over several
+ * functions.  It runs per facet and per hit at reflections >= 2 (the
+ * render's inner loop). */
 static void second_hit(const sea_optics *p, const sea_slope_stats *st, const view_frame *f,
                        double L_in, const emis_ctx *ec, size_t n, int R, fixed_rule a,
                        double w_tot, const sea_sky *sky, size_t k0, const spectral_basis *sb,
@@ -2587,7 +2602,7 @@ sea_status sea_emissivity_sky_n(const sea_optics *p, sea_emis_method method,
          !(sky->zenith_emissivity > 0.0 && sky->zenith_emissivity <= 1.0)) ||
         (sky->model == SEA_SKY_TABLE && (sky->n_zenith < 2 || sky->zenith == NULL)))
         return sea_fail(err, SEA_ERR_DOMAIN, "sky model %d or zenith emissivity out of range",
-                        sky != NULL ? sky->model : -1);
+                        sky != NULL ? (int)sky->model : -1);
     return emissivity_general(p, method, rule, N, n, st, v, reflections, sky, NULL, eps, sky_out,
                               err);
 }

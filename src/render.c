@@ -570,12 +570,12 @@ static sea_status set_model(sea_render *r, const sea_spectrum *spec, const sea_s
     r->model = NULL;
     sea_model_params mp;
     sea_model_params_default(&mp);
-    mp.shadowing = (sea_shadowing)sc->shadowing;
+    mp.shadowing = sc->shadowing;
     mp.scales = simple ? 1 : sc->scales;
     mp.reflections = simple ? 1 : sc->reflections;
     mp.tolerance = sc->tolerance;
     mp.reference = simple ? 0 : sc->reference;
-    mp.method = (sea_emis_method)sc->emissivity_method;
+    mp.method = sc->emissivity_method;
     double dmax = 0.0, lmin = 0.0;
     for (size_t k = 0; k < r->nsamp; k++) {
         const double s1 = sea_sky_radiance(&r->sky, k, 1.0), s0 = sea_sky_radiance(&r->sky, k, 0.0);
@@ -636,7 +636,7 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     }
     /* the optics */
     TRY(sc->water_file[0] ? sea_water_load(sc->water_file, sc->salinity, &r->water, err)
-                          : sea_water_alloc((sea_water_table)sc->water_table, sc->salinity,
+                          : sea_water_alloc(sc->water_table, sc->salinity,
                                             &r->water, err));
     /* the sky's and the air's tables */
     double x_max, w_min, w_max;
@@ -804,6 +804,45 @@ sea_status sea_render_check_image(const sea_render *r, const sea_image *img, sea
     return SEA_OK;
 }
 
+/* Row blocks row0, row0 + step, ... of an image of H rows (blocks of
+ * SEA_RENDER_ROW_BLOCK rows): how many (none when row0 is past the last),
+ * and the rows they hold (*nrows, set when there is a block). */
+static size_t row_blocks(size_t H, size_t row0, size_t step, size_t *nrows)
+{
+    const size_t B = SEA_RENDER_ROW_BLOCK;
+    const size_t nb_all = (H + B - 1) / B;
+    const size_t nblk = row0 < nb_all ? (nb_all - row0 + step - 1) / step : 0;
+    *nrows = 0;
+    for (size_t jb = 0; jb < nblk; jb++) {
+        const size_t j_lo = (row0 + jb * step) * B;
+        *nrows += (j_lo + B < H ? j_lo + B : H) - j_lo;
+    }
+    return nblk;
+}
+
+/* What every pixel of r's frames shares: the levels' facet sizes, the
+ * sun, the sky's radiance and temperature, the radiance unit and the
+ * air's extinction. */
+static void pixel_consts_of(const sea_render *r, pixel_consts *pc)
+{
+    const sea_scene *sc = &r->sc;
+    const sea_clip_level *lv;
+    const size_t nlev = sea_multires_levels(r->mr, &lv);
+    memset(pc, 0, sizeof *pc);
+    for (size_t l = 0; l < nlev; l++)
+        pc->facet[lv[l].level] = lv[l].facet;
+    pc->sun_vec[0] = sin(sc->sun_zenith) * cos(sc->sun_azimuth);
+    pc->sun_vec[1] = sin(sc->sun_zenith) * sin(sc->sun_azimuth);
+    pc->sun_vec[2] = cos(sc->sun_zenith);
+    for (size_t i = 0; i < r->nsamp; i++)
+        pc->sky_L += r->wt[i] * r->lsky[i];
+    pc->unit = radiance_unit(r); /* per um */
+    pc->sky_T = (float)band_temperature(r, pc->sky_L);
+    /* the air between the sensor and the sea: Beer-Lambert along the range
+     * met, the path radiating (1 - tau) B(T_air) (through_air) */
+    pc->ext = air_extinction(r);
+}
+
 /* sea_render_rows from the frame given (of r's multiresolution sea at t),
  * or from one of its own (NULL). */
 static sea_status render_rows(const sea_render *r, const sea_multires_frame *given, double t,
@@ -820,40 +859,18 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "row blocks from %d every %d (allowed: first block >= 0, step >= 1)", row0,
                         step);
-    /* row blocks row0, row0 + step, ... of the image: none when row0 is
-     * past the last */
     const size_t H = (size_t)sc->height, B = SEA_RENDER_ROW_BLOCK;
-    const size_t nb_all = (H + B - 1) / B;
-    const size_t nblk =
-        (size_t)row0 < nb_all ? (nb_all - (size_t)row0 + (size_t)step - 1) / (size_t)step : 0;
+    size_t nrows;
+    const size_t nblk = row_blocks(H, (size_t)row0, (size_t)step, &nrows);
     if (nblk == 0)
         return SEA_OK;
-    size_t nrows = 0;
-    for (size_t jb = 0; jb < nblk; jb++) {
-        const size_t j_lo = ((size_t)row0 + jb * (size_t)step) * B;
-        nrows += (j_lo + B < H ? j_lo + B : H) - j_lo;
-    }
     sea_multires_frame *own = NULL;
     if (given == NULL && (st = sea_multires_frame_alloc(r->mr, t, NULL, NULL, &own, err)) != SEA_OK)
         return st;
     const sea_multires_frame *f = given != NULL ? given : own;
-    const sea_clip_level *lv;
-    const size_t nlev = sea_multires_levels(r->mr, &lv);
     pixel_consts pc;
-    memset(&pc, 0, sizeof pc);
-    for (size_t l = 0; l < nlev; l++)
-        pc.facet[lv[l].level] = lv[l].facet;
-    pc.sun_vec[0] = sin(sc->sun_zenith) * cos(sc->sun_azimuth);
-    pc.sun_vec[1] = sin(sc->sun_zenith) * sin(sc->sun_azimuth);
-    pc.sun_vec[2] = cos(sc->sun_zenith);
+    pixel_consts_of(r, &pc);
     const size_t W = (size_t)sc->width;
-    for (size_t i = 0; i < r->nsamp; i++)
-        pc.sky_L += r->wt[i] * r->lsky[i];
-    pc.unit = radiance_unit(r); /* per um */
-    pc.sky_T = (float)band_temperature(r, pc.sky_L);
-    /* the air between the sensor and the sea: Beer-Lambert along the range
-     * met, the path radiating (1 - tau) B(T_air) (through_air) */
-    pc.ext = air_extinction(r);
     size_t rows_done = 0;
     int failed = 0, cancelled = 0, nomem = 0;
     sea_error first = { { 0 } };

@@ -275,6 +275,12 @@ typedef struct {
     { sec, name, KIND_CHOICE, 0, 0, 0, 1.0, "", AT(field), fn, names }
 #define SEED(sec, name, field)                                                                \
     { sec, name, KIND_SEED, 0, 4294967295.0, 0, 1.0, "", AT(field), NULL, NULL }
+/* A choice is stored, reset and copied as an int (set_key, reset_key): each
+ * enum a CHOICE key fills must be an int's size. */
+_Static_assert(sizeof(sea_sky_model) == sizeof(int) && sizeof(sea_facet_method) == sizeof(int) &&
+                   sizeof(sea_emis_method) == sizeof(int) && sizeof(sea_earth) == sizeof(int) &&
+                   sizeof(sea_windows) == sizeof(int) && sizeof(sea_shadowing) == sizeof(int),
+               "a CHOICE key's enum is stored as an int");
 
 /* Indexed by key_id.  "any finite" is (-inf, inf); ranges follow seabake.h. */
 static const key_spec SEA_KEYS[K_COUNT] = {
@@ -759,7 +765,7 @@ static int set_value(loader *ld, key_id id, const char *value)
             ld->sc.water_file[0] = '\0';
             return 1;
         }
-        ld->sc.water_table = -1;
+        ld->sc.water_table = SEA_WATER_FILE;
         return resolve_path(ld, id, value, ld->sc.water_file);
     }
     case KIND_BAND: {
@@ -1008,7 +1014,7 @@ static void check_files(loader *ld)
     if (sc->water_file[0] != '\0')
         st = sea_water_load(sc->water_file, sc->salinity, &w, &e);
     else
-        st = sea_water_alloc((sea_water_table)sc->water_table, sc->salinity, &w, &e);
+        st = sea_water_alloc(sc->water_table, sc->salinity, &w, &e);
     if (st != SEA_OK) {
         long line = ld->key_line[K_WATER] ? ld->key_line[K_WATER] : ld->key_line[K_SALINITY];
         fail_line(ld, st, line, "[sea] water: %s", e.msg);

@@ -151,6 +151,8 @@ void sea_slope_project(const sea_slope_stats *st, double phi, double *m_X, doubl
 /* ---------------------------------------------------- water, Fresnel, Planck */
 
 typedef enum {
+    SEA_WATER_FILE = -1,       /* not a table: a scene's water from a CSV file
+                                  (sea_scene.water_file); sea_water_alloc refuses it */
     SEA_WATER_HALE_QUERRY = 0, /* Hale & Querry 1973, 25 C, 2.4-15.5 um (default) */
     SEA_WATER_SEGELSTEIN       /* Segelstein 1981, 2.41-15.6 um */
 } sea_water_table;
@@ -603,7 +605,7 @@ void sea_two_scale_table_free(sea_two_scale_table *t);
  * the horizon.  Indexed as the N[] of the calls below. */
 typedef enum { SEA_SKY_ISOTROPIC = 0, SEA_SKY_CLEAR = 1, SEA_SKY_TABLE = 2 } sea_sky_model;
 typedef struct {
-    int model;                /* sea_sky_model */
+    sea_sky_model model;
     double zenith_emissivity; /* clear: eps_z, (0, 1] */
     const double *radiance;   /* per index: the sky's (isotropic) or B(T_air) (clear);
                                  table: the profile, n_zenith values per index */
@@ -1044,7 +1046,7 @@ int sea_camera_project(const sea_camera *c, const double p[3], double *u, double
  * spherical, azimuthal equidistant from the nadir point.  Pure. */
 void sea_camera_sea_point(const sea_camera *c, double x, double y, double q[3], double n[3]);
 
-/* ------------------------------------------------------- scenes (issue 4) */
+/* ---------------------------------------------------------------- scenes */
 
 /* Clipmap windows: `view`, each level as large as the pixels that read it
  * need (at most grid x grid facets); `clipmap`, every high-resolution level
@@ -1087,8 +1089,8 @@ typedef struct {
     double fetch;             /* fetch, m, [SEA_FETCH_MIN, inf]; inf */
     double temperature;       /* temperature, K, [271, 313]; 288 */
     double salinity;          /* salinity, g/kg, [0, SEA_SALINITY_MAX]; 35 */
-    int water_table;          /* water = hale-querry | segelstein: a sea_water_table
-                                 (default hale-querry), -1 with a file; */
+    sea_water_table water_table; /* water = hale-querry | segelstein (default
+                                 hale-querry), SEA_WATER_FILE with a file; */
     char water_file[SEA_SCENE_PATH_MAX]; /* ... or a CSV path, told apart by a '/' or
                                             a '.' in the value (resolved against the
                                             scene file's directory); "" if a table */
@@ -1115,7 +1117,7 @@ typedef struct {
     double sky_radiance;      /* radiance, W m^-2 sr^-1 um^-1 [0, 1e3] -> per m; < 0 when
                                  not given */
     double sky_temperature;   /* temperature, K (0, 400]; 250 (used without radiance) */
-    int sky_model;            /* model = isotropic | clear | table (sea_sky_model); isotropic */
+    sea_sky_model sky_model;  /* model = isotropic | clear | table; isotropic */
     double sky_zenith_emissivity; /* zenith_emissivity, (0, 1], clear only; NAN */
     char sky_table_file[SEA_SCENE_PATH_MAX]; /* table = CSV (zenith_deg,wavelength_um,
                                                 radiance), model = table only; "" */
@@ -1166,24 +1168,24 @@ typedef struct {
     double offset;             /* offset, counts [-1e9, 1e9], with gain (absent: 0) */
     int bit_depth;             /* bit_depth, [8, 16], with gain; 14 */
     /* [model] */
-    int method;                /* method = variable-step | variable-step-2n | one-meter:
-                                  a sea_facet_method; variable-step (the paper's model) */
+    sea_facet_method method;   /* method = variable-step | variable-step-2n | one-meter;
+                                  variable-step (the paper's model) */
     int n;                     /* n, [0, 20], with variable-step-2n; 1 */
     double finest;             /* finest, m, [0.001, 1000]; 1 */
     int grid;                  /* grid = auto | even [16, 4096], a level's largest side in
                                   facets; SEA_GRID_AUTO (0): as large as the level's
                                   pixels need, up to SEA_GRID_AUTO_MAX (256 for
                                   windows = clipmap) */
-    int emissivity_method;     /* emissivity = auto | fast | full; auto */
+    sea_emis_method emissivity_method; /* emissivity = auto | fast | full; auto */
     sea_earth earth;           /* earth = flat | spherical; flat */
     sea_windows windows;       /* windows = view | clipmap; view */
     double tolerance;          /* tolerance, relative, (0, 0.1]; 1e-3 */
     int reflections;           /* reflections = auto | 1 .. SEA_REFLECTIONS_MAX, surface hits;
                                   SEA_REFLECTIONS_AUTO (0): a second hit where it changes the
                                   radiance by more than SEA_AUTO_SKIP of the tolerance */
-    int shadowing;             /* shadowing = smith | correlated: a sea_shadowing; correlated */
+    sea_shadowing shadowing;   /* shadowing = smith | correlated; correlated */
     int scales;                /* scales, [1, 2]: 2 adds the two-scale correction
-                                  (sea_render_two_scale_delta); 2 */
+                                  (sea_two_scale_delta); 2 */
     /* Not a key of the file: the program's --reference.  1: every
      * approximation the tolerance allows replaced by its exact form
      * (seabake(1), REFERENCE), with at least two surface hits. */
@@ -1774,12 +1776,13 @@ typedef struct {
     size_t view_k;            /* view texels per facet side */
     float *view;              /* (k nx) x (k ny), rows north first: the radiance the
                                  sensor sees at the centre of view texel (I, R), as
-                                 float (the maps are float or half), i.e.
-                                 of sea_render_view_moments at map point
+                                 float (the maps are float or half): the
+                                 surface sea_multires_look_at finds along the
+                                 sensor's ray to map point
                                  ((i0 + (I + 1/2)/k) L, (j0 + ny - (R + 1/2)/k) L),
-                                 carried across the air along the range its ray
-                                 meets the sea at (sea_render_facet_seen), as
-                                 seabake render's pixel there */
+                                 its radiance carried across the air along the
+                                 range the ray meets it at (sea_render_facet_seen),
+                                 as seabake render's pixel there */
     sea_moments lr_moments;
     sea_facet_optics lr_optics;
     sea_dir lr_obs, lr_sun;   /* the directions lr_optics was computed for */

@@ -122,6 +122,112 @@ static const table_bounds ANY_FINITE = {-DBL_MAX, DBL_MAX, -DBL_MAX, DBL_MAX};
 /* n and k of water. */
 static const table_bounds WATER_NK = {SEA_WATER_N_MIN, SEA_WATER_N_MAX, 0.0, SEA_WATER_K_MAX};
 
+/* What table_parse knows of the columns: the names asked for, the bounds
+ * of the values, and from the header each column's index (-1 until
+ * found), whether x is a wavenumber, and the header's field count. */
+typedef struct {
+    const char *source, *col_a, *col_b;
+    const table_bounds *bounds;
+    int ix, ia, ib, x_is_wavenumber, nfields;
+} table_cols;
+
+/* The header row: finds the x column (wavenumber_cm1 before
+ * wavelength_um) and the two value columns. */
+static sea_status table_header(table_cols *tc, char *const *field, int n, long lineno,
+                               sea_error *err)
+{
+    for (int i = 0; i < n; i++) {
+        if (strcmp(field[i], "wavelength_um") == 0 && tc->ix < 0) {
+            tc->ix = i;
+            tc->x_is_wavenumber = 0;
+        } else if (strcmp(field[i], "wavenumber_cm1") == 0) {
+            tc->ix = i;
+            tc->x_is_wavenumber = 1;
+        } else if (strcmp(field[i], tc->col_a) == 0) {
+            tc->ia = i;
+        } else if (strcmp(field[i], tc->col_b) == 0) {
+            tc->ib = i;
+        }
+    }
+    if (tc->ix < 0 || tc->ia < 0 || tc->ib < 0)
+        return sea_fail(err, SEA_ERR_PARSE,
+                        "%s:%ld: header must name the columns wavelength_um (or "
+                        "wavenumber_cm1), %s and %s",
+                        tc->source, lineno, tc->col_a, tc->col_b);
+    tc->nfields = n;
+    return SEA_OK;
+}
+
+/* A data row: its wavenumber *nu (1/m) and values *a, *b, each a number
+ * within its bounds. */
+static sea_status table_row(const table_cols *tc, char *const *field, int n, long lineno,
+                            double *nu_out, double *a_out, double *b_out, sea_error *err)
+{
+    const char *source = tc->source, *col_a = tc->col_a, *col_b = tc->col_b;
+    const table_bounds *bounds = tc->bounds;
+    const int ix = tc->ix, x_is_wavenumber = tc->x_is_wavenumber;
+    if (n != tc->nfields)
+        return sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %d fields, the header has %d", source,
+                        lineno, n, tc->nfields);
+    double x, a, b;
+    if (parse_double(field[ix], &x) != 0 || x <= 0.0)
+        return sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a positive number", source,
+                        lineno, x_is_wavenumber ? "wavenumber_cm1" : "wavelength_um",
+                        field[ix]);
+    if (parse_double(field[tc->ia], &a) != 0)
+        return sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a number", source, lineno,
+                        col_a, field[tc->ia]);
+    if (parse_double(field[tc->ib], &b) != 0)
+        return sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a number", source, lineno,
+                        col_b, field[tc->ib]);
+    /* the value as read, to as many digits as tell it from the bound */
+    char v_txt[SEA_TEXT_REAL_CHARS], lo_txt[SEA_TEXT_REAL_CHARS], hi_txt[SEA_TEXT_REAL_CHARS];
+    if (!(a >= bounds->a_min && a <= bounds->a_max))
+        return sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is outside [%s, %s]", source, lineno,
+                        col_a, sea_text_format_real(a, v_txt),
+                        sea_text_format_real(bounds->a_min, lo_txt),
+                        sea_text_format_real(bounds->a_max, hi_txt));
+    if (!(b >= bounds->b_min && b <= bounds->b_max))
+        return sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is outside [%s, %s]", source, lineno,
+                        col_b, sea_text_format_real(b, v_txt),
+                        sea_text_format_real(bounds->b_min, lo_txt),
+                        sea_text_format_real(bounds->b_max, hi_txt));
+    double nu = x_is_wavenumber ? x * 100.0 : 1e6 / x; /* 1/m */
+    /* Both nu and the wavelength 1/nu must be finite: 1e6 / 2e-307
+     * overflowed to an infinite wavenumber, and sea_water_range then
+     * gave 0 as the shortest wavelength (found by the water fuzz
+     * target). */
+    if (!(isfinite(nu) && nu > 0.0 && isfinite(1.0 / nu)))
+        return sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is outside the range of numbers",
+                        source, lineno, x_is_wavenumber ? "wavenumber_cm1" : "wavelength_um", x);
+    *nu_out = nu;
+    *a_out = a;
+    *b_out = b;
+    return SEA_OK;
+}
+
+/* Whether nu continues t's rows strictly monotonically (0) or not (-1). */
+static int table_monotonic(const sea_table *t, double nu)
+{
+    if (t->len == 0)
+        return 0;
+    double prev = t->nu[t->len - 1];
+    double first = t->nu[0];
+    int increasing = t->len > 1 ? t->nu[1] > first : nu > prev;
+    return nu == prev || (nu > prev) != increasing ? -1 : 0;
+}
+
+/* Reverses t's rows, from decreasing to increasing wavenumber. */
+static void table_reverse(sea_table *t)
+{
+    for (size_t i = 0, j = t->len - 1; i < j; i++, j--) {
+        double v;
+        v = t->nu[i], t->nu[i] = t->nu[j], t->nu[j] = v;
+        v = t->a[i], t->a[i] = t->a[j], t->a[j] = v;
+        v = t->b[i], t->b[i] = t->b[j], t->b[j] = v;
+    }
+}
+
 /* Parses CSV text whose header names the columns.  The x column is either
  * "wavelength_um" or "wavenumber_cm1" (the first of col_x that is present);
  * col_a and col_b name the two value columns, whose values must lie within
@@ -134,7 +240,7 @@ static sea_status table_parse(const char *text, const char *source, const char *
 {
     sea_status st = SEA_OK;
     size_t cap = 0;
-    int ix = -1, ia = -1, ib = -1, x_is_wavenumber = 0, nfields = 0;
+    table_cols tc = { source, col_a, col_b, bounds, -1, -1, -1, 0, 0 };
     long lineno = 0;
     char *copy = strdup(text);
     if (copy == NULL)
@@ -153,89 +259,19 @@ static sea_status table_parse(const char *text, const char *source, const char *
             continue;
         char *field[SEA_CSV_FIELDS_MAX];
         int n = split_fields(p, field, SEA_CSV_FIELDS_MAX);
-        if (ix < 0) { /* header row */
-            for (int i = 0; i < n; i++) {
-                if (strcmp(field[i], "wavelength_um") == 0 && ix < 0) {
-                    ix = i;
-                    x_is_wavenumber = 0;
-                } else if (strcmp(field[i], "wavenumber_cm1") == 0) {
-                    ix = i;
-                    x_is_wavenumber = 1;
-                } else if (strcmp(field[i], col_a) == 0) {
-                    ia = i;
-                } else if (strcmp(field[i], col_b) == 0) {
-                    ib = i;
-                }
-            }
-            if (ix < 0 || ia < 0 || ib < 0) {
-                st = sea_fail(err, SEA_ERR_PARSE,
-                              "%s:%ld: header must name the columns wavelength_um (or "
-                              "wavenumber_cm1), %s and %s",
-                              source, lineno, col_a, col_b);
+        if (tc.ix < 0) { /* header row */
+            if ((st = table_header(&tc, field, n, lineno, err)) != SEA_OK)
                 goto fail;
-            }
-            nfields = n;
             continue;
         }
-        if (n != nfields) {
-            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %d fields, the header has %d",
-                          source, lineno, n, nfields);
+        double nu = 0.0, a = 0.0, b = 0.0; /* (set by table_row when it returns SEA_OK) */
+        if ((st = table_row(&tc, field, n, lineno, &nu, &a, &b, err)) != SEA_OK)
             goto fail;
-        }
-        double x, a, b;
-        if (parse_double(field[ix], &x) != 0 || x <= 0.0) {
-            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a positive number",
-                          source, lineno, x_is_wavenumber ? "wavenumber_cm1" : "wavelength_um",
-                          field[ix]);
+        if (table_monotonic(out, nu) != 0) {
+            st = sea_fail(err, SEA_ERR_PARSE,
+                          "%s:%ld: rows must be strictly monotonic in wavelength", source,
+                          lineno);
             goto fail;
-        }
-        if (parse_double(field[ia], &a) != 0) {
-            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a number", source,
-                          lineno, col_a, field[ia]);
-            goto fail;
-        }
-        if (parse_double(field[ib], &b) != 0) {
-            st = sea_fail(err, SEA_ERR_PARSE, "%s:%ld: %s: '%s' is not a number", source,
-                          lineno, col_b, field[ib]);
-            goto fail;
-        }
-        /* the value as read, to as many digits as tell it from the bound */
-        char v_txt[SEA_TEXT_REAL_CHARS], lo_txt[SEA_TEXT_REAL_CHARS], hi_txt[SEA_TEXT_REAL_CHARS];
-        if (!(a >= bounds->a_min && a <= bounds->a_max)) {
-            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is outside [%s, %s]", source,
-                          lineno, col_a, sea_text_format_real(a, v_txt),
-                          sea_text_format_real(bounds->a_min, lo_txt),
-                          sea_text_format_real(bounds->a_max, hi_txt));
-            goto fail;
-        }
-        if (!(b >= bounds->b_min && b <= bounds->b_max)) {
-            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %s is outside [%s, %s]", source,
-                          lineno, col_b, sea_text_format_real(b, v_txt),
-                          sea_text_format_real(bounds->b_min, lo_txt),
-                          sea_text_format_real(bounds->b_max, hi_txt));
-            goto fail;
-        }
-        double nu = x_is_wavenumber ? x * 100.0 : 1e6 / x; /* 1/m */
-        /* Both nu and the wavelength 1/nu must be finite: 1e6 / 2e-307
-         * overflowed to an infinite wavenumber, and sea_water_range then
-         * gave 0 as the shortest wavelength (found by the water fuzz
-         * target). */
-        if (!(isfinite(nu) && nu > 0.0 && isfinite(1.0 / nu))) {
-            st = sea_fail(err, SEA_ERR_DOMAIN, "%s:%ld: %s: %g is outside the range of numbers",
-                          source, lineno, x_is_wavenumber ? "wavenumber_cm1" : "wavelength_um",
-                          x);
-            goto fail;
-        }
-        if (out->len > 0) {
-            double prev = out->nu[out->len - 1];
-            double first = out->nu[0];
-            int increasing = out->len > 1 ? out->nu[1] > first : nu > prev;
-            if (nu == prev || (nu > prev) != increasing) {
-                st = sea_fail(err, SEA_ERR_PARSE,
-                              "%s:%ld: rows must be strictly monotonic in wavelength", source,
-                              lineno);
-                goto fail;
-            }
         }
         if ((st = table_push(out, &cap, nu, a, b)) != SEA_OK) {
             sea_fail(err, st, "%s: out of memory", source);
@@ -247,14 +283,8 @@ static sea_status table_parse(const char *text, const char *source, const char *
                       source, out->len);
         goto fail;
     }
-    if (out->nu[0] > out->nu[1]) { /* store by increasing wavenumber */
-        for (size_t i = 0, j = out->len - 1; i < j; i++, j--) {
-            double t;
-            t = out->nu[i], out->nu[i] = out->nu[j], out->nu[j] = t;
-            t = out->a[i], out->a[i] = out->a[j], out->a[j] = t;
-            t = out->b[i], out->b[i] = out->b[j], out->b[j] = t;
-        }
-    }
+    if (out->nu[0] > out->nu[1]) /* store by increasing wavenumber */
+        table_reverse(out);
     free(copy);
     return SEA_OK;
 fail:

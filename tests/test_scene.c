@@ -601,7 +601,7 @@ static void test_relative_paths(void)
     char want[300];
     snprintf(want, sizeof want, "%s/data/nk.csv", tmpdir);
     CU_ASSERT(strcmp(sc.water_file, want) == 0);
-    CU_ASSERT(sc.water_table == -1);
+    CU_ASSERT(sc.water_table == SEA_WATER_FILE);
     snprintf(want, sizeof want, "%s/data/resp.csv", tmpdir);
     CU_ASSERT(strcmp(sc.response_file, want) == 0);
 

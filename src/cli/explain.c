@@ -33,7 +33,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
             "%g m x 2^l (%s, tolerance %g, method %s):\n", what,
             scene_path, sc->width, sc->height, sea_pixels, npix - sea_pixels, n,
             n == 1 ? "" : "s", sc->finest, grid, sc->tolerance,
-            sea_facet_method_name((sea_facet_method)sc->method));
+            sea_facet_method_name(sc->method));
     if (fallback > 0)
         fprintf(stderr,
                 "  %zu pixel%s read coarser facets than their footprints ask, outside their "
@@ -141,7 +141,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
                 SEA_EMIS_AUTO_GH_C, SEA_EMIS_AUTO_GH_D, SEA_EMIS_AUTO_GH_E);
     else
         fprintf(stderr, "%s: emissivity: %s (not scaled by the tolerance)\n", what,
-                sea_emis_method_name((sea_emis_method)sc->emissivity_method));
+                sea_emis_method_name(sc->emissivity_method));
     if (sc->sky_model == SEA_SKY_CLEAR)
         fprintf(stderr,
                 "%s: sky: clear, L(theta) = [1 - (1 - %g)^(1/cos theta)] B(%g K), reflected over "
