@@ -209,7 +209,7 @@ typedef struct sea_bake_dir sea_bake_dir;
  * (SEA_BAKE_NOTE_REMOVED), as is any BASE.old.XXXXXX (one exists only
  * inside a commit); if path is missing, its old copy is put back instead
  * (SEA_BAKE_NOTE_RESTORED).  Each only with seabake's marker inside, never
- * on a name alone (src/tempfile.c).
+ * on a name alone (src/base/tempfile.c).
  *
  * hooks (may be NULL) are copied.  On failure *out is NULL and nothing is
  * left behind.  Thread-safe; the directory is the caller's, released with

@@ -177,7 +177,7 @@ SEA_INTERNAL extern const char sea_blender_import_text[];
 SEA_INTERNAL sea_status sea_time_check(double t, sea_error *err);
 
 /* shadow.c, for the tests: the largest difference between G's polynomials
- * compiled in (src/shadow_g_table.h) and those the code computes now (0
+ * compiled in (src/physics/shadow_g_table.h) and those the code computes now (0
  * where the table was made; INFINITY when out of memory). */
 SEA_INTERNAL double sea_shadow_g_table_drift(void);
 /* shadow.c: sea_shadow_visible and sea_shadow_hidden of (mu, m, s) at

@@ -6,14 +6,16 @@
 # undefined symbol of one object defined by another.  The program
 # (src/cli/) is the top layer; no library object may call it.
 #
-# Layers, lowest first (the number orders them):
-#   0 base       status textfile tempfile gridtable geometry
-#  10 physics    water water_data planck spectrum shadow
-#  20 optics     optics twoscale model
-#  30 sea        waves multires sensor
-#  35 exporters  exr preview arrays povray povray_inc blender blender_py
-#  40 view       scene render imager
-#  50 bake       bake bakemaps bakedir manifest horizon atomicdir
+# Layers, lowest first (the number orders them), one folder each:
+#   0 base       src/base/      status textfile tempfile gridtable geometry
+#  10 physics    src/physics/   water water_data planck spectrum shadow
+#  20 optics     src/optics/    optics twoscale model
+#  30 sea        src/sea/       waves multires sensor
+#  35 exporters  exporters/     exr preview arrays povray blender (+ generated)
+#  40 view       src/view/      scene render imager
+#  50 bake       src/bake/      bake bakemaps bakedir manifest horizon atomicdir
+# An object's layer is its folder's, so a new file joins the layer of the
+# folder it is put in.
 #
 # Under make installcheck (an installed program, no objects) it skips.
 [ -n "${BASH_VERSION:-}" ] || exec bash "$0" "$@"
@@ -24,9 +26,18 @@ TEST_NAME=layers
 : "${SEABAKE:?SEABAKE must name the built program}"
 src=$(dirname "$SEABAKE")
 exp=$src/../exporters
+declare -A folder_layer=(
+    [base]=0 [physics]=10 [optics]=20 [sea]=30 [exporters]=35 [view]=40 [bake]=50
+)
 # libtool's objects: the shared library's (.libs/), else the static ones
-[ -f "$src/.libs/render.o" ] && src=$src/.libs
-if [ ! -f "$src/render.o" ] || [ ! -f "$exp/exr.o" ]; then
+objdir() {
+    if [ -d "$1/.libs" ] && compgen -G "$1/.libs/*.o" >/dev/null; then
+        echo "$1/.libs"
+    else
+        echo "$1"
+    fi
+}
+if ! compgen -G "$(objdir "$src/view")/*.o" >/dev/null || ! compgen -G "$(objdir "$exp")/*.o" >/dev/null; then
     skip "no object files beside $SEABAKE (an installed program): the layers are checked in the build tree"
     exit 77
 fi
@@ -35,15 +46,25 @@ if ! have nm binutils; then
     exit 77
 fi
 
-declare -A layer=(
-    [status]=0 [textfile]=0 [tempfile]=0 [gridtable]=0 [geometry]=0
-    [water]=10 [water_data]=10 [planck]=10 [spectrum]=10 [shadow]=10
-    [optics]=20 [twoscale]=20 [model]=20
-    [waves]=30 [multires]=30 [sensor]=30
-    [exr]=35 [preview]=35 [arrays]=35 [povray]=35 [povray_inc]=35 [blender]=35 [blender_py]=35
-    [scene]=40 [render]=40 [imager]=40
-    [bake]=50 [bakemaps]=50 [bakedir]=50 [manifest]=50 [horizon]=50 [atomicdir]=50
-)
+# Every object of the library, its layer from its folder.  Nothing of the
+# library may lie outside the layer folders (a file in src/ itself would).
+declare -A layer=() path=()
+for f in "${!folder_layer[@]}"; do
+    if [ "$f" = exporters ]; then d=$exp; else d=$src/$f; fi
+    for o in "$(objdir "$d")"/*.o; do
+        [ -f "$o" ] || continue
+        n=$(basename "$o" .o)
+        layer[$n]=${folder_layer[$f]}
+        path[$n]=$o
+    done
+done
+for o in "$(objdir "$src")"/*.o; do
+    [ -f "$o" ] || continue
+    n=$(basename "$o" .o)
+    fail "layers.unplaced_$n" "$o is in src/ itself: put it in the folder of its layer (tests/layers.sh, README Architecture)"
+done
+check layers.folders test "${#layer[@]}" -ge 30
+
 # The calls upward, each with its reason.
 declare -A allowed=(
     # the sea's spectrum from the scene's [sea] keys (wind, fetch, swell)
@@ -54,14 +75,8 @@ declare -A allowed=(
 )
 
 objs=()
-for o in "$src"/*.o "$exp"/*.o; do
-    n=$(basename "$o" .o)
-    if [ -z "${layer[$n]+x}" ]; then
-        # a new file must be given a layer here and in the README
-        fail "layers.unknown_$n" "$o has no layer (tests/layers.sh and README, Architecture)"
-        continue
-    fi
-    objs+=("$o")
+for n in "${!path[@]}"; do
+    objs+=("${path[$n]}")
 done
 
 # Who defines each global symbol.
@@ -97,6 +112,6 @@ check layers.edges test "$edges" -gt 100
 # every allowed exception is still a real call (an entry nobody needs goes)
 for e in "${!allowed[@]}"; do
     n=${e% *} sym=${e#* }
-    check "layers.exception_${n}_$sym" bash -c "nm -u '$src/$n.o' | grep -qw '$sym'"
+    check "layers.exception_${n}_$sym" bash -c "nm -u '${path[$n]}' | grep -qw '$sym'"
 done
 finish

@@ -1,4 +1,4 @@
-/* test_imager.c - the camera (src/imager.c; seabake-model(7), THE CAMERA):
+/* test_imager.c - the camera (src/view/imager.c; seabake-model(7), THE CAMERA):
  * its blur against analytic edges and a slanted-edge measurement, its
  * noise's statistics and determinism, its counts, the tolerance it sets,
  * and its errors.  Each tolerance is stated where it is asserted, with

@@ -1,4 +1,4 @@
-/* test_multires.c - the multiresolution sea (src/multires.c) against closed
+/* test_multires.c - the multiresolution sea (src/sea/multires.c) against closed
  * forms: the resolved surface reproduces a plane and its projected area;
  * a sinusoid hides, at grazing angles, exactly the stretch the tangent
  * construction gives; LEAN footprint averages are exact; the query is one

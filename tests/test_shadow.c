@@ -46,8 +46,8 @@ static void test_G_tail_and_identity(void)
         ASSERT_REL(sea_shadow_G(x) - sea_shadow_G(-x), -x, 1e-13, 1e-3);
 }
 
-/* G's polynomials are compiled in (src/shadow_g_table.h, written by
- * src/gen-shadow-table.c from shadow.c's g_table_build); the code that
+/* G's polynomials are compiled in (src/physics/shadow_g_table.h, written by
+ * src/physics/gen-shadow-table.c from shadow.c's g_table_build); the code that
  * made them must still make them.  Where the table was generated the
  * difference is 0; elsewhere erfc, exp and cos of another libm may differ
  * by an ulp, which moves a coefficient (of size 1 at most) by a few 1e-16:

@@ -275,7 +275,7 @@ sea_status sea_cli_check_parent_writable(const char *opt, const char *path, sea_
 sea_status sea_cli_check_written(FILE *out, sea_error *err);
 
 /* A file written into seabake's marked temporary "<path>.tmp.XXXXXX/"
- * next to its destination (as the EXR writer does; src/tempfile.c) and
+ * next to its destination (as the EXR writer does; src/base/tempfile.c) and
  * renamed over it only when complete. */
 struct sea_temp_file;
 typedef struct {
@@ -296,7 +296,7 @@ sea_status sea_cli_atomic_commit(sea_cli_atomic_file *af, const char *opt, sea_e
 /* Removes the file temporaries (above) that runs killed before their
  * commit left beside the outputs STEM* (STEM itself, or STEM then '.' or
  * '_': frame numbers, AOVs, extensions), each only with seabake's marker
- * inside and its maker's flock gone (src/tempfile.c), never on a name
+ * inside and its maker's flock gone (src/base/tempfile.c), never on a name
  * alone; notes each on standard error as "WHO: removed 'PATH', left by a
  * WHO that was killed".  Returns how many. */
 size_t sea_cli_clean_stale_files(const char *who, const char *stem);

@@ -2,7 +2,7 @@
  * parents, files written atomically (a temporary name next to the
  * destination, renamed when complete) and output directories (created,
  * their parent must exist).  bake's atomic directory is the library's
- * (sea_bake_dir, src/atomicdir.c). */
+ * (sea_bake_dir, src/bake/atomicdir.c). */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>

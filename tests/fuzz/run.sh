@@ -64,12 +64,13 @@ pool_wait() {
 build() {
     mkdir -p "$FUZZ_DIR/obj"
     rm -f "$FUZZ_DIR/obj/failed"
-    # (src/gen-*.c are programs that write sources, not the library)
-    lib_src="$(ls "$top_srcdir"/src/*.c | grep -v '/gen-[^/]*\.c$') $top_srcdir/exporters/*.c \
-$top_builddir/src/water_data.c $top_builddir/exporters/povray_inc.c \
+    # the library's layer folders (src/physics/gen-*.c are programs that
+    # write sources, not the library)
+    lib_src="$(ls "$top_srcdir"/src/*/*.c | grep -v -e '/gen-[^/]*\.c$' -e '/src/cli/') \
+$top_srcdir/exporters/*.c $top_builddir/src/physics/water_data.c $top_builddir/exporters/povray_inc.c \
 $top_builddir/exporters/blender_py.c"
     cli_src=$(ls "$top_srcdir"/src/cli/*.c | grep -v '/main\.c$')
-    headers=$(ls "$top_srcdir"/src/*.h "$top_srcdir"/src/cli/*.h "$top_srcdir"/exporters/*.h \
+    headers=$(ls "$top_srcdir"/src/*.h "$top_srcdir"/src/*/*.h "$top_srcdir"/exporters/*.h \
         "$fz"/*.h "$top_builddir/config.h")
     objs_lib="" objs_cli=""
     for kind in lib cli; do

@@ -27,7 +27,7 @@
 #include <sys/stat.h>
 
 #include "seabake.h"
-#include "textfile.h"
+#include "base/textfile.h"
 
 static const double SEA_DEG = M_PI / 180.0;  /* degrees -> radians */
 static const double SEA_UM = 1e-6;           /* micrometres -> metres */

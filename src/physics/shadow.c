@@ -37,8 +37,8 @@
  * against 76 ns over t in [0, 6].  Building it takes 13 M instructions
  * (1.5 M divisions of the continued fractions), 8 % of those of a 4 x 4
  * render (callgrind), which every process that used G paid, so it is part
- * of the sources, as the correlated table below is: src/shadow_g_table.h,
- * written by src/gen-shadow-table.c (`make shadow-table`) from
+ * of the sources, as the correlated table below is: src/physics/shadow_g_table.h,
+ * written by src/physics/gen-shadow-table.c (`make shadow-table`) from
  * g_table_build in exact hexadecimal; sea_shadow_g_table_drift tells how
  * far the code here now is from it. */
 enum { SEA_G_PIECES = 256, SEA_G_DEGREE = 5, SEA_G_CF_BUILD = 2000 };

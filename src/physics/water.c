@@ -18,7 +18,7 @@
 #include <sys/stat.h>
 
 #include "seabake.h"
-#include "textfile.h"
+#include "base/textfile.h"
 #include "water_data.h"
 
 /* Salinity of the standard sea water that the correction table describes. */

@@ -19,7 +19,7 @@
 
 #include "seabake.h"
 #include "internal.h"
-#include "textfile.h"
+#include "base/textfile.h"
 
 /* MTF tables are a few hundred rows; larger files are refused unread. */
 static const long SEA_MTF_BYTES_MAX = 16L << 20;
