@@ -12,7 +12,7 @@
 #  20 optics     src/optics/    optics twoscale model
 #  30 sea        src/sea/       waves multires camera
 #  35 exporters  exporters/     exr preview arrays povray blender (+ generated)
-#  40 view       src/view/      scene view imager
+#  40 view       src/view/      scene view radiometry imager
 #  50 bake       src/bake/      bake bakemaps bakedir manifest horizon atomicdir
 # An object's layer is its folder's, so a new file joins the layer of the
 # folder it is put in.
