@@ -58,7 +58,7 @@ typedef struct {
 
 int sea_cli_bake_owner(const sea_cli_bake *s, long f)
 {
-    return (int)((f - (s->opt.framed ? s->opt.first : 0)) % sea_cli_mpi_size());
+    return sea_cli_mpi_frame_owner(s->opt.framed ? s->opt.first : 0, f);
 }
 
 /* A copy of n bytes of p, queued to rank 0. */
@@ -236,7 +236,7 @@ static sea_status rows_send(void *ctx, const sea_bake *b, size_t l, sea_error *e
         return sea_cli_bake_interrupted(err);
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_bake_level bl = b->levels[l];
-    const size_t bytes = sea_cli_mpi_share(bl.level.ny, rank, size) * row_bytes(&bl);
+    const size_t bytes = sea_cli_mpi_rows(bl.level.ny, 1, rank, size, NULL) * row_bytes(&bl);
     unsigned char *buf = malloc(bytes + 1);
     if (buf == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows sent to rank 0");
@@ -295,7 +295,7 @@ static int rows_recv(int k, sea_bake_level *bl, sea_status *st, sea_error *err)
     /* the level of rank 0's own bake: the same headers (one prepare) */
     unsigned char *buf = NULL;
     if (bl != NULL) {
-        assert(m.bytes == sea_cli_mpi_share(bl->level.ny, k, sea_cli_mpi_size()) * row_bytes(bl));
+        assert(m.bytes == sea_cli_mpi_rows(bl->level.ny, 1, k, sea_cli_mpi_size(), NULL) * row_bytes(bl));
         if ((buf = malloc(m.bytes + 1)) == NULL && *st == SEA_OK)
             *st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the rows of rank %d", k);
     }

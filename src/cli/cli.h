@@ -352,9 +352,17 @@ void sea_cli_mpi_minmax(double *lo, double *hi);
 void sea_cli_mpi_sum(size_t *v);
 /* Collective: bytes of buf from rank root to every rank. */
 void sea_cli_mpi_bcast(void *buf, size_t bytes, int root);
-/* How many of items 0 .. n-1 are rank k's when rank k takes k, k + size,
- * ... (render's rows of one frame, bake's texel rows). */
-size_t sea_cli_mpi_share(size_t n, int k, int size);
+/* The one distribution of render's and bake's work among the ranks.
+ * Frames A..B (--frames): frame f is rank (f - A) mod size's, so rank k
+ * takes A + k, A + k + size, ... (render writes its own; bake sends them to
+ * rank 0's writer).  One frame: rows 0 .. n-1 in blocks of `block`, block
+ * b rank (b mod size)'s, interleaved so that sky and sea rows are shared
+ * evenly (render: image rows in blocks of SEA_RENDER_ROW_BLOCK,
+ * sea_view_render_rows; bake: texel rows one by one, sea_bake_frame_rows).
+ * sea_cli_mpi_rows: rank k's rows in order into rows (NULL: only counted);
+ * returns their number. */
+int sea_cli_mpi_frame_owner(long first, long f);
+size_t sea_cli_mpi_rows(size_t n, size_t block, int k, int size, size_t *rows);
 /* Blocking point-to-point bytes (any size: sent in pieces). */
 void sea_cli_mpi_send(const void *buf, size_t bytes, int dest, int tag);
 void sea_cli_mpi_recv(void *buf, size_t bytes, int source, int tag);

@@ -187,9 +187,22 @@ void sea_cli_mpi_sum(size_t *v)
 #endif
 }
 
-size_t sea_cli_mpi_share(size_t n, int k, int size)
+int sea_cli_mpi_frame_owner(long first, long f)
 {
-    return (size_t)k < n ? (n - (size_t)k + (size_t)size - 1) / (size_t)size : 0;
+    return (int)((f - first) % sea_cli_mpi_size());
+}
+
+size_t sea_cli_mpi_rows(size_t n, size_t block, int k, int size, size_t *rows)
+{
+    const size_t nb = (n + block - 1) / block;
+    size_t m = 0;
+    for (size_t b = (size_t)k; b < nb; b += (size_t)size)
+        for (size_t j = b * block; j < b * block + block && j < n; j++) {
+            if (rows != NULL)
+                rows[m] = j;
+            m++;
+        }
+    return m;
 }
 
 void sea_cli_mpi_bcast(void *buf, size_t bytes, int root)

@@ -3,6 +3,7 @@
  * tone curves the first frame or --png-range fixes), all of a frame or
  * none of it, the summary line, and under MPI the frames or the row blocks
  * of one frame shared among the ranks. */
+#include <assert.h>
 #include <errno.h>
 #include <math.h>
 #include <stdbool.h>
@@ -599,7 +600,9 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_view *r,
         return st;
     }
     for (long base = first; base <= last; base += size) {
+        /* the round's frames, one a rank (sea_cli_mpi_frame_owner) */
         const long f = base + rank;
+        assert(sea_cli_mpi_frame_owner(first, f) == rank);
         const bool mine = f <= last;
         const double t = s->sc.time + (double)f / s->rate;
         long key = f, failed;
@@ -666,21 +669,6 @@ static void image_planes(const sea_image *img, float *planes[RENDER_PLANES])
     planes[4] = img->reflectivity;
 }
 
-/* The image rows of rank k's row blocks (k, k + N, ...; sea_view_render_rows),
- * top first, into rows (NULL: only counted); returns their number. */
-static size_t rank_rows(size_t H, int k, int size, size_t *rows)
-{
-    const size_t B = SEA_RENDER_ROW_BLOCK, nb = (H + B - 1) / B;
-    size_t n = 0;
-    for (size_t b = (size_t)k; b < nb; b += (size_t)size)
-        for (size_t j = b * B; j < b * B + B && j < H; j++) {
-            if (rows != NULL)
-                rows[n] = j;
-            n++;
-        }
-    return n;
-}
-
 /* The rows of rank k > 0 to rank 0, through pack (room for the largest
  * share of rows, of every plane) and rows (its row numbers). */
 static void gather_rows(sea_image *img, float *pack, size_t *rows, int rank, int size)
@@ -691,7 +679,7 @@ static void gather_rows(sea_image *img, float *pack, size_t *rows, int rank, int
     for (int k = 1; k < size; k++) {
         if (rank != 0 && rank != k)
             continue;
-        const size_t n = rank_rows(H, k, size, rows);
+        const size_t n = sea_cli_mpi_rows(H, SEA_RENDER_ROW_BLOCK, k, size, rows);
         if (n == 0)
             continue;
         for (size_t i = 0; rank == k && i < n; i++)
@@ -722,7 +710,7 @@ sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_view *r, d
     float *pack = NULL;
     size_t *rows = NULL, most = 0;
     for (int k = 1; k < size; k++) {
-        const size_t n = rank_rows((size_t)s->sc.height, k, size, NULL);
+        const size_t n = sea_cli_mpi_rows((size_t)s->sc.height, SEA_RENDER_ROW_BLOCK, k, size, NULL);
         most = n > most ? n : most;
     }
     if (st == SEA_OK &&
