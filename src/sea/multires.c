@@ -84,7 +84,12 @@
  * apart, equal horizontal areas: LEAN's box filter, with Eq 7 supplying the
  * projected area), so no pixel point-samples the surface.  A pixel whose
  * every level is low-resolution needs no ray: its surface is the flat mean
- * surface. */
+ * surface.
+ *
+ * The heightfield (sea_heightfield_*, below) is a level's resolved surface.
+ * It lives here, not in a file of its own, because the march inlines its
+ * evaluation (hf_eval, hf_point) and its bounds (hf_bound) in the loops that
+ * take most of a render's time: split into two files they would be calls. */
 #include "config.h"
 
 #include <math.h>
