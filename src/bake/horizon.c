@@ -282,43 +282,67 @@ static double hz_curvature(const hz_refine *z, size_t i, double am)
     return geo;
 }
 
-/* Radial intervals: midpoints at the azimuth nodes (an interval that
- * passed before: at the new ones; one that splits: at all); marks those
- * to split. */
-static void hz_test_rows(hz_refine *z)
+/* The intervals along one axis of the grid: radial (rows = 1: between
+ * arcs i and i + 1, their midpoints at the azimuth nodes) or azimuthal
+ * (rows = 0: between azimuths j and j + 1, at the arc nodes).  An interval
+ * that passed before is tested at the nodes across it that are new; one
+ * that splits, at all of them (their radiances become the new row's or
+ * column's).  Marks those to split; a radial interval also splits where
+ * the sea's curvature bends it (hz_curvature). */
+static void hz_test(hz_refine *z, int rows)
 {
     const sea_bake_horizon *h = z->h;
-    const size_t na = z->na, nz = z->nz, cap = z->cap;
+    const size_t cap = z->cap;
+    const size_t n = rows ? z->na : z->nz, m = rows ? z->nz : z->na;
+    const double *along = rows ? h->arc : h->az, *across = rows ? h->az : h->arc;
+    const unsigned char *ok = rows ? z->ok_r : z->ok_c, *fresh = rows ? z->new_c : z->new_r;
+    double *errs = rows ? z->err_r : z->err_c;
+    /* grid node (along a, across b); the midpoints of interval a by b */
+    const size_t sa = rows ? cap : 1, sb = rows ? 1 : cap;
 #pragma omp parallel for schedule(dynamic, 1)
-    for (size_t i = 0; i < na - 1; i++) {
-        const double am = 0.5 * (h->arc[i] + h->arc[i + 1]);
-        double bad = z->ok_r[i] ? z->err_r[i] : 0.0;
+    for (size_t a = 0; a < n - 1; a++) {
+        const double mid = 0.5 * (along[a] + along[a + 1]);
+        double bad = ok[a] ? errs[a] : 0.0;
         sea_error e1;
         int failed = 0;
         for (int fill = 0; fill < 2 && !failed; fill++) {
-            for (size_t j = 0; j < nz && !failed; j++) {
-                const int untested = !z->ok_r[i] || z->new_c[j];
+            for (size_t b = 0; b < m && !failed; b++) {
+                const int untested = !ok[a] || fresh[b];
                 if (fill == 0 ? !untested : untested)
                     continue;
                 double L;
-                failed = hz_radiance(z->c, am, h->az[j], &L, &e1) != SEA_OK;
-                z->mid[i * cap + j] = L;
-                const double lin = 0.5 * (z->grid[i * cap + j] + z->grid[(i + 1) * cap + j]);
+                failed = (rows ? hz_radiance(z->c, mid, across[b], &L, &e1)
+                               : hz_radiance(z->c, across[b], mid, &L, &e1)) != SEA_OK;
+                z->mid[a * cap + b] = L;
+                const double lin = 0.5 * (z->grid[a * sa + b * sb] + z->grid[(a + 1) * sa + b * sb]);
                 bad = fmax(bad, fabs(L - lin) / fmax(L, 1e-300));
             }
             if (fill == 0) {
-                const double geo = hz_curvature(z, i, am);
+                const double geo = rows ? hz_curvature(z, a, mid) : 0.0;
                 /* (a midpoint that rounds onto an end splits nothing) */
-                z->split[i] = (bad > z->tol || geo > 1.0) && na < cap && am > h->arc[i] &&
-                              am < h->arc[i + 1];
-                if (!z->split[i] || !z->ok_r[i])
+                z->split[a] = (bad > z->tol || geo > 1.0) && n < cap && mid > along[a] &&
+                              mid < along[a + 1];
+                if (!z->split[a] || !ok[a])
                     break; /* nothing left to fill */
             }
         }
         if (failed)
             hz_failed(z, &e1);
-        z->err_r[i] = bad;
+        errs[a] = bad;
     }
+}
+
+/* The marks of an axis with n nodes when interval a splits: a and the new
+ * a + 1 untested, and node a + 1 new. */
+static void hz_split_marks(unsigned char *ok, double *errs, unsigned char *fresh, size_t a,
+                           size_t n)
+{
+    memmove(ok + a + 1, ok + a, n - 1 - a);
+    memmove(errs + a + 1, errs + a, (n - 1 - a) * sizeof *errs);
+    ok[a] = ok[a + 1] = 0;
+    errs[a] = errs[a + 1] = 0.0;
+    memmove(fresh + a + 2, fresh + a + 1, n - a - 1);
+    fresh[a + 1] = 1;
 }
 
 /* Inserts the rows of the radial intervals marked to split; returns how
@@ -340,51 +364,12 @@ static size_t hz_split_rows(hz_refine *z)
         memcpy(z->grid + (i + 1) * cap, z->mid + i * cap, z->nz * sizeof *z->grid);
         insert_at(h->arc, na, i, 0.5 * (h->arc[i] + h->arc[i + 1]));
         /* interval i becomes two, untested; the new row is new */
-        memmove(z->ok_r + i + 1, z->ok_r + i, na - 1 - i);
-        memmove(z->err_r + i + 1, z->err_r + i, (na - 1 - i) * sizeof *z->err_r);
-        z->ok_r[i] = z->ok_r[i + 1] = 0;
-        z->err_r[i] = z->err_r[i + 1] = 0.0;
-        memmove(z->new_r + i + 2, z->new_r + i + 1, na - i - 1);
-        z->new_r[i + 1] = 1;
+        hz_split_marks(z->ok_r, z->err_r, z->new_r, i, na);
         na++;
         added++;
     }
     z->na = na;
     return added;
-}
-
-/* Azimuthal intervals: midpoints at the arc nodes, likewise. */
-static void hz_test_cols(hz_refine *z)
-{
-    const sea_bake_horizon *h = z->h;
-    const size_t na = z->na, nz = z->nz, cap = z->cap;
-#pragma omp parallel for schedule(dynamic, 1)
-    for (size_t j = 0; j < nz - 1; j++) {
-        const double zm = 0.5 * (h->az[j] + h->az[j + 1]);
-        double bad = z->ok_c[j] ? z->err_c[j] : 0.0;
-        sea_error e1;
-        int failed = 0;
-        for (int fill = 0; fill < 2 && !failed; fill++) {
-            for (size_t i = 0; i < na && !failed; i++) {
-                const int untested = !z->ok_c[j] || z->new_r[i];
-                if (fill == 0 ? !untested : untested)
-                    continue;
-                double L;
-                failed = hz_radiance(z->c, h->arc[i], zm, &L, &e1) != SEA_OK;
-                z->mid[j * cap + i] = L; /* column j's midpoints, by arc */
-                const double lin = 0.5 * (z->grid[i * cap + j] + z->grid[i * cap + j + 1]);
-                bad = fmax(bad, fabs(L - lin) / fmax(L, 1e-300));
-            }
-            if (fill == 0) {
-                z->split[j] = bad > z->tol && nz < cap && zm > h->az[j] && zm < h->az[j + 1];
-                if (!z->split[j] || !z->ok_c[j])
-                    break;
-            }
-        }
-        if (failed)
-            hz_failed(z, &e1);
-        z->err_c[j] = bad;
-    }
 }
 
 /* Inserts the columns of the azimuthal intervals marked to split;
@@ -403,12 +388,7 @@ static size_t hz_split_cols(hz_refine *z)
         for (size_t i = 0; i < na; i++)
             insert_at(z->grid + i * cap, nz, j, z->mid[j * cap + i]);
         insert_at(h->az, nz, j, 0.5 * (h->az[j] + h->az[j + 1]));
-        memmove(z->ok_c + j + 1, z->ok_c + j, nz - 1 - j);
-        memmove(z->err_c + j + 1, z->err_c + j, (nz - 1 - j) * sizeof *z->err_c);
-        z->ok_c[j] = z->ok_c[j + 1] = 0;
-        z->err_c[j] = z->err_c[j + 1] = 0.0;
-        memmove(z->new_c + j + 2, z->new_c + j + 1, nz - j - 1);
-        z->new_c[j + 1] = 1;
+        hz_split_marks(z->ok_c, z->err_c, z->new_c, j, nz);
         nz++;
         added++;
     }
@@ -435,11 +415,11 @@ static double hz_refine_grid(hz_refine *z, sea_error *err)
         z->st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the horizon grid");
     z->px = 2.0 * atan(0.5 * z->c->cam->width / z->c->cam->focal) / z->c->cam->width;
     for (int pass = 0; pass < HZ_PASSES && z->st == SEA_OK; pass++) {
-        hz_test_rows(z);
+        hz_test(z, 1);
         if (z->st != SEA_OK)
             break;
         size_t added = hz_split_rows(z);
-        hz_test_cols(z);
+        hz_test(z, 0);
         if (z->st != SEA_OK)
             break;
         added += hz_split_cols(z);
