@@ -1419,11 +1419,15 @@ int sea_multires_look_at(const sea_multires_frame *f, double x, double y, sea_mu
 sea_moments sea_multires_average(const sea_multires_frame *f, sea_level_blend b, size_t n,
                                  const double *x, const double *y, const double *w);
 
-/* ------------------------------------------------------------- rendering */
+/* ------------------------------------------------------------- the view */
 
+/* A scene prepared for viewing: what the render and the bake (and the
+ * horizon) share.  Made once from a scene by sea_view_alloc, read-only
+ * after (sea_view_drop_pixels aside, before it is shared): any number of
+ * threads render its frames, bake its maps or evaluate its facets. */
 typedef struct sea_view sea_view;
 
-/* Prepares a scene for rendering: camera, water, spectral samples, the
+/* Prepares a scene for viewing: camera, water, spectral samples, the
  * per-pixel geometry and the clipmap levels the view needs (and no more),
  * the wave plan.  Independent of time.  Thread-safe (copies sc, reads the
  * water table and response files it names; OpenMP).  *out is the caller's,
