@@ -9,7 +9,7 @@
 # Layers, lowest first (the number orders them):
 #   0 base       status textfile tempfile gridtable geometry
 #  10 physics    water water_data planck spectrum shadow
-#  20 optics     optics twoscale model
+#  20 optics     optics twoscale model polar
 #  30 sea        waves multires sensor
 #  35 exporters  exr preview arrays povray povray_inc blender blender_py
 #  40 view       scene render imager
@@ -38,7 +38,7 @@ fi
 declare -A layer=(
     [status]=0 [textfile]=0 [tempfile]=0 [gridtable]=0 [geometry]=0
     [water]=10 [water_data]=10 [planck]=10 [spectrum]=10 [shadow]=10
-    [optics]=20 [twoscale]=20 [model]=20
+    [optics]=20 [twoscale]=20 [model]=20 [polar]=20
     [waves]=30 [multires]=30 [sensor]=30
     [exr]=35 [preview]=35 [arrays]=35 [povray]=35 [povray_inc]=35 [blender]=35 [blender_py]=35
     [scene]=40 [render]=40 [imager]=40
