@@ -37,8 +37,8 @@ int main(int argc, char **argv)
     sea_scene sc;
     if ((st = sea_scene_load(argv[1], &sc, &err)) != SEA_OK)
         return failed("scene", st, &err);
-    sea_render *r = NULL;
-    if ((st = sea_render_prepare(&sc, &r, &err)) != SEA_OK)
+    sea_view *r = NULL;
+    if ((st = sea_view_alloc(&sc, &r, &err)) != SEA_OK)
         return failed("prepare", st, &err);
 
     /* seabake bake's defaults, with both exports. */
@@ -50,7 +50,7 @@ int main(int argc, char **argv)
 
     sea_bake_stats stats;
     st = sea_bake_write(r, &o, argv[2], NULL, NULL, &stats, &err);
-    sea_render_free(r);
+    sea_view_free(r);
     if (st != SEA_OK)
         return failed(argv[2], st, &err);
     printf("%s: %zu texels, %.3g s computing, %.3g s writing\n", argv[2], stats.texels,

@@ -42,7 +42,7 @@ int main(void)
     /* Low-resolution slope statistics: zero mean, covariance of every wave (kc = 0). */
     sea_spectrum spectrum;
     sea_slope_stats slopes = { { 0.0, 0.0 }, { 0.0, 0.0, 0.0 } }, flat = slopes;
-    if ((st = sea_spectrum_init(&spectrum, 10.0, INFINITY, 0.0, &err)) != SEA_OK ||
+    if ((st = sea_spectrum_init(10.0, INFINITY, 0.0, &spectrum, &err)) != SEA_OK ||
         (st = sea_spectrum_slope_cov(&spectrum, 0.0, &slopes.cov, &err)) != SEA_OK)
         return failed("slope statistics", st, &err);
 

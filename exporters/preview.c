@@ -202,7 +202,7 @@ sea_status sea_png_write_toned(const char *path, int width, int height, const fl
 {
     if (tone == NULL || !(isfinite(tone->lo) && isfinite(tone->hi) && tone->lo < tone->hi) ||
         !(tone->knee > tone->lo && tone->knee <= tone->hi))
-        return sea_fail(err, SEA_ERR_DOMAIN, "%s: tone curve is not one of sea_png_tone_make",
+        return sea_fail(err, SEA_ERR_DOMAIN, "%s: tone curve is not one of sea_png_tone_init",
                         path);
     const png_job job = {width, height, bits, data, tone, text, n_text};
     return write_job(path, &job, err);
@@ -217,7 +217,7 @@ sea_status sea_png_write_rgb(const char *path, int width, int height, const floa
 
 /* ------------------------------------------------------------ tone curves */
 
-sea_status sea_png_tone_make(double lo, double knee, double hi, sea_png_tone *tone,
+sea_status sea_png_tone_init(double lo, double knee, double hi, sea_png_tone *tone,
                              sea_error *err)
 {
     if (!(isfinite(lo) && isfinite(hi) && lo < hi) || isinf(knee) || knee <= lo)
@@ -235,7 +235,7 @@ sea_status sea_png_tone_make(double lo, double knee, double hi, sea_png_tone *to
 
 sea_status sea_png_tone_linear(double lo, double hi, sea_png_tone *tone, sea_error *err)
 {
-    return sea_png_tone_make(lo, NAN, hi, tone, err);
+    return sea_png_tone_init(lo, NAN, hi, tone, err);
 }
 
 double sea_png_tone_map(const sea_png_tone *t, double v)
@@ -368,7 +368,7 @@ void sea_png_tone_auto(const float *data, size_t n, sea_png_tone *tone)
     double knee = 2.0 * q[1] - lo;
     if (!(knee > lo))
         knee = q[2] > lo ? q[2] : hi;
-    sea_png_tone_make(lo, knee, hi, tone, NULL);
+    sea_png_tone_init(lo, knee, hi, tone, NULL);
 }
 
 /* The finite values of the sea pixels (level > 0) and of the sky (level

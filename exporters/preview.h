@@ -40,7 +40,7 @@ void sea_png_range(const float *data, size_t n, double clip, double *lo, double 
  *   g = G (v - lo) / (knee - lo)                     lo <= v <= knee
  *   g = G + (1 - G) (v - knee) / (hi - knee)         knee <= v <= hi
  * Values outside [lo, hi] clamp.  knee == hi is one ramp from lo to hi
- * (sea_png_tone_make makes it so whenever the upper ramp would be the
+ * (sea_png_tone_init makes it so whenever the upper ramp would be the
  * steeper, hi <= lo + (knee - lo) / G).  Linear in the value on each ramp,
  * so grey differences read as value differences, at two scales. */
 typedef struct {
@@ -49,9 +49,9 @@ typedef struct {
 
 /* The curve through lo, knee, hi (lo < hi, finite; lo < knee; knee >= hi
  * or NaN: one ramp).  SEA_ERR_DOMAIN otherwise.  Thread-safe. */
-sea_status sea_png_tone_make(double lo, double knee, double hi, sea_png_tone *tone,
+sea_status sea_png_tone_init(double lo, double knee, double hi, sea_png_tone *tone,
                              sea_error *err);
-/* A linear curve, lo to hi (as sea_png_tone_make(lo, NAN, hi)). */
+/* A linear curve, lo to hi (as sea_png_tone_init(lo, NAN, hi)). */
 sea_status sea_png_tone_linear(double lo, double hi, sea_png_tone *tone, sea_error *err);
 /* The automatic curve of the finite values of data (n of them): lo the
  * 0.5 % quantile, hi the maximum, knee = 2 median - lo (the median

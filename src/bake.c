@@ -114,11 +114,11 @@ static sea_status level_arrays(const sea_multires_frame *f, sea_bake_level *bl,
 
 /* The optics of a texel at range (m) from the sensor, with what the
  * sensor receives of it across the air (o->seen). */
-static sea_status texel_optics(const sea_render *r, sea_slope_stats s, sea_dir obs, sea_dir sun,
+static sea_status texel_optics(const sea_view *r, sea_slope_stats s, sea_dir obs, sea_dir sun,
                                double range, sea_facet_optics *o, const sea_bake_level *bl,
                                size_t i, size_t row, sea_error *err)
 {
-    sea_status st = sea_render_facet_seen(r, &s, obs, sun, range, o, err);
+    sea_status st = sea_view_facet_seen(r, &s, obs, sun, range, o, err);
     if (st == SEA_OK &&
         !(isfinite(o->radiance) && isfinite(o->reflectivity) && isfinite(o->seen)))
         st = sea_fail(err, SEA_ERR_NUMERIC, "radiance %g at texel (%zu, %zu) of level %d",
@@ -223,7 +223,7 @@ static int synth_report(void *ctx, double fraction)
  * no sea, the facet's own optics).  The view texels hold what the sensor
  * receives, across the air along the range the ray meets the sea at (the
  * facet's own: along the range to its centre), as seabake render's pixel. */
-static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
+static sea_status level_optics(const sea_view *r, const sea_multires_frame *f,
                                sea_bake_level *bl, int view, const unsigned char *mask,
                                size_t row0, size_t step, bake_progress *bp, sea_error *err)
 {
@@ -233,8 +233,8 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
     const sea_facet *south = sea_heightfield_facets(sea_multires_frame_level(f, lv->level));
     const size_t cols = k * nx, rows = k * ny;
     const double cell = lv->facet / (double)k;
-    const sea_scene *sc = sea_render_scene(r);
-    const sea_camera *cam = sea_render_camera(r);
+    const sea_scene *sc = sea_view_scene(r);
+    const sea_camera *cam = sea_view_camera(r);
     const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                                 sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
     int failed = 0;
@@ -315,31 +315,31 @@ static sea_status level_optics(const sea_render *r, const sea_multires_frame *f,
     return SEA_OK;
 }
 
-sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
+sea_status sea_bake_frame(const sea_view *r, double t, int view_k, sea_bake *out,
                           sea_progress_fn progress, void *ctx, sea_error *err)
 {
     return sea_bake_frame_each(r, t, view_k, out, progress, ctx, NULL, NULL, err);
 }
 
-sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_bake *out,
+sea_status sea_bake_frame_each(const sea_view *r, double t, int view_k, sea_bake *out,
                                sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
                                void *each_ctx, sea_error *err)
 {
     return sea_bake_frame_rows(r, t, view_k, 0, 1, out, progress, ctx, each, each_ctx, err);
 }
 
-static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0, int step,
+static sea_status bake_frame(const sea_view *r, double t, int view_k, int row0, int step,
                              sea_image *img, sea_bake *out, sea_progress_fn progress, void *ctx,
                              sea_bake_level_fn each, void *each_ctx, sea_error *err);
 
-sea_status sea_bake_frame_image(const sea_render *r, double t, int view_k, sea_image *img,
+sea_status sea_bake_frame_image(const sea_view *r, double t, int view_k, sea_image *img,
                                 sea_bake *out, sea_progress_fn progress, void *ctx,
                                 sea_bake_level_fn each, void *each_ctx, sea_error *err)
 {
     return bake_frame(r, t, view_k, 0, 1, img, out, progress, ctx, each, each_ctx, err);
 }
 
-sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int row0, int step,
+sea_status sea_bake_frame_rows(const sea_view *r, double t, int view_k, int row0, int step,
                                sea_bake *out, sea_progress_fn progress, void *ctx,
                                sea_bake_level_fn each, void *each_ctx, sea_error *err)
 {
@@ -393,24 +393,24 @@ typedef struct {
     sea_facet_optics optics;
 } bake_lr;
 
-static sea_status bake_lr_of(const sea_render *r, bake_lr *lr, sea_error *err)
+static sea_status bake_lr_of(const sea_view *r, bake_lr *lr, sea_error *err)
 {
-    const sea_scene *sc = sea_render_scene(r);
-    const sea_camera *cam = sea_render_camera(r);
+    const sea_scene *sc = sea_view_scene(r);
+    const sea_camera *cam = sea_view_camera(r);
     const double sun_vec[3] = { sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                                 sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith) };
     sea_pixel_geom g;
     sea_camera_pixel(cam, 0.5 * cam->width, 0.5 * cam->height, &g);
     lr->obs = g.hit ? g.obs : (sea_dir){ sc->look_zenith, 0.0 };
     lr->sun = sea_camera_local_dir(&g, sun_vec);
-    lr->moments = sea_render_lr_moments(r);
+    lr->moments = sea_view_lr_moments(r);
     const sea_slope_stats lrs = sea_moments_stats(&lr->moments);
-    return sea_render_facet_optics(r, &lrs, lr->obs, lr->sun, &lr->optics, err);
+    return sea_view_facet_optics(r, &lrs, lr->obs, lr->sun, &lr->optics, err);
 }
 
 /* One frame's bake in progress: what its levels share. */
 typedef struct {
-    const sea_render *r;
+    const sea_view *r;
     sea_multires_frame *f;
     const sea_clip_level *lv;
     size_t r0, rs;         /* texel rows r0, r0 + rs, ... */
@@ -458,7 +458,7 @@ static sea_status bake_level(bake_job *b, size_t l, sea_error *err)
     double t1 = now_s();
     out->seconds.optics += t1 - t0;
     t0 = t1;
-    unsigned char *mask = view_mask(sea_render_camera(b->r), &lv[l], bl->view_k,
+    unsigned char *mask = view_mask(sea_view_camera(b->r), &lv[l], bl->view_k,
                                     has_hole ? hole : NULL);
     if (mask == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the view mask of level %d",
@@ -484,7 +484,7 @@ static sea_status bake_level(bake_job *b, size_t l, sea_error *err)
 }
 
 /* sea_bake_frame_rows, and with img not NULL sea_bake_frame_image. */
-static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0, int step,
+static sea_status bake_frame(const sea_view *r, double t, int view_k, int row0, int step,
                              sea_image *img, sea_bake *out, sea_progress_fn progress, void *ctx,
                              sea_bake_level_fn each, void *each_ctx, sea_error *err)
 {
@@ -492,13 +492,13 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     sea_status st = bake_check_args(t, view_k, row0, step, err);
     if (st != SEA_OK)
         return st;
-    st = img != NULL ? sea_render_check_image(r, img, err) : SEA_OK;
+    st = img != NULL ? sea_view_check_image(r, img, err) : SEA_OK;
     if (st != SEA_OK)
         return st; /* before the frame is synthesised */
     const size_t r0 = (size_t)row0, rs = (size_t)step;
     out->time = t;
     const sea_clip_level *lv;
-    const size_t n = sea_render_levels(r, &lv);
+    const size_t n = sea_view_levels(r, &lv);
     bake_lr lr;
     if ((st = bake_lr_of(r, &lr, err)) != SEA_OK)
         return st;
@@ -520,18 +520,18 @@ static sea_status bake_frame(const sea_render *r, double t, int view_k, int row0
     /* The surfaces keep the bounds of their finest cells (8 bytes a facet)
      * where those take at most BAKE_STORED_BOUNDS_MAX; beyond, they compute
      * them from the nodes as the rays ask (the same bounds, bit for bit). */
-    const int lean = sea_render_bake_lean(r) || synth * 8.0 > BAKE_STORED_BOUNDS_MAX;
+    const int lean = sea_view_bake_lean(r) || synth * 8.0 > BAKE_STORED_BOUNDS_MAX;
     st = (lean ? sea_multires_frame_alloc_lean : sea_multires_frame_alloc)(
-        sea_render_multires(r), t, progress != NULL ? synth_report : NULL, &sp, &f, err);
+        sea_view_multires(r), t, progress != NULL ? synth_report : NULL, &sp, &f, err);
     if (st == SEA_OK)
         st = bake_done(&b, synth, st, err);
     b.f = f;
     double t1 = now_s();
     out->seconds.waves = t1 - t0;
     /* the sensor's image from the same surfaces, before the levels' maps
-     * are made (the frame is the one sea_render_frame would synthesise) */
+     * are made (the frame is the one sea_view_render_frame would synthesise) */
     if (st == SEA_OK && img != NULL) {
-        st = sea_render_frame_in(r, f, t, img, err);
+        st = sea_view_render_frame_in(r, f, t, img, err);
         t0 = t1;
         t1 = now_s();
         out->seconds.image = t1 - t0;

@@ -30,7 +30,7 @@ static const double BAKE_EMISSION_TARGET = 1000.0;
  * first COMPUTE_SHARE, the files the rest. */
 static const double COMPUTE_SHARE = 0.9;
 /* The horizon mesh is refined to the scene's tolerance, but no finer than
- * sea_bake_horizon_make takes. */
+ * sea_bake_horizon_alloc takes. */
 static const double BAKE_HORIZON_TOL_MIN = 1e-5;
 /* Emission texels per facet side by default.  Radiance is not linear in
  * the slope moments (the glint above all), so a renderer's bilinear lookup
@@ -136,14 +136,14 @@ static const double SKY_TOL = 1e-7;
  * table's largest value (a table's sky may be 0 somewhere). */
 static const double SKY_FLOOR = 1e-6;
 
-static double sky_at(const sea_render *r, double s)
+static double sky_at(const sea_view *r, double s)
 {
-    return sea_render_sky_toward(r, s * s);
+    return sea_view_sky_toward(r, s * s);
 }
 
 /* The largest relative error of the interpolation over interval i of t,
  * at probes points evenly inside it. */
-static double sky_interval_error(const sea_render *r, const sea_bake_sky *t, size_t i,
+static double sky_interval_error(const sea_view *r, const sea_bake_sky *t, size_t i,
                                  int probes, double vmax)
 {
     double e = 0.0;
@@ -156,10 +156,10 @@ static double sky_interval_error(const sea_render *r, const sea_bake_sky *t, siz
     return e;
 }
 
-void sea_bakedir_sky_table(const sea_render *r, sea_bake_sky *t)
+void sea_bakedir_sky_table(const sea_view *r, sea_bake_sky *t)
 {
     memset(t, 0, sizeof *t);
-    if (sea_render_scene(r)->sky_model == SEA_SKY_ISOTROPIC)
+    if (sea_view_scene(r)->sky_model == SEA_SKY_ISOTROPIC)
         return;
     double vmax = 0.0, err[SEA_BAKE_SKY_MAX];
     t->n = SKY_START;
@@ -220,12 +220,12 @@ static sea_status usable(const sea_bake_writer *w, sea_error *err)
     return w->failed ? sea_fail(err, SEA_ERR_DOMAIN, "the bake writer failed before") : SEA_OK;
 }
 
-sea_status sea_bake_writer_alloc(const sea_render *r, const sea_bake_options *o, const char *dir,
+sea_status sea_bake_writer_alloc(const sea_view *r, const sea_bake_options *o, const char *dir,
                                  sea_progress_fn progress, void *ctx, sea_bake_writer **out,
                                  sea_error *err)
 {
     *out = NULL;
-    const sea_scene *sc = sea_render_scene(r);
+    const sea_scene *sc = sea_view_scene(r);
     sea_status st = sea_bake_options_check(o, sc, err);
     if (st != SEA_OK)
         return st;
@@ -248,7 +248,7 @@ sea_status sea_bake_writer_alloc(const sea_render *r, const sea_bake_options *o,
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     w->o.scene_file = w->scene_file;
     const sea_clip_level *lv;
-    w->nlev = sea_render_levels(r, &lv);
+    w->nlev = sea_view_levels(r, &lv);
     w->nmax = 1;
     for (size_t l = 0; l < w->nlev; l++)
         if (!lv[l].low_res && lv[l].nx * lv[l].ny > w->nmax)
@@ -351,7 +351,7 @@ static sea_status check_level(const sea_bake_writer *w, const sea_bake *b, size_
                               sea_error *err)
 {
     const sea_clip_level *lv;
-    const size_t nlev = sea_render_levels(w->r, &lv);
+    const size_t nlev = sea_view_levels(w->r, &lv);
     if (b->n_levels != nlev || l >= nlev)
         return sea_fail(err, SEA_ERR_DOMAIN,
                         "bake writer: level %zu of a bake of %zu levels, not this one's %zu", l,
@@ -426,7 +426,7 @@ static sea_status first_frame(sea_bake_writer *w, const sea_bake *b, const sea_i
     if (w->o.pov || w->o.blender) {
         /* one for all frames: time does not enter */
         const double t0 = sea_bakedir_seconds();
-        st = sea_bake_horizon_make(w->r, fmax(BAKE_HORIZON_TOL_MIN, w->sc->tolerance), &w->hz,
+        st = sea_bake_horizon_alloc(w->r, fmax(BAKE_HORIZON_TOL_MIN, w->sc->tolerance), &w->hz,
                                    err);
         w->have_hz = st == SEA_OK;
         const double dt = sea_bakedir_seconds() - t0;
@@ -451,7 +451,7 @@ static sea_status first_frame(sea_bake_writer *w, const sea_bake *b, const sea_i
     w->scale = emission_scale(top);
     for (size_t q = 0; q < w->sky.n; q++)
         w->sky.value[q] *= w->scale;
-    if ((w->manifest = sea_manifest_make(w, b)) == NULL)
+    if ((w->manifest = sea_manifest_alloc(w, b)) == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     if (w->have_hz) {
         char err_s[32];
@@ -493,7 +493,7 @@ sea_status sea_bake_writer_frame_end(sea_bake_writer *w, const sea_bake *b, cons
         return st;
     if (!w->in_frame)
         return failed(w, sea_fail(err, SEA_ERR_DOMAIN, "bake writer: no frame to end"));
-    const sea_camera *cam = sea_render_camera(w->r);
+    const sea_camera *cam = sea_view_camera(w->r);
     if (w->sensor && (view == NULL || view->radiance == NULL || view->width != cam->width ||
                       view->height != cam->height))
         return failed(w, sea_fail(err, SEA_ERR_DOMAIN,
@@ -543,8 +543,8 @@ sea_status sea_bake_writer_frame(sea_bake_writer *w, sea_error *err)
     /* the sensor's image of this frame, as seabake render gives it, made by
      * the bake from the surfaces of its levels */
     sea_image view = {0};
-    const sea_camera *cam = sea_render_camera(w->r);
-    if (w->sensor && (st = sea_image_alloc(&view, cam->width, cam->height, err)) != SEA_OK)
+    const sea_camera *cam = sea_view_camera(w->r);
+    if (w->sensor && (st = sea_image_alloc(cam->width, cam->height, &view, err)) != SEA_OK)
         return failed(w, st);
     const double written = w->stats.files, t0 = sea_bakedir_seconds();
     sea_bake b;
@@ -582,13 +582,13 @@ static sea_status write_pov(const sea_bake_writer *w, sea_error *err)
     char *names[SEA_CLIP_MAX_LEVELS] = {NULL}, *heights[SEA_CLIP_MAX_LEVELS] = {NULL};
     size_t n = 0;
     sea_status st = SEA_OK;
-    const sea_render *r = w->r;
-    const sea_camera *cam = sea_render_camera(r);
+    const sea_view *r = w->r;
+    const sea_camera *cam = sea_view_camera(r);
     /* the low-resolution ring without a horizon mesh: out to 1000
      * altitudes, where a grazing ray meets the sea at 0.06 degrees */
     const double far = 1000.0 * w->sc->altitude;
     const sea_clip_level *levels;
-    const size_t nlev = sea_render_levels(r, &levels);
+    const size_t nlev = sea_view_levels(r, &levels);
     const sea_bake_horizon *hz = w->have_hz ? &w->hz : NULL;
     const double scale = w->scale;
     for (size_t l = 0; l < nlev && st == SEA_OK; l++) {
@@ -642,7 +642,7 @@ static sea_status write_pov(const sea_bake_writer *w, sea_error *err)
                          SEA_BAKE_FRAME_DIGITS,
                          w->sc->time,
                          w->o.frame_rate,
-                         sea_render_samples(r, &wl, &wt),
+                         sea_view_samples(r, &wl, &wt),
                          NULL,
                          NULL,
                          w->sc->wavelength > 0.0 ? 1e-6 : 1.0,
@@ -690,14 +690,14 @@ sea_status sea_bake_writer_finish(sea_bake_writer *w, sea_error *err)
 
 /* ------------------------------------------------------------ one call */
 
-sea_status sea_bake_write(const sea_render *r, const sea_bake_options *o, const char *path,
+sea_status sea_bake_write(const sea_view *r, const sea_bake_options *o, const char *path,
                           sea_progress_fn progress, void *ctx, sea_bake_stats *stats,
                           sea_error *err)
 {
     if (stats != NULL)
         memset(stats, 0, sizeof *stats);
     /* the options first: nothing is made for a bake that cannot run */
-    sea_status st = sea_bake_options_check(o, sea_render_scene(r), err);
+    sea_status st = sea_bake_options_check(o, sea_view_scene(r), err);
     if (st != SEA_OK)
         return st;
     const sea_bake_dir_hooks hooks = {NULL, NULL, progress, ctx};

@@ -19,7 +19,7 @@
  * every file and channel.
  *
  * Three layers, each usable alone:
- *  - sea_bake_write: a whole bake of a prepared scene (sea_render_prepare)
+ *  - sea_bake_write: a whole bake of a prepared scene (sea_view_alloc)
  *    into a directory that is replaced atomically.
  *  - sea_bake_dir: the atomic directory.  Files go into a fresh sibling
  *    DIR.tmp.XXXXXX; the commit puts it in place of DIR; a failed or
@@ -110,7 +110,7 @@ typedef struct {
 
 typedef struct sea_bake_writer sea_bake_writer;
 
-/* Starts a bake of r (sea_render_prepare of the scene) with options o
+/* Starts a bake of r (sea_view_alloc of the scene) with options o
  * (sea_bake_options_check against r's scene: SEA_ERR_DOMAIN) into dir, an
  * existing directory, normally empty (the manifest's "files" lists every
  * file in it; sea_bake_dir_path gives the atomic one).  Allocates the map
@@ -121,7 +121,7 @@ typedef struct sea_bake_writer sea_bake_writer;
  * The writer keeps pointers to r and to progress's ctx, which must outlive
  * it, and copies o (its scene_file) and dir.  Reads r; *out is the caller's,
  * freed with sea_bake_writer_free(). */
-sea_status sea_bake_writer_alloc(const sea_render *r, const sea_bake_options *o, const char *dir,
+sea_status sea_bake_writer_alloc(const sea_view *r, const sea_bake_options *o, const char *dir,
                                  sea_progress_fn progress, void *ctx, sea_bake_writer **out,
                                  sea_error *err);
 void sea_bake_writer_free(sea_bake_writer *w);
@@ -148,7 +148,7 @@ sea_status sea_bake_writer_frame(sea_bake_writer *w, sea_error *err);
  * sea_bake_frame gives them, from the same preparation as the writer's r,
  * SEA_ERR_DOMAIN otherwise), read only during the call.  Then frame_end,
  * b the frame's headers (every level's; no maps needed) and view the
- * frame's sensor image (sea_render_frame at the frame's time) when
+ * frame's sensor image (sea_view_render_frame at the frame's time) when
  * sea_bake_writer_wants_view, else NULL.  Fills w. */
 sea_status sea_bake_writer_frame_begin(sea_bake_writer *w, long frame, sea_error *err);
 sea_status sea_bake_writer_level(void *w, const sea_bake *b, size_t l, sea_error *err);
@@ -237,8 +237,8 @@ void sea_bake_dir_free(sea_bake_dir *d);
  * byte.  progress as sea_bake_writer_alloc's; stats (may be NULL) gets the
  * writer's.  A caller whose options do not need the sensor's image
  * (sea_bake_writer_wants_view: no exports, or emission space map) may call
- * sea_render_drop_pixels(r) first to save memory.  Reads r. */
-sea_status sea_bake_write(const sea_render *r, const sea_bake_options *o, const char *path,
+ * sea_view_drop_pixels(r) first to save memory.  Reads r. */
+sea_status sea_bake_write(const sea_view *r, const sea_bake_options *o, const char *path,
                           sea_progress_fn progress, void *ctx, sea_bake_stats *stats,
                           sea_error *err);
 

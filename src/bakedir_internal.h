@@ -75,7 +75,7 @@ typedef struct {
 } sea_bake_sky;
 /* The table of r's sky (values in the images' units, to be scaled by the
  * caller); n = 0 for an isotropic sky. */
-SEA_INTERNAL void sea_bakedir_sky_table(const sea_render *r, sea_bake_sky *out);
+SEA_INTERNAL void sea_bakedir_sky_table(const sea_view *r, sea_bake_sky *out);
 
 /* ------------------------------------------------------------ the writer */
 
@@ -87,7 +87,7 @@ typedef struct {
 } bake_previews;
 
 struct sea_bake_writer {
-    const sea_render *r;
+    const sea_view *r;
     const sea_scene *sc;       /* r's */
     sea_bake_options o;        /* o.scene_file is scene_file */
     char *scene_file, *dir;
@@ -153,12 +153,12 @@ SEA_INTERNAL sea_status sea_bakemaps_grey(const sea_bake_writer *w, const char *
  * (NULL without memory); its entries of frame f (time t): the frame, the
  * levels' files and heights, and the sensor's image; written as
  * manifest.json with every file of the directory listed. */
-SEA_INTERNAL cJSON *sea_manifest_make(const sea_bake_writer *w, const sea_bake *b);
+SEA_INTERNAL cJSON *sea_manifest_alloc(const sea_bake_writer *w, const sea_bake *b);
 SEA_INTERNAL sea_status sea_manifest_frame(sea_bake_writer *w, const sea_bake *b,
                                            const char *sensor_exr, sea_error *err);
 SEA_INTERNAL sea_status sea_manifest_write(const sea_bake_writer *w, sea_error *err);
-/* manifest.c: the sky's radiance in the maps' units, as sea_render_frame
+/* manifest.c: the sky's radiance in the maps' units, as sea_view_render_frame
  * computes it (the POV-Ray scene's sky and the Blender world's). */
-SEA_INTERNAL double sea_manifest_sky_radiance(const sea_render *r);
+SEA_INTERNAL double sea_manifest_sky_radiance(const sea_view *r);
 
 #endif /* SEABAKE_BAKEDIR_INTERNAL_H */

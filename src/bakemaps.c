@@ -432,7 +432,7 @@ static sea_status write_heights(const sea_bake_writer *w, const sea_bake_level *
 {
     float *z = NULL;
     size_t W = 0, H = 0;
-    sea_status st = level_heights(sea_render_camera(w->r), bl, &z, &W, &H, lo, hi, err);
+    sea_status st = level_heights(sea_view_camera(w->r), bl, &z, &W, &H, lo, hi, err);
     if (st != SEA_OK)
         return st;
     const int level = bl->level.level;

@@ -1,5 +1,5 @@
 /* horizon.c - the low-resolution sea out to the horizon, for the exports
- * (sea_bake_horizon_make in seabake.h).
+ * (sea_bake_horizon_alloc in seabake.h).
  *
  * A polar grid around the sensor's nadir point.  Its extent comes from the
  * image: the map points of the pixel corners and centres that meet the sea (the
@@ -24,7 +24,7 @@
 enum { HZ_START_ARC = 16, HZ_START_AZ = 16, HZ_PASSES = 64 };
 
 typedef struct {
-    const sea_render *r;
+    const sea_view *r;
     const sea_camera *cam;
     sea_slope_stats lr;
     double sun[3];
@@ -33,7 +33,7 @@ typedef struct {
 
 /* The radiance seabake render gives a low-resolution pixel at the map
  * point (arc, az), in the images' units: across the air along the range
- * from the sensor to the point (sea_render_facet_seen).  At the horizon itself the view
+ * from the sensor to the point (sea_view_facet_seen).  At the horizon itself the view
  * is tangent: the local zenith angle is held just below 90 deg. */
 static sea_status hz_radiance(const hz_ctx *c, double arc, double az, double *L, sea_error *err)
 {
@@ -49,7 +49,7 @@ static sea_status hz_radiance(const hz_ctx *c, double arc, double az, double *L,
     obs.theta = fmin(obs.theta, 89.999 * M_PI / 180.0);
     const sea_dir sun = sea_camera_local_dir(&g, c->sun);
     sea_facet_optics o;
-    sea_status st = sea_render_facet_seen(c->r, &c->lr, obs, sun, len, &o, err);
+    sea_status st = sea_view_facet_seen(c->r, &c->lr, obs, sun, len, &o, err);
     if (st == SEA_OK && !(isfinite(o.seen) && o.seen >= 0.0))
         st = sea_fail(err, SEA_ERR_NUMERIC, "horizon: radiance %g at %.6g m, azimuth %.6g deg",
                       o.seen, arc, az * 180.0 / M_PI);
@@ -462,15 +462,15 @@ static double hz_refine_grid(hz_refine *z, sea_error *err)
     return worst;
 }
 
-sea_status sea_bake_horizon_make(const sea_render *r, double tol, sea_bake_horizon *h,
+sea_status sea_bake_horizon_alloc(const sea_view *r, double tol, sea_bake_horizon *h,
                                  sea_error *err)
 {
     memset(h, 0, sizeof *h);
     if (!(tol >= 1e-5 && tol <= 0.1))
         return sea_fail(err, SEA_ERR_DOMAIN, "horizon: tolerance %g (allowed: 1e-5 to 0.1)", tol);
-    const sea_scene *sc = sea_render_scene(r);
-    hz_ctx c = { r, sea_render_camera(r), { { 0, 0 }, { 0, 0, 0 } }, { 0, 0, 0 }, 0, 0 };
-    const sea_moments lrm = sea_render_lr_moments(r);
+    const sea_scene *sc = sea_view_scene(r);
+    hz_ctx c = { r, sea_view_camera(r), { { 0, 0 }, { 0, 0, 0 } }, { 0, 0, 0 }, 0, 0 };
+    const sea_moments lrm = sea_view_lr_moments(r);
     c.lr = sea_moments_stats(&lrm);
     c.sun[0] = sin(sc->sun_zenith) * cos(sc->sun_azimuth);
     c.sun[1] = sin(sc->sun_zenith) * sin(sc->sun_azimuth);

@@ -863,10 +863,10 @@ sea_status sea_imager_apply(const sea_imager *im, const sea_image *img, uint64_t
 
 /* ------------------------------------------------------------ the scene */
 
-sea_status sea_imager_from_render(const sea_render *r, sea_imager **out, sea_error *err)
+sea_status sea_imager_from_render(const sea_view *r, sea_imager **out, sea_error *err)
 {
     *out = NULL;
-    const sea_scene *sc = sea_render_scene(r);
+    const sea_scene *sc = sea_view_scene(r);
     sea_imager_params p;
     if (!sea_imager_params_from_scene(sc, &p))
         return SEA_OK;
@@ -878,7 +878,7 @@ sea_status sea_imager_from_render(const sea_render *r, sea_imager **out, sea_err
         p.mtf = &t;
     }
     sea_band band;
-    sea_render_band(r, &band);
+    sea_view_band(r, &band);
     st = sea_imager_alloc(&p, &band, sc->width, sc->height, out, err);
     sea_imager_mtf_free(&t);
     return st;

@@ -280,15 +280,15 @@ SEA_INTERNAL void sea_multires_pixel_hinted(const sea_multires_frame *f, int i, 
  * finest bounds of its surfaces from the nodes as the rays ask, as it does
  * when storing them would take more than BAKE_STORED_BOUNDS_MAX (bake.c);
  * the same bounds, bit for bit. */
-SEA_INTERNAL void sea_render_set_bake_lean(sea_render *r, int lean);
-SEA_INTERNAL int sea_render_bake_lean(const sea_render *r);
-/* render.c, for the bake: sea_render_frame from the frame f of r's
+SEA_INTERNAL void sea_view_set_bake_lean(sea_view *r, int lean);
+SEA_INTERNAL int sea_view_bake_lean(const sea_view *r);
+/* render.c, for the bake: sea_view_render_frame from the frame f of r's
  * multiresolution sea at time t (sea_multires_frame_alloc of
- * sea_render_multires(r)), not one of its own: the same pixels. */
-SEA_INTERNAL sea_status sea_render_frame_in(const sea_render *r, const sea_multires_frame *f,
+ * sea_view_multires(r)), not one of its own: the same pixels. */
+SEA_INTERNAL sea_status sea_view_render_frame_in(const sea_view *r, const sea_multires_frame *f,
                                             double t, sea_image *img, sea_error *err);
-/* SEA_ERR_DOMAIN unless img is the scene's size (sea_render_rows' check). */
-SEA_INTERNAL sea_status sea_render_check_image(const sea_render *r, const sea_image *img,
+/* SEA_ERR_DOMAIN unless img is the scene's size (sea_view_render_rows' check). */
+SEA_INTERNAL sea_status sea_view_check_image(const sea_view *r, const sea_image *img,
                                                sea_error *err);
 
 /* sensor.c, for the multiresolution plan.  Where the ray through image

@@ -23,11 +23,11 @@ static const int BAKE_MANIFEST_VERSION = 1;
 #define BAKE_GROUPS SEA_BAKE_GROUPS
 #define BAKE_Q SEA_BAKE_Q
 
-double sea_manifest_sky_radiance(const sea_render *r)
+double sea_manifest_sky_radiance(const sea_view *r)
 {
-    const sea_scene *sc = sea_render_scene(r);
+    const sea_scene *sc = sea_view_scene(r);
     const double *wl, *wt;
-    const size_t n = sea_render_samples(r, &wl, &wt);
+    const size_t n = sea_view_samples(r, &wl, &wt);
     double L = 0.0;
     for (size_t i = 0; i < n; i++)
         L += wt[i] * (sc->sky_radiance >= 0.0 ? sc->sky_radiance
@@ -333,7 +333,7 @@ static cJSON *levels_json(const sea_scene *sc, const sea_bake *b)
  * the rest of the manifest does not give directly. */
 static cJSON *blender_json(const sea_bake_writer *w)
 {
-    const sea_render *r = w->r;
+    const sea_view *r = w->r;
     const double scale = w->scale;
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "script", SEA_BLENDER_SCRIPT);
@@ -400,10 +400,10 @@ static cJSON *horizon_json(const sea_bake_horizon *hz, const sea_camera *cam)
     return o;
 }
 
-cJSON *sea_manifest_make(const sea_bake_writer *w, const sea_bake *b)
+cJSON *sea_manifest_alloc(const sea_bake_writer *w, const sea_bake *b)
 {
     const sea_scene *sc = w->sc;
-    const sea_camera *cam = sea_render_camera(w->r);
+    const sea_camera *cam = sea_view_camera(w->r);
     const sea_bake_options *o = &w->o;
     cJSON *m = cJSON_CreateObject();
     cJSON_AddStringToObject(m, "format", "seabake-bake");

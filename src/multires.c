@@ -4,7 +4,7 @@
  * bake ask it the same question (sea_multires_look); neither reaches into
  * the other.
  *
- * Plan (sea_multires_plan, once per scene).  A sea pixel of footprint F
+ * Plan (sea_multires_alloc, once per scene).  A sea pixel of footprint F
  * (the square root of the area its corner rays cut on the mean surface)
  * wants the level l = round(log2(F / L0)); where the footprint is so
  * elongated that its long side exceeds SUB_MAX F (beyond 89 deg from
@@ -2003,10 +2003,10 @@ static sea_status plan_waves(sea_multires *mr, size_t fft_cells, sea_error *err)
                             fft_cells, L0);
         wp.fft_size = fft_cells;
     }
-    return sea_waves_create(&mr->spec, &wp, &mr->waves, err);
+    return sea_waves_alloc(&mr->spec, &wp, &mr->waves, err);
 }
 
-sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
+sea_status sea_multires_alloc(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
                              sea_error *err)
 {
     *out = NULL;
@@ -2439,7 +2439,7 @@ static void look(const sea_multires_frame *f, double u, double v, const mr_pixel
 }
 
 /* look() at image point (u, v) with its pixel's plan made now (as
- * sea_multires_plan makes it at pixel centres, bit for bit). */
+ * sea_multires_alloc makes it at pixel centres, bit for bit). */
 static void look_planned(const sea_multires_frame *f, double u, double v,
                          const sea_multires_hint *below, sea_multires_hint *top,
                          sea_multires_sample *out)

@@ -26,7 +26,7 @@ enum { SEA_TB_N = 256 };
 static const double SEA_TB_LNT0 = 3.4011973816621555;          /* ln 30 */
 static const double SEA_TB_STEP = 5.2983173665480363 / 255.0; /* ln(6000/30) / (N - 1) */
 
-struct sea_render {
+struct sea_view {
     sea_scene sc;
     sea_camera cam;
     sea_multires *mr;
@@ -51,15 +51,15 @@ struct sea_render {
     /* the band's ln radiance at ln T = TB_LNT0 + k TB_STEP (several samples):
      * the brightness temperature's first guess */
     double tb_lnL[SEA_TB_N];
-    sea_render_choices choices;
+    sea_view_choices choices;
     /* the facets' emissivity: the default model or the scene's choices
      * (its two-scale table, the sea around, where second hits matter) */
     sea_model *model;
     int bake_lean; /* a bake computes its surfaces' finest bounds from the nodes
-                      whatever their size (sea_render_set_bake_lean) */
+                      whatever their size (sea_view_set_bake_lean) */
 };
 
-sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err)
+sea_status sea_image_alloc(int width, int height, sea_image *img, sea_error *err)
 {
     memset(img, 0, sizeof *img);
     if (width < 1 || height < 1)
@@ -95,7 +95,7 @@ void sea_image_free(sea_image *img)
     memset(img, 0, sizeof *img);
 }
 
-void sea_render_free(sea_render *r)
+void sea_view_free(sea_view *r)
 {
     if (r == NULL)
         return;
@@ -121,12 +121,12 @@ void sea_render_free(sea_render *r)
     free(r);
 }
 
-size_t sea_render_levels(const sea_render *r, const sea_clip_level **levels)
+size_t sea_view_levels(const sea_view *r, const sea_clip_level **levels)
 {
     return sea_multires_levels(r->mr, levels);
 }
 
-size_t sea_render_samples(const sea_render *r, const double **wavelength, const double **weight)
+size_t sea_view_samples(const sea_view *r, const double **wavelength, const double **weight)
 {
     *wavelength = r->wl;
     *weight = r->wt;
@@ -151,7 +151,7 @@ static double response_at(const sea_response *resp, double wl)
  * may use before any is allocated, as the plan is (check_plan in
  * multires.c): they grow with rows x samples, and 5e5 ranges at 512
  * samples took 4.1 GB for a 64 x 48 image.  The message names the keys. */
-static sea_status check_tables(const sea_render *r, size_t k, sea_error *err)
+static sea_status check_tables(const sea_view *r, size_t k, sea_error *err)
 {
     const double GiB = 1073741824.0, per = (double)k * (double)sizeof(double);
     const double sky = r->sky_grid != NULL ? per * (double)r->sky_nx : 0.0;
@@ -181,7 +181,7 @@ static sea_status check_tables(const sea_render *r, size_t k, sea_error *err)
 
 /* Spectral samples: one wavelength, or a Gauss-Legendre rule of k nodes on
  * the band weighted by the response. */
-static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp, sea_error *err)
+static sea_status set_samples(sea_view *r, size_t k, const sea_response *resp, sea_error *err)
 {
     sea_status tst = check_tables(r, k, err);
     if (tst != SEA_OK)
@@ -285,12 +285,12 @@ static sea_status set_samples(sea_render *r, size_t k, const sea_response *resp,
     return SEA_OK;
 }
 
-sea_emis_rule sea_render_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v)
+sea_emis_rule sea_view_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v)
 {
     return sea_model_emis_rule(emis_scale, st, v);
 }
 
-sea_render_choices sea_render_choices_of(const sea_render *r)
+sea_view_choices sea_view_choices_of(const sea_view *r)
 {
     return r->choices;
 }
@@ -303,7 +303,7 @@ static const double SEA_GLINT_NEGLIGIBLE = 1e-3;
 /* Radiance of a facet with stats st seen from obs, sun from sun (or none),
  * summed over the samples with their weights; band means of emissivity and
  * reflectivity through *e and *rho. */
-static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+static sea_status facet_radiance(const sea_view *r, const sea_slope_stats *st, sea_dir obs,
                                  sea_dir sun, int sun_up, double *L, double *e, double *rho,
                                  double *Lk, sea_error *err)
 {
@@ -358,7 +358,7 @@ static sea_status facet_radiance(const sea_render *r, const sea_slope_stats *st,
  * iteration takes one expm1 and one division per sample (B = a / E,
  * E = expm1(x), x = b / T, dB/dT = B x (1 + 1/E) / T), the wavelength's
  * powers found once. */
-static double band_temperature(const sea_render *r, double L)
+static double band_temperature(const sea_view *r, double L)
 {
     if (r->nsamp == 1)
         return sea_planck_brightness_temperature(r->wl[0], L / r->wt[0]);
@@ -416,12 +416,12 @@ static double band_temperature(const sea_render *r, double L)
 }
 
 /* Radiance unit of the images: per um for one wavelength (SI is per m). */
-static double radiance_unit(const sea_render *r)
+static double radiance_unit(const sea_view *r)
 {
     return r->nsamp == 1 && r->sc.wavelength > 0.0 ? 1e-6 : 1.0;
 }
 
-void sea_render_band(const sea_render *r, sea_band *out)
+void sea_view_band(const sea_view *r, sea_band *out)
 {
     out->n = r->nsamp;
     out->wavelength = r->wl;
@@ -429,12 +429,12 @@ void sea_render_band(const sea_render *r, sea_band *out)
     out->unit = radiance_unit(r);
 }
 
-double sea_render_brightness_temperature(const sea_render *r, double radiance)
+double sea_view_brightness_temperature(const sea_view *r, double radiance)
 {
     return radiance > 0.0 ? band_temperature(r, radiance / radiance_unit(r)) : 0.0;
 }
 
-sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+sea_status sea_view_facet_optics(const sea_view *r, const sea_slope_stats *st, sea_dir obs,
                                    sea_dir sun, sea_facet_optics *out, sea_error *err)
 {
     double L, e, rho;
@@ -450,7 +450,7 @@ sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *s
 }
 
 /* The extinction of the air, 1/m: 0 without [atmosphere]. */
-static double air_extinction(const sea_render *r)
+static double air_extinction(const sea_view *r)
 {
     return isnan(r->sc.air_temperature) ? 0.0 : r->sc.extinction;
 }
@@ -461,7 +461,7 @@ static double air_extinction(const sea_render *r)
  * tau = exp(-extinction range); or per sample the table's transmittance
  * x Lk + path radiance at the range (linear in range, its ends held
  * beyond); L itself without air. */
-static double through_air(const sea_render *r, double L, const double *Lk, double range)
+static double through_air(const sea_view *r, double L, const double *Lk, double range)
 {
     const double ext = air_extinction(r);
     if (ext > 0.0) {
@@ -479,12 +479,12 @@ static double through_air(const sea_render *r, double L, const double *Lk, doubl
     return s;
 }
 
-int sea_render_has_air(const sea_render *r)
+int sea_view_has_air(const sea_view *r)
 {
     return air_extinction(r) > 0.0 || r->atm_grid != NULL;
 }
 
-sea_status sea_render_facet_seen(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+sea_status sea_view_facet_seen(const sea_view *r, const sea_slope_stats *st, sea_dir obs,
                                  sea_dir sun, double range, sea_facet_optics *out,
                                  sea_error *err)
 {
@@ -499,11 +499,11 @@ sea_status sea_render_facet_seen(const sea_render *r, const sea_slope_stats *st,
     out->reflectivity = rho;
     out->radiance = L * unit;
     out->temperature = band_temperature(r, L);
-    out->seen = sea_render_has_air(r) ? through_air(r, L, Lk, range) * unit : out->radiance;
+    out->seen = sea_view_has_air(r) ? through_air(r, L, Lk, range) * unit : out->radiance;
     return SEA_OK;
 }
 
-double sea_render_sky_toward(const sea_render *r, double cos_zenith)
+double sea_view_sky_toward(const sea_view *r, double cos_zenith)
 {
     double L = 0.0;
     for (size_t k = 0; k < r->nsamp; k++)
@@ -511,42 +511,42 @@ double sea_render_sky_toward(const sea_render *r, double cos_zenith)
     return L * radiance_unit(r);
 }
 
-const sea_scene *sea_render_scene(const sea_render *r)
+const sea_scene *sea_view_scene(const sea_view *r)
 {
     return &r->sc;
 }
 
-void sea_render_set_bake_lean(sea_render *r, int lean)
+void sea_view_set_bake_lean(sea_view *r, int lean)
 {
     r->bake_lean = lean != 0;
 }
 
-int sea_render_bake_lean(const sea_render *r)
+int sea_view_bake_lean(const sea_view *r)
 {
     return r->bake_lean;
 }
 
-const sea_camera *sea_render_camera(const sea_render *r)
+const sea_camera *sea_view_camera(const sea_view *r)
 {
     return &r->cam;
 }
 
-const sea_waves *sea_render_waves(const sea_render *r)
+const sea_waves *sea_view_waves(const sea_view *r)
 {
     return sea_multires_waves(r->mr);
 }
 
-sea_moments sea_render_lr_moments(const sea_render *r)
+sea_moments sea_view_lr_moments(const sea_view *r)
 {
     return sea_multires_lr_moments(r->mr);
 }
 
-const sea_multires *sea_render_multires(const sea_render *r)
+const sea_multires *sea_view_multires(const sea_view *r)
 {
     return r->mr;
 }
 
-void sea_render_drop_pixels(sea_render *r)
+void sea_view_drop_pixels(sea_view *r)
 {
     sea_multires_drop_pixels(r->mr);
 }
@@ -562,7 +562,7 @@ void sea_render_drop_pixels(sea_render *r)
  * radiance a pixel of emissivity 0.8 or more can have (where second hits
  * can be skipped the views are within 70 deg of the facets: water's
  * emissivity is 0.87 or more there, 3-14 um). */
-static sea_status set_model(sea_render *r, const sea_spectrum *spec, const sea_slope_stats *lr,
+static sea_status set_model(sea_view *r, const sea_spectrum *spec, const sea_slope_stats *lr,
                             int simple, sea_error *err)
 {
     const sea_scene *sc = &r->sc;
@@ -600,10 +600,10 @@ static sea_status set_model(sea_render *r, const sea_spectrum *spec, const sea_s
     return sea_model_alloc(&mp, spec, lr, &fine, r->N, r->nsamp, &r->sky, &r->model, err);
 }
 
-sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err)
+sea_status sea_view_alloc(const sea_scene *sc, sea_view **out, sea_error *err)
 {
     *out = NULL;
-    sea_render *r = calloc(1, sizeof *r);
+    sea_view *r = calloc(1, sizeof *r);
     if (r == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory");
     r->sc = *sc;
@@ -619,10 +619,10 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
             goto fail;                                                                            \
     } while (0)
     /* the sensor, then the sea it sees */
-    TRY(sea_camera_init(&r->cam, sc->sensor_x, sc->sensor_y, sc->altitude, sc->look_zenith,
-                        sc->look_azimuth, sc->roll, sc->hfov, sc->width, sc->height, sc->earth,
+    TRY(sea_camera_init(sc->sensor_x, sc->sensor_y, sc->altitude, sc->look_zenith, sc->look_azimuth,
+                        sc->roll, sc->hfov, sc->width, sc->height, sc->earth, &r->cam,
                         err));
-    TRY(sea_multires_plan(sc, &r->cam, &r->mr, err));
+    TRY(sea_multires_alloc(sc, &r->cam, &r->mr, err));
     const sea_clip_level *lv;
     const size_t nlev = sea_multires_levels(r->mr, &lv);
     for (size_t l = 0; l < nlev; l++)
@@ -703,16 +703,16 @@ sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *
     return SEA_OK;
 fail:
     sea_response_free(&resp);
-    sea_render_free(r);
+    sea_view_free(r);
     return st;
 }
 
 /* --------------------------------------------------------------- frame */
 
-sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
+sea_status sea_view_render_frame(const sea_view *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err)
 {
-    return sea_render_rows(r, t, 0, 1, img, progress, ctx, err);
+    return sea_view_render_rows(r, t, 0, 1, img, progress, ctx, err);
 }
 
 /* What every pixel of a frame shares. */
@@ -725,7 +725,7 @@ typedef struct {
 
 /* Pixel (i, j) of img from what it sees, s: the sky, or the sea's radiance
  * through the air. */
-static sea_status shade_pixel(const sea_render *r, const pixel_consts *pc,
+static sea_status shade_pixel(const sea_view *r, const pixel_consts *pc,
                               const sea_multires_sample *s, size_t i, size_t j, sea_image *img,
                               sea_error *err)
 {
@@ -757,7 +757,7 @@ static sea_status shade_pixel(const sea_render *r, const pixel_consts *pc,
     sea_status st = facet_radiance(r, &ss, s->obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
                                    r->atm_grid != NULL ? Lk : NULL, err);
     /* the air along the range met (through_air, shared with the bake's
-     * maps: sea_render_facet_seen); the table's transmittance and path
+     * maps: sea_view_facet_seen); the table's transmittance and path
      * radiance must reach that range */
     if (st == SEA_OK && pc->ext == 0.0 && r->atm_grid != NULL && s->range > r->atm_range_max)
         st = sea_fail(err, SEA_ERR_DOMAIN,
@@ -779,23 +779,23 @@ static sea_status shade_pixel(const sea_render *r, const pixel_consts *pc,
     return SEA_OK;
 }
 
-static sea_status render_rows(const sea_render *r, const sea_multires_frame *given, double t,
+static sea_status render_rows(const sea_view *r, const sea_multires_frame *given, double t,
                               int row0, int step, sea_image *img, sea_progress_fn progress,
                               void *ctx, sea_error *err);
 
-sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, sea_image *img,
+sea_status sea_view_render_rows(const sea_view *r, double t, int row0, int step, sea_image *img,
                            sea_progress_fn progress, void *ctx, sea_error *err)
 {
     return render_rows(r, NULL, t, row0, step, img, progress, ctx, err);
 }
 
-sea_status sea_render_frame_in(const sea_render *r, const sea_multires_frame *f, double t,
+sea_status sea_view_render_frame_in(const sea_view *r, const sea_multires_frame *f, double t,
                                sea_image *img, sea_error *err)
 {
     return render_rows(r, f, t, 0, 1, img, NULL, NULL, err);
 }
 
-sea_status sea_render_check_image(const sea_render *r, const sea_image *img, sea_error *err)
+sea_status sea_view_check_image(const sea_view *r, const sea_image *img, sea_error *err)
 {
     const sea_scene *sc = &r->sc;
     if (img->width != sc->width || img->height != sc->height)
@@ -823,7 +823,7 @@ static size_t row_blocks(size_t H, size_t row0, size_t step, size_t *nrows)
 /* What every pixel of r's frames shares: the levels' facet sizes, the
  * sun, the sky's radiance and temperature, the radiance unit and the
  * air's extinction. */
-static void pixel_consts_of(const sea_render *r, pixel_consts *pc)
+static void pixel_consts_of(const sea_view *r, pixel_consts *pc)
 {
     const sea_scene *sc = &r->sc;
     const sea_clip_level *lv;
@@ -843,14 +843,14 @@ static void pixel_consts_of(const sea_render *r, pixel_consts *pc)
     pc->ext = air_extinction(r);
 }
 
-/* sea_render_rows from the frame given (of r's multiresolution sea at t),
+/* sea_view_render_rows from the frame given (of r's multiresolution sea at t),
  * or from one of its own (NULL). */
-static sea_status render_rows(const sea_render *r, const sea_multires_frame *given, double t,
+static sea_status render_rows(const sea_view *r, const sea_multires_frame *given, double t,
                               int row0, int step, sea_image *img, sea_progress_fn progress,
                               void *ctx, sea_error *err)
 {
     const sea_scene *sc = &r->sc;
-    sea_status st = sea_render_check_image(r, img, err);
+    sea_status st = sea_view_check_image(r, img, err);
     if (st != SEA_OK)
         return st;
     if (sea_time_check(t, err) != SEA_OK)
@@ -882,7 +882,7 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
     {
         sea_multires_hint *hints = malloc(2 * W * sizeof *hints);
         if (hints == NULL) {
-#pragma omp critical(sea_render_error)
+#pragma omp critical(sea_view_error)
             {
                 if (!failed) {
                     sea_fail(&first, SEA_ERR_NOMEM, "out of memory for the rays of two rows");
@@ -906,7 +906,7 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
                                               &top[i], &s);
                     sea_error e1;
                     if (shade_pixel(r, &pc, &s, i, j, img, &e1) != SEA_OK) {
-#pragma omp critical(sea_render_error)
+#pragma omp critical(sea_view_error)
                         {
                             if (!failed)
                                 first = e1;
@@ -917,7 +917,7 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
                 }
                 if (progress != NULL) {
                     int stop = 0;
-#pragma omp critical(sea_render_progress)
+#pragma omp critical(sea_view_progress)
                     {
                         /* any thread, one at a time: a thread that does no row
                          * must not keep a stop from being seen */
@@ -925,7 +925,7 @@ static sea_status render_rows(const sea_render *r, const sea_multires_frame *giv
                         stop = progress(ctx, (double)rows_done / (double)nrows) != 0;
                     }
                     if (stop) {
-#pragma omp critical(sea_render_error)
+#pragma omp critical(sea_view_error)
                         {
                             if (!failed) {
                                 sea_fail(&first, SEA_ERR_CANCELLED,

@@ -1170,7 +1170,7 @@ void sea_scene_defaults(sea_scene *sc)
 
 sea_status sea_scene_spectrum(const sea_scene *sc, sea_spectrum *s, sea_error *err)
 {
-    sea_status st = sea_spectrum_init(s, sc->wind_speed, sc->fetch, sc->wind_dir, err);
+    sea_status st = sea_spectrum_init(sc->wind_speed, sc->fetch, sc->wind_dir, s, err);
     for (int i = 0; i < sc->n_swell && st == SEA_OK; i++)
         st = sea_spectrum_add_swell(s, &sc->swell[i].sw, err);
     return st;

@@ -19,7 +19,7 @@
  * Ownership.  The caller owns whatever a call returns or fills, except
  * where the call says "owned by":
  *  - an object returned through a pointer-to-pointer (sea_water, sea_optics,
- *    sea_waves, sea_render) is released with its _free(), which accepts
+ *    sea_waves, sea_view) is released with its _free(), which accepts
  *    NULL; on failure *out is NULL;
  *  - a struct the caller passes to be filled with allocated arrays
  *    (sea_response, sea_image, sea_bake; sea_exr_image of seabake/exr.h) is
@@ -49,13 +49,13 @@
  *    must keep one that returns.
  *  - FFTW's planner, which is not thread-safe.  FFT wave plans
  *    (SEA_WAVES_FFT, and a scene's one-meter method) plan their transforms
- *    in sea_waves_create (so sea_render_prepare) and destroy them in
+ *    in sea_waves_alloc (so sea_view_alloc) and destroy them in
  *    sea_waves_free, a camera in its creation and free, under a lock of the
  *    library's own; sampling only executes them, without the lock.  A
  *    program that also plans FFTW transforms in other threads at the same
  *    time must first call fftw_make_planner_thread_safe().
- *  - OpenMP.  sea_waves_create (FFT plans), sea_waves_sample,
- *    sea_waves_facets, sea_render_prepare, sea_render_frame and
+ *  - OpenMP.  sea_waves_alloc (FFT plans), sea_waves_sample,
+ *    sea_waves_facets, sea_view_alloc, sea_view_render_frame and
  *    sea_bake_frame spread their work over OpenMP threads (OMP_NUM_THREADS,
  *    omp_set_num_threads()); their results do not depend on the number.
  *    Inside the caller's own parallel region they run on one thread unless
@@ -222,7 +222,7 @@ double sea_planck_brightness_temperature(double wavelength, double radiance);
  * (m, > 0) with weights weight[i] (>= 0, not all 0: a band's quadrature
  * weight times the response, m, or 1 for one wavelength), and unit, the
  * image's radiance unit per SI unit (1e-6 for one wavelength, whose images
- * are per um; 1 for a band, in-band W m^-2 sr^-1).  sea_render_band gives
+ * are per um; 1 for a band, in-band W m^-2 sr^-1).  sea_view_band gives
  * a render's.  The arrays are the caller's (no call keeps them). */
 typedef struct {
     size_t n;
@@ -305,8 +305,8 @@ typedef struct {
 #define SEA_WIND_MAX 40.0
 #define SEA_FETCH_MIN 1000.0
 /* Fills s: the wind sea alone. */
-sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch,
-                             double wind_dir, sea_error *err);
+sea_status sea_spectrum_init(double wind_speed, double fetch, double wind_dir,
+                             sea_spectrum *s, sea_error *err);
 /* Adds a swell of hs, tp, dir, spread, gamma (the rest of *sw is derived)
  * to s.  SEA_ERR_DOMAIN for a value outside its range (messages name it)
  * or a swell beyond SEA_SWELL_MAX; SEA_ERR_NUMERIC if the normalising
@@ -712,7 +712,7 @@ double sea_model_split_wavelength(const sea_model *m);
 size_t sea_model_two_scale_rows(const sea_model *m);
 /* The auto rule's orders times emis_scale (the tolerance's, below). */
 sea_emis_rule sea_model_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v);
-/* The tolerance's scale of the auto rule (sea_render_choices). */
+/* The tolerance's scale of the auto rule (sea_view_choices). */
 double sea_model_emis_scale(double tolerance);
 
 /* Tables on a grid of (x, wavelength) read from CSV files (gridtable.c):
@@ -871,14 +871,14 @@ typedef struct sea_waves sea_waves;
  * plans: OpenMP, and FFTW's planner under the library's lock); *out is the
  * caller's, freed with sea_waves_free(), and only read by every other call:
  * share it. */
-sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
+sea_status sea_waves_alloc(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
                             sea_error *err);
 void sea_waves_free(sea_waves *w);
 
 /* The same waves as a sum-of-sinusoids plan (*out), e.g. an FFT plan's
  * modes evaluated one by one: sampling it reproduces the FFT field to
  * round-off, at the cost of a sum over every mode per cell (it keeps the
- * FFT's cut |k| < pi/step).  Reads w; *out as with sea_waves_create. */
+ * FFT's cut |k| < pi/step).  Reads w; *out as with sea_waves_alloc. */
 sea_status sea_waves_to_sinusoids(const sea_waves *w, sea_waves **out, sea_error *err);
 
 /* One wave: h = amplitude cos(kx x + ky y - omega t + phase), omega signed. */
@@ -919,7 +919,7 @@ typedef struct {
  * time t (within SEA_TIME_MAX).  Any of h, sx, sy may be NULL.  FFT plans need step = L0 2^m and a
  * rectangle no wider than the period (so no tile repeats in the output).
  * Reads w, fills the caller's h, sx, sy (nx ny values each).  OpenMP; FFT
- * plans execute the FFTW transform sea_waves_create planned (see Threads). */
+ * plans execute the FFTW transform sea_waves_alloc planned (see Threads). */
 sea_status sea_waves_sample(const sea_waves *w, const sea_rect *r, double t, double *h,
                             double *sx, double *sy, sea_error *err);
 
@@ -952,7 +952,7 @@ sea_status sea_facet_method_n(const sea_waves *w, sea_facet_method m, int n, dou
  * covariance C_<L/2^n of the waves shorter than a sub-facet.  Reads w,
  * fills the caller's out (nx * ny moments).  Threads: OpenMP; the result is
  * the same bit for bit for any thread count.  FFT plans execute the FFTW
- * transform sea_waves_create planned (see Threads). */
+ * transform sea_waves_alloc planned (see Threads). */
 sea_status sea_waves_facets(const sea_waves *w, const sea_rect *r, int n, double t,
                             sea_moments *out, sea_error *err);
 
@@ -1006,9 +1006,9 @@ typedef struct {
  * look_zenith [0, 90) deg, hfov [SEA_HFOV_MIN_DEG, 170] deg, width and
  * height [1, 16384].  Fills c, a plain struct (nothing to free); the calls
  * below only read it and are pure. */
-sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
-                           double look_zenith, double look_azimuth, double roll, double hfov,
-                           int width, int height, sea_earth earth, sea_error *err);
+sea_status sea_camera_init(double x, double y, double altitude, double look_zenith,
+                           double look_azimuth, double roll, double hfov, int width,
+                           int height, sea_earth earth, sea_camera *c, sea_error *err);
 
 /* What the ray through image point (u, v) meets. */
 typedef struct {
@@ -1350,7 +1350,7 @@ typedef struct {
 /* Plans the sea seen by cam (copied) for scene sc: the levels, their
  * windows, the wave plan.  Uses the scene's [sea] and [model] keys and
  * sensor position; independent of time. */
-sea_status sea_multires_plan(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
+sea_status sea_multires_alloc(const sea_scene *sc, const sea_camera *cam, sea_multires **out,
                              sea_error *err);
 void sea_multires_free(sea_multires *mr);
 /* Frees the per-pixel plans (the footprint, levels and rays of every
@@ -1421,36 +1421,36 @@ sea_moments sea_multires_average(const sea_multires_frame *f, sea_level_blend b,
 
 /* ------------------------------------------------------------- rendering */
 
-typedef struct sea_render sea_render;
+typedef struct sea_view sea_view;
 
 /* Prepares a scene for rendering: camera, water, spectral samples, the
  * per-pixel geometry and the clipmap levels the view needs (and no more),
  * the wave plan.  Independent of time.  Thread-safe (copies sc, reads the
  * water table and response files it names; OpenMP).  *out is the caller's,
- * freed with sea_render_free(); every other call only reads it: prepare
+ * freed with sea_view_free(); every other call only reads it: prepare
  * once, render frames from many threads. */
-sea_status sea_render_prepare(const sea_scene *sc, sea_render **out, sea_error *err);
+sea_status sea_view_alloc(const sea_scene *sc, sea_view **out, sea_error *err);
 /* Frees r's per-pixel plans (sea_multires_drop_pixels: 80 bytes a pixel)
  * for a caller that renders no image, or few: renders stay the same pixels,
  * each pixel planned as it is rendered.  Not while another thread uses r. */
-void sea_render_drop_pixels(sea_render *r);
-void sea_render_free(sea_render *r);
+void sea_view_drop_pixels(sea_view *r);
+void sea_view_free(sea_view *r);
 /* The clipmap levels used, finest first, n of them.  Reads r; the array is
  * owned by r. */
-size_t sea_render_levels(const sea_render *r, const sea_clip_level **levels);
+size_t sea_view_levels(const sea_view *r, const sea_clip_level **levels);
 /* Spectral samples used for the band: wavelengths (m) and weights (m:
  * quadrature weight times response), n of them.  Reads r; the arrays are
  * owned by r. */
-size_t sea_render_samples(const sea_render *r, const double **wavelength, const double **weight);
+size_t sea_view_samples(const sea_view *r, const double **wavelength, const double **weight);
 /* The same as a sea_band (the arrays owned by r) with the images' radiance
  * unit: what converts the images' radiances to temperatures and back
  * (sea_band_temperature, sea_band_radiance).  Reads r, fills out. */
-void sea_render_band(const sea_render *r, sea_band *out);
+void sea_view_band(const sea_view *r, sea_band *out);
 /* The brightness temperature (K) of a radiance in the images' units,
- * computed exactly as sea_render_frame computes its temperature plane (a
+ * computed exactly as sea_view_render_frame computes its temperature plane (a
  * table, then Newton's method to 1e-9); 0 for a radiance <= 0 or NaN.
  * Reads r. */
-double sea_render_brightness_temperature(const sea_render *r, double radiance);
+double sea_view_brightness_temperature(const sea_view *r, double radiance);
 
 /* A rendered frame, width x height, row 0 at the top.  radiance: spectral
  * W m^-2 sr^-1 um^-1 for one wavelength, in-band W m^-2 sr^-1 for a band;
@@ -1463,7 +1463,7 @@ typedef struct {
 } sea_image;
 
 /* Fills img with zeroed planes the caller releases with sea_image_free(). */
-sea_status sea_image_alloc(sea_image *img, int width, int height, sea_error *err);
+sea_status sea_image_alloc(int width, int height, sea_image *img, sea_error *err);
 void sea_image_free(sea_image *img);
 
 /* Renders the frame at time t (s, |t| <= SEA_TIME_MAX; the scene's own time is sc->time) into
@@ -1471,7 +1471,7 @@ void sea_image_free(sea_image *img);
  * threads may render from one r at once, each into its own image.  Runs on
  * OpenMP threads itself (see Threads), calling progress (may be NULL) as
  * sea_progress_fn says. */
-sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
+sea_status sea_view_render_frame(const sea_view *r, double t, sea_image *img,
                             sea_progress_fn progress, void *ctx, sea_error *err);
 /* The image's rows come in blocks of SEA_RENDER_ROW_BLOCK (block b: rows
  * b SEA_RENDER_ROW_BLOCK up to the next block or the image's bottom),
@@ -1479,17 +1479,17 @@ sea_status sea_render_frame(const sea_render *r, double t, sea_image *img,
  * below's met the sea, when that is provably no nearer than their own
  * first hit). */
 enum { SEA_RENDER_ROW_BLOCK = 8 };
-/* sea_render_frame for the row blocks row0, row0 + step, ... of the image
+/* sea_view_render_frame for the row blocks row0, row0 + step, ... of the image
  * only (row0 >= 0, step >= 1, else SEA_ERR_DOMAIN; none when row0 is past
  * the last block): those blocks' rows of img get exactly the values
- * sea_render_frame gives them, the other rows are left as they are, and
+ * sea_view_render_frame gives them, the other rows are left as they are, and
  * progress counts those rows.  For sharing one frame among processes
  * (seabake render under MPI interleaves the blocks of its ranks). */
-sea_status sea_render_rows(const sea_render *r, double t, int row0, int step, sea_image *img,
+sea_status sea_view_render_rows(const sea_view *r, double t, int row0, int step, sea_image *img,
                            sea_progress_fn progress, void *ctx, sea_error *err);
 
 /* What the scene's [model] tolerance T (relative radiance) chose in
- * sea_render_prepare besides the low-resolution levels, the spectral
+ * sea_view_alloc besides the low-resolution levels, the spectral
  * samples and the per-level sub-facets (sea_clip_level.sub_skipped).
  * Each rule is a step in T, with the measurement that sets it:
  *  - emissivity (emissivity = auto only): the auto rule's orders times
@@ -1515,24 +1515,24 @@ typedef struct {
     size_t wave_count;     /* wave components of the plan (0: none) */
     int sub_skipped;       /* levels whose sub-facets the tolerance skipped */
     double two_scale_split; /* scales = 2: the split's wavelength 2 pi / k_half, m; else 0 */
-} sea_render_choices;
+} sea_view_choices;
 /* Reads r. */
-sea_render_choices sea_render_choices_of(const sea_render *r);
+sea_view_choices sea_view_choices_of(const sea_view *r);
 /* The auto rule for st seen from v with its orders times emis_scale in
  * (0, 1], rounded up (at least 2 x 1 nodes).  Pure. */
-sea_emis_rule sea_render_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v);
+sea_emis_rule sea_view_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v);
 
 /* What prepare chose, read-only, owned by r: the validated scene, the
  * sensor, the wave plan (NULL when every level is low-resolution) and the
  * moments of a low-resolution facet (m = 0, C = C_LR, h = 0).  Each reads r. */
-const sea_scene *sea_render_scene(const sea_render *r);
-const sea_camera *sea_render_camera(const sea_render *r);
-const sea_waves *sea_render_waves(const sea_render *r);
-sea_moments sea_render_lr_moments(const sea_render *r);
+const sea_scene *sea_view_scene(const sea_view *r);
+const sea_camera *sea_view_camera(const sea_view *r);
+const sea_waves *sea_view_waves(const sea_view *r);
+sea_moments sea_view_lr_moments(const sea_view *r);
 /* The multiresolution sea the render asks what each pixel sees (owned by r). */
-const sea_multires *sea_render_multires(const sea_render *r);
+const sea_multires *sea_view_multires(const sea_view *r);
 
-/* Optics of one facet, as sea_render_frame computes them for a pixel. */
+/* Optics of one facet, as sea_view_render_frame computes them for a pixel. */
 typedef struct {
     double emissivity;   /* response-weighted band mean of eps~ toward obs, [0, 1] */
     double reflectivity; /* band mean of rho~ sun -> obs, sr^-1 (0 with the sun down) */
@@ -1541,38 +1541,38 @@ typedef struct {
     double temperature;  /* brightness temperature of the radiance, K */
     double seen;         /* what the sensor receives of it: the radiance carried
                             across the air along the range to the sensor
-                            (sea_render_facet_seen: tau radiance + path, in the
+                            (sea_view_facet_seen: tau radiance + path, in the
                             same units); `radiance` itself without [atmosphere]
-                            and from sea_render_facet_optics */
+                            and from sea_view_facet_optics */
 } sea_facet_optics;
 
 /* Optics of a facet of statistics st seen from obs with the sun at sun
  * (local directions; the sun counts when sun.theta < pi/2), by the same
- * code as sea_render_frame: L = sum_i w_i (rho~ E_sun + (1 - eps) L_sky +
+ * code as sea_view_render_frame: L = sum_i w_i (rho~ E_sun + (1 - eps) L_sky +
  * eps B(T_sea)).  SEA_ERR_NUMERIC only from the reference quadrature.
  * Reads r, fills out. */
-sea_status sea_render_facet_optics(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+sea_status sea_view_facet_optics(const sea_view *r, const sea_slope_stats *st, sea_dir obs,
                                    sea_dir sun, sea_facet_optics *out, sea_error *err);
-/* sea_render_facet_optics of a facet at range (m, >= 0) from the sensor,
+/* sea_view_facet_optics of a facet at range (m, >= 0) from the sensor,
  * with out->seen what the sensor receives of it across the air, as
- * sea_render_frame gives a pixel that meets the sea at that range:
+ * sea_view_render_frame gives a pixel that meets the sea at that range:
  * tau L + (1 - tau) B(T_air), tau = exp(-extinction range), or per
  * spectral sample the [atmosphere] table's transmittance x L + path
  * radiance at that range (beyond the table's last range its last row:
- * sea_render_frame refuses a pixel there, a bake's texels the sensor does
+ * sea_view_render_frame refuses a pixel there, a bake's texels the sensor does
  * not see may lie there).  Without [atmosphere] seen = radiance exactly.
  * Reads r, fills out. */
-sea_status sea_render_facet_seen(const sea_render *r, const sea_slope_stats *st, sea_dir obs,
+sea_status sea_view_facet_seen(const sea_view *r, const sea_slope_stats *st, sea_dir obs,
                                  sea_dir sun, double range, sea_facet_optics *out,
                                  sea_error *err);
 /* Non-zero when the air changes what the sensor receives ([atmosphere]
  * with extinction > 0 or a table).  Reads r. */
-int sea_render_has_air(const sea_render *r);
+int sea_view_has_air(const sea_view *r);
 /* The sky's band radiance toward a direction of zenith cosine cos_zenith
- * (world frame, +z up), in the images' units, as sea_render_frame gives a
+ * (world frame, +z up), in the images' units, as sea_view_render_frame gives a
  * sky pixel whose ray has that cosine: sum_k w_k L_sky,k(cos_zenith)
  * (sea_sky_radiance; the horizon's value at and below it).  Pure given r. */
-double sea_render_sky_toward(const sea_render *r, double cos_zenith);
+double sea_view_sky_toward(const sea_view *r, double cos_zenith);
 
 /* ------------------------------------------------------ the camera (imager.c)
  *
@@ -1700,7 +1700,7 @@ void sea_imager_free(sea_imager *im);
  * keys, the mtf file read): *out NULL (and SEA_OK) when the scene gives no
  * camera key.  Errors as sea_imager_alloc and sea_imager_mtf_load.
  * Thread-safe (reads r and the file). */
-sea_status sea_imager_from_render(const sea_render *r, sea_imager **out, sea_error *err);
+sea_status sea_imager_from_render(const sea_view *r, sea_imager **out, sea_error *err);
 /* sea_imager_filters: 1 when the imager filters (a PSF, or a fill factor
  * below 1), else 0; sea_imager_counts: 1 when it makes counts (a gain),
  * else 0.  Reads im. */
@@ -1781,7 +1781,7 @@ typedef struct {
                                  sensor's ray to map point
                                  ((i0 + (I + 1/2)/k) L, (j0 + ny - (R + 1/2)/k) L),
                                  its radiance carried across the air along the
-                                 range the ray meets it at (sea_render_facet_seen),
+                                 range the ray meets it at (sea_view_facet_seen),
                                  as seabake render's pixel there */
     sea_moments lr_moments;
     sea_facet_optics lr_optics;
@@ -1799,7 +1799,7 @@ typedef struct {
 
 typedef struct {
     double time;          /* s */
-    size_t n_levels;      /* as sea_render_levels: finest first, then the LR level */
+    size_t n_levels;      /* as sea_view_levels: finest first, then the LR level */
     sea_bake_level levels[SEA_CLIP_MAX_LEVELS];
     sea_bake_times seconds; /* of the call that made it */
 } sea_bake;
@@ -1820,7 +1820,7 @@ typedef struct {
  * threads, one at a time).  Reads r, fills out: any number of threads may
  * bake from one r at once, each into its own sea_bake.  On failure *out
  * holds nothing to free; otherwise release it with sea_bake_free(). */
-sea_status sea_bake_frame(const sea_render *r, double t, int view_k, sea_bake *out,
+sea_status sea_bake_frame(const sea_view *r, double t, int view_k, sea_bake *out,
                           sea_progress_fn progress, void *ctx, sea_error *err);
 void sea_bake_free(sea_bake *b);
 
@@ -1835,17 +1835,17 @@ typedef sea_status (*sea_bake_level_fn)(void *ctx, const sea_bake *b, size_t l, 
  * concurrently), and freed before the next is computed, so that the maps of
  * only one level are held at once.  On success *out holds the headers (no
  * maps; sea_bake_free() is harmless); on failure nothing to free. */
-sea_status sea_bake_frame_each(const sea_render *r, double t, int view_k, sea_bake *out,
+sea_status sea_bake_frame_each(const sea_view *r, double t, int view_k, sea_bake *out,
                                sea_progress_fn progress, void *ctx, sea_bake_level_fn each,
                                void *each_ctx, sea_error *err);
 
 /* sea_bake_frame_each that also renders the sensor's image of the frame
  * into img (allocated for the scene's size), pixel for pixel what
- * sea_render_frame gives, from the surfaces the bake synthesises for its
+ * sea_view_render_frame gives, from the surfaces the bake synthesises for its
  * levels, before the first level is handed to each: one synthesis of the
  * frame instead of two (bench/clipmap2048.ini: six levels of 2048^2
  * facets).  Its progress does not count the image. */
-sea_status sea_bake_frame_image(const sea_render *r, double t, int view_k, sea_image *img,
+sea_status sea_bake_frame_image(const sea_view *r, double t, int view_k, sea_image *img,
                                 sea_bake *out, sea_progress_fn progress, void *ctx,
                                 sea_bake_level_fn each, void *each_ctx, sea_error *err);
 
@@ -1858,7 +1858,7 @@ sea_status sea_bake_frame_image(const sea_render *r, double t, int view_k, sea_i
  * unspecified).  The moments and headers are all there.  Each process
  * still synthesises every level's waves.  row0 0, step 1 is
  * sea_bake_frame_each. */
-sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int row0, int step,
+sea_status sea_bake_frame_rows(const sea_view *r, double t, int view_k, int row0, int step,
                                sea_bake *out, sea_progress_fn progress, void *ctx,
                                sea_bake_level_fn each, void *each_ctx, sea_error *err);
 
@@ -1871,7 +1871,7 @@ sea_status sea_bake_frame_rows(const sea_render *r, double t, int view_k, int ro
  * sea_camera_sea_point): at each node the radiance that seabake render
  * gives a low-resolution pixel there (the low-resolution slope statistics
  * seen from the sensor, the sun in the local frame, across the air along
- * the range from the sensor: sea_render_facet_seen), in the images' units.
+ * the range from the sensor: sea_view_facet_seen), in the images' units.
  * Time does not enter.  The grid reaches every sea point the image's pixel
  * corners and centres meet (spherical: at most the horizon, the farthest ring on it,
  * so the silhouette is the sphere's); the azimuths span those points (the
@@ -1894,7 +1894,7 @@ typedef struct {
     double max_err;   /* largest relative midpoint error left */
     int full_turn;    /* 1: az[n_az - 1] = az[0] + 2 pi, the same nodes */
 } sea_bake_horizon;
-sea_status sea_bake_horizon_make(const sea_render *r, double tol, sea_bake_horizon *h,
+sea_status sea_bake_horizon_alloc(const sea_view *r, double tol, sea_bake_horizon *h,
                                  sea_error *err);
 void sea_bake_horizon_free(sea_bake_horizon *h);
 

@@ -35,9 +35,9 @@ static void normalize3(double a[3])
     a[2] /= n;
 }
 
-sea_status sea_camera_init(sea_camera *c, double x, double y, double altitude,
-                           double look_zenith, double look_azimuth, double roll, double hfov,
-                           int width, int height, sea_earth earth, sea_error *err)
+sea_status sea_camera_init(double x, double y, double altitude, double look_zenith,
+                           double look_azimuth, double roll, double hfov, int width,
+                           int height, sea_earth earth, sea_camera *c, sea_error *err)
 {
     if (!(fabs(x) <= SEA_SENSOR_XY_MAX && fabs(y) <= SEA_SENSOR_XY_MAX))
         return sea_fail(err, SEA_ERR_DOMAIN, "sensor position (%g, %g) m outside [%g, %g] m", x,

@@ -67,7 +67,7 @@ int sea_spectrum_alpha_m_continued(const sea_spectrum *s)
     return log(s->u_star / SEA_C_M) < SEA_ALPHA_M_JUNCTION;
 }
 
-sea_status sea_spectrum_init(sea_spectrum *s, double wind_speed, double fetch, double wind_dir,
+sea_status sea_spectrum_init(double wind_speed, double fetch, double wind_dir, sea_spectrum *s,
                              sea_error *err)
 {
     if (!(wind_speed >= SEA_WIND_MIN && wind_speed <= SEA_WIND_MAX))

@@ -523,7 +523,7 @@ static sea_status create_fft_plans(sea_waves *w, sea_error *err)
     return st;
 }
 
-sea_status sea_waves_create(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
+sea_status sea_waves_alloc(const sea_spectrum *s, const sea_waves_params *p, sea_waves **out,
                             sea_error *err)
 {
     *out = NULL;
@@ -854,7 +854,7 @@ static sea_status fft_level(const sea_waves *w, double step, size_t *level, size
 /* The whole level grid M x M (level m = `level`) of step `step` at time t:
  * h, sx, sy (M*M each, row by row, cell (i, j) centred at
  * ((i + 1/2) step, (j + 1/2) step)).  Executes the level's plan, made by
- * sea_waves_create: FFTW's new-array execute is thread-safe, so sampling
+ * sea_waves_alloc: FFTW's new-array execute is thread-safe, so sampling
  * takes no lock. */
 static sea_status fft_sample_level(const sea_waves *w, double step, size_t level, size_t M,
                                    double t, double *h, double *sx, double *sy, sea_error *err)

@@ -147,7 +147,7 @@ static int refresh(const char *path, const char *note, const sea_optics *smith,
                 sea_water_index(water, 10e-6, &NN[1], &err) != SEA_OK ||
                 sea_emissivity(smith, SEA_EMIS_AUTO, NN[wl == 10.0], &st, v, &ms, &err) != SEA_OK ||
                 sea_emissivity(corr, SEA_EMIS_AUTO, NN[wl == 10.0], &st, v, &mc, &err) != SEA_OK ||
-                sea_spectrum_init(&sp, atof(f[0]), INFINITY, 0.0, &err) != SEA_OK ||
+                sea_spectrum_init(atof(f[0]), INFINITY, 0.0, &sp, &err) != SEA_OK ||
                 sea_model_alloc(&mp, &sp, &st, NULL, NN, 2, NULL, &m, &err) != SEA_OK ||
                 sea_model_emissivity(m, &st, v, md, NULL, &err) != SEA_OK) {
                 fprintf(stderr, "mc_model_refresh: %s:%d: %s\n", path, lineno, err.msg);

@@ -109,7 +109,7 @@ int main(int argc, char **argv)
     sea_cov2 cov[MAXL];
     for (int w = 0; w < nw; w++) {
         sea_spectrum sp;
-        if (sea_spectrum_init(&sp, winds[w], INFINITY, 0.0, &err) != SEA_OK ||
+        if (sea_spectrum_init(winds[w], INFINITY, 0.0, &sp, &err) != SEA_OK ||
             sea_spectrum_slope_cov(&sp, 0.0, &cov[w], &err) != SEA_OK) {
             fprintf(stderr, "mc_oracle: %s\n", err.msg);
             return 1;

@@ -230,7 +230,7 @@ int main(int argc, char **argv)
     double max_energy = 0.0, max_residual = 0.0;
     for (int w = 0; w < nw; w++) {
         sea_spectrum sp;
-        if (sea_spectrum_init(&sp, winds[w], INFINITY, 0.0, &err) != SEA_OK) {
+        if (sea_spectrum_init(winds[w], INFINITY, 0.0, &sp, &err) != SEA_OK) {
             fprintf(stderr, "mc_sea_oracle: %s\n", err.msg);
             return 1;
         }
@@ -352,7 +352,7 @@ int main(int argc, char **argv)
         double jensen = 0.0;
         for (int w = 0; w < nw; w++) {
             sea_spectrum sp;
-            if (sea_spectrum_init(&sp, winds[w], INFINITY, 0.0, &err) != SEA_OK)
+            if (sea_spectrum_init(winds[w], INFINITY, 0.0, &sp, &err) != SEA_OK)
                 return 1;
             for (int s = 0; s < seeds; s++) {
                 const sea_cov2 c = cv[(size_t)w * seeds + s];

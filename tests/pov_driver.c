@@ -53,7 +53,7 @@ static const double UNIFORM_REL = 1e-6;
 
 typedef struct {
     sea_scene sc;
-    sea_render *r;
+    sea_view *r;
     sea_camera cam;
     sea_image img;
     double L;     /* the uniform sea radiance of seabake's render */
@@ -76,12 +76,12 @@ static int prepare(const char *scene, setup *s)
 {
     sea_error e;
     memset(s, 0, sizeof *s);
-    if (sea_scene_load(scene, &s->sc, &e) != SEA_OK || sea_render_prepare(&s->sc, &s->r, &e) ||
-        sea_camera_init(&s->cam, s->sc.sensor_x, s->sc.sensor_y, s->sc.altitude,
-                        s->sc.look_zenith, s->sc.look_azimuth, s->sc.roll, s->sc.hfov,
-                        s->sc.width, s->sc.height, s->sc.earth, &e) ||
-        sea_image_alloc(&s->img, s->sc.width, s->sc.height, &e) ||
-        sea_render_frame(s->r, s->sc.time, &s->img, NULL, NULL, &e))
+    if (sea_scene_load(scene, &s->sc, &e) != SEA_OK || sea_view_alloc(&s->sc, &s->r, &e) ||
+        sea_camera_init(s->sc.sensor_x, s->sc.sensor_y, s->sc.altitude, s->sc.look_zenith,
+                        s->sc.look_azimuth, s->sc.roll, s->sc.hfov, s->sc.width,
+                        s->sc.height, s->sc.earth, &s->cam, &e) ||
+        sea_image_alloc(s->sc.width, s->sc.height, &s->img, &e) ||
+        sea_view_render_frame(s->r, s->sc.time, &s->img, NULL, NULL, &e))
         return die(scene, &e);
     const size_t npix = (size_t)s->sc.width * (size_t)s->sc.height;
     double lo = INFINITY, hi = -INFINITY;
@@ -102,7 +102,7 @@ static int prepare(const char *scene, setup *s)
         s->sky = s->L;
     /* A power of two puts the constant near 1 without changing its digits. */
     s->scale = exp2(-round(log2(s->L)));
-    s->n_levels = sea_render_levels(s->r, &s->lv);
+    s->n_levels = sea_view_levels(s->r, &s->lv);
     s->fine = -1;
     for (size_t k = 0; k < s->n_levels && s->fine < 0; k++)
         if (!s->lv[k].low_res)
@@ -158,7 +158,7 @@ static int prepare(const char *scene, setup *s)
 static void release(setup *s)
 {
     sea_image_free(&s->img);
-    sea_render_free(s->r);
+    sea_view_free(s->r);
 }
 
 static int do_export(const char *dir, setup *s)
@@ -603,24 +603,24 @@ static double probe_rand(unsigned long long *x)
 static int do_heights(const char *scene, const char *dir, int S)
 {
     sea_scene sc;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_multires_frame *fr = NULL;
     sea_error e;
-    if (sea_scene_load(scene, &sc, &e) != SEA_OK || sea_render_prepare(&sc, &r, &e) != SEA_OK ||
-        sea_multires_frame_alloc(sea_render_multires(r), sc.time, NULL, NULL, &fr, &e) != SEA_OK) {
-        sea_render_free(r);
+    if (sea_scene_load(scene, &sc, &e) != SEA_OK || sea_view_alloc(&sc, &r, &e) != SEA_OK ||
+        sea_multires_frame_alloc(sea_view_multires(r), sc.time, NULL, NULL, &fr, &e) != SEA_OK) {
+        sea_view_free(r);
         return die(scene, &e);
     }
-    const sea_camera *cam = sea_render_camera(r);
+    const sea_camera *cam = sea_view_camera(r);
     const sea_clip_level *lv;
-    const size_t n = sea_render_levels(r, &lv);
+    const size_t n = sea_view_levels(r, &lv);
     char path[4096];
     snprintf(path, sizeof path, "%s/probe.pov", dir);
     FILE *f = fopen(path, "w");
     if (f == NULL) {
         perror(path);
         sea_multires_frame_free(fr);
-        sea_render_free(r);
+        sea_view_free(r);
         return 99;
     }
     fputs("#version 3.7;\nglobal_settings { assumed_gamma 1.0 }\n#include \"sea.inc\"\n"
@@ -661,7 +661,7 @@ static int do_heights(const char *scene, const char *dir, int S)
     const int bad = fclose(f) != 0;
     printf("%zu levels, %d nodes and %d points each\n", k, PROBE_NODES, PROBE_POINTS);
     sea_multires_frame_free(fr);
-    sea_render_free(r);
+    sea_view_free(r);
     return bad ? 99 : 0;
 }
 

@@ -31,18 +31,18 @@ static sea_scene bake_scene(void)
     return sc;
 }
 
-static sea_render *prepare(const sea_scene *sc)
+static sea_view *prepare(const sea_scene *sc)
 {
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
-    sea_status st = sea_render_prepare(sc, &r, &err);
+    sea_status st = sea_view_alloc(sc, &r, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  prepare: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
     return r;
 }
 
-static void bake(const sea_render *r, double t, sea_bake *b)
+static void bake(const sea_view *r, double t, sea_bake *b)
 {
     sea_error err;
     sea_status st = sea_bake_frame(r, t, 1, b, NULL, NULL, &err);
@@ -65,14 +65,14 @@ static size_t count_hr(const sea_bake *b)
 static void test_moments_exact(void)
 {
     const sea_scene sc = bake_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake b;
     const double t = 1.37;
     bake(r, t, &b);
     CU_ASSERT(count_hr(&b) >= 2);
     CU_ASSERT(b.n_levels > count_hr(&b)); /* and a low-resolution one */
     CU_ASSERT_EQUAL(b.time, t);
-    const sea_moments lr = sea_render_lr_moments(r);
+    const sea_moments lr = sea_view_lr_moments(r);
     for (size_t l = 0; l < b.n_levels; l++) {
         const sea_bake_level *bl = &b.levels[l];
         const sea_clip_level *lv = &bl->level;
@@ -90,7 +90,7 @@ static void test_moments_exact(void)
         CU_ASSERT_PTR_NOT_NULL_FATAL(ref);
         const sea_rect rect = { lv->facet, lv->i0, lv->j0, lv->nx, lv->ny };
         sea_error err;
-        CU_ASSERT_EQUAL_FATAL(sea_waves_facets(sea_render_waves(r), &rect, lv->sub_n, t, ref, &err),
+        CU_ASSERT_EQUAL_FATAL(sea_waves_facets(sea_view_waves(r), &rect, lv->sub_n, t, ref, &err),
                               SEA_OK);
         size_t diff = 0;
         for (size_t row = 0; row < lv->ny; row++)
@@ -103,7 +103,7 @@ static void test_moments_exact(void)
     }
     sea_bake_free(&b);
     sea_bake_free(&b); /* a freed bake frees again as nothing */
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* LEAN across levels.  With sub-facets of the finest size at every level
@@ -123,7 +123,7 @@ static void test_lean_across_levels(void)
     sea_scene sc = bake_scene();
     sc.method = SEA_METHOD_VARIABLE_STEP_2N;
     sc.n = 12;
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake b;
     bake(r, 0.61, &b);
     size_t pairs = 0, checked = 0;
@@ -177,14 +177,14 @@ static void test_lean_across_levels(void)
     MEASURED("bake LEAN: %zu coarse texels over %zu level pairs equal the 2x2 fine mean\n",
              checked, pairs);
     sea_bake_free(&b);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* Normal, roughness and optics of every texel, as documented. */
 static void test_derived_maps(void)
 {
     const sea_scene sc = bake_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake b;
     bake(r, 0.0, &b);
     /* Eq 23 terms of this scene: sun from its temperature and solid
@@ -242,7 +242,7 @@ static void test_derived_maps(void)
     MEASURED("bake: %zu texels, %zu brighter than the sea by more than 1 K (glint)\n", total,
              glint);
     sea_bake_free(&b);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* The derived maps on hand-made moments: an isotropic facet, an
@@ -296,18 +296,18 @@ static void test_roughness_convention(void)
 static void test_view_matches_render(void)
 {
     const sea_scene sc = bake_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_error err;
     sea_image img;
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, sc.width, sc.height, &err), SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 0.0, &img, NULL, NULL, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, &img, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_render_frame(r, 0.0, &img, NULL, NULL, &err), SEA_OK);
     const sea_clip_level *lv;
-    sea_render_levels(r, &lv);
+    sea_view_levels(r, &lv);
     sea_multires_frame *f = NULL;
-    CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc(sea_render_multires(r), 0.0, NULL, NULL, &f,
+    CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc(sea_view_multires(r), 0.0, NULL, NULL, &f,
                                                    &err),
                           SEA_OK);
-    const sea_camera *cam = sea_render_camera(r);
+    const sea_camera *cam = sea_view_camera(r);
     const double sun[3] = { sin(sc.sun_zenith) * cos(sc.sun_azimuth),
                             sin(sc.sun_zenith) * sin(sc.sun_azimuth), cos(sc.sun_zenith) };
     double worst = 0.0, worst_px = 0.0;
@@ -327,7 +327,7 @@ static void test_view_matches_render(void)
             CU_ASSERT_FATAL(s.hit);
             memcpy(n.normal, s.normal, sizeof n.normal);
             sea_slope_stats st = sea_moments_stats(&s.moments);
-            CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &st, s.obs,
+            CU_ASSERT_EQUAL_FATAL(sea_view_facet_optics(r, &st, s.obs,
                                                           sea_camera_local_dir(&n, sun), &o,
                                                           &err),
                                   SEA_OK);
@@ -338,7 +338,7 @@ static void test_view_matches_render(void)
             worst_px = fmax(worst_px, hypot(u - (i + 0.5), v - (j + 0.5)));
             memcpy(n.normal, s.normal, sizeof n.normal);
             st = sea_moments_stats(&s.moments);
-            CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &st, s.obs,
+            CU_ASSERT_EQUAL_FATAL(sea_view_facet_optics(r, &st, s.obs,
                                                           sea_camera_local_dir(&n, sun), &o,
                                                           &err),
                                   SEA_OK);
@@ -385,7 +385,7 @@ static void test_view_matches_render(void)
     CU_ASSERT(same < total);
     sea_bake_free(&b);
     sea_image_free(&img);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* A progress function that asks to stop after `left` calls. */
@@ -402,7 +402,7 @@ static int stop_after(void *ctx, double fraction)
 static void test_cancel(void)
 {
     const sea_scene sc = bake_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake b;
     sea_error err;
     int left = 3;
@@ -413,13 +413,13 @@ static void test_cancel(void)
     CU_ASSERT_EQUAL(sea_bake_frame(r, 0.0, 3, &b, stop_after, &left, &err), SEA_OK);
     CU_ASSERT(left < 1000000);
     sea_bake_free(&b);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 static void test_errors_and_earth(void)
 {
     sea_scene sc = bake_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake b;
     sea_error err;
     CU_ASSERT_EQUAL(sea_bake_frame(r, NAN, 1, &b, NULL, NULL, &err), SEA_ERR_DOMAIN);
@@ -427,7 +427,7 @@ static void test_errors_and_earth(void)
     CU_ASSERT_EQUAL(b.n_levels, 0);
     bake(r, 0.0, &b);
     sc.earth = SEA_EARTH_SPHERICAL;
-    sea_render *rs = prepare(&sc);
+    sea_view *rs = prepare(&sc);
     sea_bake bs;
     bake(rs, 0.0, &bs);
     /* 120 m up, a few hundred metres out: the sphere tilts the view by
@@ -441,8 +441,8 @@ static void test_errors_and_earth(void)
     MEASURED("bake: spherical vs flat earth, level 0 emissivity differs by at most %.2g\n", worst);
     sea_bake_free(&b);
     sea_bake_free(&bs);
-    sea_render_free(r);
-    sea_render_free(rs);
+    sea_view_free(r);
+    sea_view_free(rs);
 }
 
 /* sea_bake_frame_each: each high-resolution level once, finest first, with
@@ -479,7 +479,7 @@ static sea_status each_level(void *ctx, const sea_bake *b, size_t l, sea_error *
 static void test_each_level(void)
 {
     const sea_scene sc = bake_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake all, b;
     sea_error err;
     const int k = UNIT_QUICK ? 1 : 3; /* view texels per facet: 1 under valgrind */
@@ -507,32 +507,32 @@ static void test_each_level(void)
     CU_ASSERT_EQUAL(stop.calls, 2);
     CU_ASSERT_EQUAL(b.n_levels, 0);
     sea_bake_free(&all);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
-/* sea_bake_frame_image: the sensor's image is sea_render_frame's bit for
+/* sea_bake_frame_image: the sensor's image is sea_view_render_frame's bit for
  * bit (every channel), and the levels are sea_bake_frame_each's
  * (each_level compares them with a whole bake's); an image of the wrong
  * size is refused with nothing to free.  The whole bake's surfaces store
  * the bounds of their finest cells, as a bake of this size does; the
- * image's bake computes them as the march asks (sea_render_set_bake_lean,
+ * image's bake computes them as the march asks (sea_view_set_bake_lean,
  * what a bake does when they would take more than 64 MB): the same bounds
  * to the bit, so the same image as the render's frame, which stores them,
  * and the same maps. */
 static void test_frame_image(void)
 {
     const sea_scene sc = bake_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake all, b;
     sea_error err;
     const int k = UNIT_QUICK ? 1 : 3;
     CU_ASSERT_EQUAL_FATAL(sea_bake_frame(r, 0.4, k, &all, NULL, NULL, &err), SEA_OK);
     sea_image ref, img, small;
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&ref, sc.width, sc.height, &err), SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, sc.width, sc.height, &err), SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 0.4, &ref, NULL, NULL, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, &ref, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, &img, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_render_frame(r, 0.4, &ref, NULL, NULL, &err), SEA_OK);
     each_ctx c = {&all, 0, 0, 0, 0, -1};
-    sea_render_set_bake_lean(r, 1);
+    sea_view_set_bake_lean(r, 1);
     CU_ASSERT_EQUAL_FATAL(
         sea_bake_frame_image(r, 0.4, k, &img, &b, NULL, NULL, each_level, &c, &err), SEA_OK);
     CU_ASSERT_EQUAL(c.calls, count_hr(&all));
@@ -544,7 +544,7 @@ static void test_frame_image(void)
     CU_ASSERT(memcmp(img.emissivity, ref.emissivity, np * sizeof *img.emissivity) == 0);
     CU_ASSERT(memcmp(img.reflectivity, ref.reflectivity, np * sizeof *img.reflectivity) == 0);
     sea_bake_free(&b);
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&small, sc.width - 1, sc.height, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width - 1, sc.height, &small, &err), SEA_OK);
     CU_ASSERT_EQUAL(sea_bake_frame_image(r, 0.4, k, &small, &b, NULL, NULL, NULL, NULL, &err),
                     SEA_ERR_DOMAIN);
     CU_ASSERT(strstr(err.msg, "does not match") != NULL);
@@ -553,10 +553,10 @@ static void test_frame_image(void)
     sea_image_free(&img);
     sea_image_free(&ref);
     sea_bake_free(&all);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
-/* The horizon grid (sea_bake_horizon_make), on both earths, at a mast
+/* The horizon grid (sea_bake_horizon_alloc), on both earths, at a mast
  * view with the horizon in view and at a nadir view (the full turn):
  *  - it reaches every pixel centre's sea point: each lies inside the grid
  *    (arc within [0, last ring], azimuth within the span), and on the
@@ -564,15 +564,15 @@ static void test_frame_image(void)
  *    R acos(R / (R + h)) to 1e-9;
  *  - its nodes carry seabake render's low-resolution radiance: at every
  *    pixel centre, the grid's bilinear interpolation against the radiance
- *    computed there directly (sea_render_facet_optics toward the sensor) is
+ *    computed there directly (sea_view_facet_optics toward the sensor) is
  *    within 4 x tol (the refinement bounds the midpoints of each direction
  *    at tol; a cell's centre, interpolated both ways, may add the two and
  *    their cross term);
  *  - a tolerance outside [1e-5, 0.1] is refused. */
-static double hz_direct(const sea_render *r, const sea_bake_horizon *h, double arc, double az)
+static double hz_direct(const sea_view *r, const sea_bake_horizon *h, double arc, double az)
 {
-    const sea_camera *cam = sea_render_camera(r);
-    const sea_scene *sc = sea_render_scene(r);
+    const sea_camera *cam = sea_view_camera(r);
+    const sea_scene *sc = sea_view_scene(r);
     double q[3], d[3];
     sea_pixel_geom g;
     sea_camera_sea_point(cam, h->x0 + arc * cos(az), h->y0 + arc * sin(az), q, g.normal);
@@ -583,11 +583,11 @@ static double hz_direct(const sea_render *r, const sea_bake_horizon *h, double a
         d[k] /= len;
     const double sv[3] = {sin(sc->sun_zenith) * cos(sc->sun_azimuth),
                           sin(sc->sun_zenith) * sin(sc->sun_azimuth), cos(sc->sun_zenith)};
-    const sea_moments m = sea_render_lr_moments(r);
+    const sea_moments m = sea_view_lr_moments(r);
     const sea_slope_stats st = sea_moments_stats(&m);
     sea_facet_optics o;
     sea_error err;
-    CU_ASSERT_EQUAL(sea_render_facet_optics(r, &st, sea_camera_local_dir(&g, d),
+    CU_ASSERT_EQUAL(sea_view_facet_optics(r, &st, sea_camera_local_dir(&g, d),
                                             sea_camera_local_dir(&g, sv), &o, &err),
                     SEA_OK);
     return o.radiance;
@@ -618,10 +618,10 @@ static void test_horizon(void)
             } else {
                 sc.look_zenith = 0.0;
             }
-            sea_render *r = prepare(&sc);
+            sea_view *r = prepare(&sc);
             sea_bake_horizon h;
             sea_error err;
-            CU_ASSERT_EQUAL_FATAL(sea_bake_horizon_make(r, tol, &h, &err), SEA_OK);
+            CU_ASSERT_EQUAL_FATAL(sea_bake_horizon_alloc(r, tol, &h, &err), SEA_OK);
             CU_ASSERT(h.n_arc >= 2 && h.n_az >= 2 && h.arc[0] == 0.0);
             CU_ASSERT_EQUAL(h.full_turn, view == 1);
             CU_ASSERT(h.max_err <= tol);
@@ -629,7 +629,7 @@ static void test_horizon(void)
                 const double R = SEA_EARTH_RADIUS, hz = R * acos(R / (R + sc.altitude));
                 CU_ASSERT(fabs(h.arc[h.n_arc - 1] - hz) <= 1e-9 * hz);
             }
-            const sea_camera *cam = sea_render_camera(r);
+            const sea_camera *cam = sea_view_camera(r);
             int outside = 0, sea = 0;
             double worst = 0.0;
             for (int j = 0; j < sc.height; j++)
@@ -670,11 +670,11 @@ static void test_horizon(void)
             sea_bake_horizon_free(&h);
             sea_bake_horizon_free(&h); /* harmless twice */
             if (view == 0 && earth == 0) {
-                CU_ASSERT_EQUAL(sea_bake_horizon_make(r, 0.2, &h, &err), SEA_ERR_DOMAIN);
+                CU_ASSERT_EQUAL(sea_bake_horizon_alloc(r, 0.2, &h, &err), SEA_ERR_DOMAIN);
                 CU_ASSERT(strstr(err.msg, "tolerance") != NULL);
-                CU_ASSERT_EQUAL(sea_bake_horizon_make(r, NAN, &h, &err), SEA_ERR_DOMAIN);
+                CU_ASSERT_EQUAL(sea_bake_horizon_alloc(r, NAN, &h, &err), SEA_ERR_DOMAIN);
             }
-            sea_render_free(r);
+            sea_view_free(r);
         }
 }
 
@@ -709,7 +709,7 @@ static sea_status rows_level(void *ctx, const sea_bake *b, size_t l, sea_error *
 static void test_bake_rows(void)
 {
     const sea_scene sc = bake_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake all, b;
     sea_error err;
     CU_ASSERT_EQUAL_FATAL(sea_bake_frame(r, 0.4, 3, &all, NULL, NULL, &err), SEA_OK);
@@ -733,7 +733,7 @@ static void test_bake_rows(void)
     CU_ASSERT_EQUAL(sea_bake_frame_rows(r, 0.4, 3, 0, 0, &b, NULL, NULL, rows_level, NULL, &err),
                     SEA_ERR_DOMAIN);
     sea_bake_free(&all);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* The view mask's test: sea_camera_hits is sea_camera_pixel's hit, on
@@ -745,8 +745,8 @@ static void test_camera_hits(void)
     size_t hits = 0, total = 0, diff = 0;
     for (int e = 0; e < 2; e++) {
         sc.earth = e ? SEA_EARTH_SPHERICAL : SEA_EARTH_FLAT;
-        sea_render *r = prepare(&sc);
-        const sea_camera *cam = sea_render_camera(r);
+        sea_view *r = prepare(&sc);
+        const sea_camera *cam = sea_view_camera(r);
         for (double v = -3.25; v <= cam->height + 3.0; v += 0.37)
             for (double u = -3.5; u <= cam->width + 3.0; u += 0.53) {
                 sea_pixel_geom g;
@@ -756,7 +756,7 @@ static void test_camera_hits(void)
                 hits += h != 0;
                 total++;
             }
-        sea_render_free(r);
+        sea_view_free(r);
     }
     CU_ASSERT_EQUAL(diff, 0);
     CU_ASSERT(hits > total / 10 && hits < total - total / 10);
@@ -774,7 +774,7 @@ static void test_camera_hits(void)
  * linear interpolation between its rows), each texel within AIR_REL
  * (float maps; measured below).  The optics map keeps the sea-leaving
  * radiance, bit for bit the bake's without air; the horizon grid's nodes
- * carry the air along their range (from sea_render_facet_optics' radiance
+ * carry the air along their range (from sea_view_facet_optics' radiance
  * and the range, within 1e-12). */
 static const double AIR_T = 281.3, AIR_EXT = 1.3e-3; /* K, 1/m */
 enum { AIR_ROWS = 401 };
@@ -815,25 +815,25 @@ static void air_expect(int table, double d, double B, double *tau, double *path)
 static void check_air_maps(int table, const char *table_path)
 {
     sea_scene sc = bake_scene();
-    sea_render *r0 = prepare(&sc);
+    sea_view *r0 = prepare(&sc);
     sc.air_temperature = AIR_T;
     if (table)
         snprintf(sc.atmosphere_table_file, sizeof sc.atmosphere_table_file, "%s", table_path);
     else
         sc.extinction = AIR_EXT;
-    sea_render *r = prepare(&sc);
-    CU_ASSERT(sea_render_has_air(r));
-    CU_ASSERT(!sea_render_has_air(r0));
+    sea_view *r = prepare(&sc);
+    CU_ASSERT(sea_view_has_air(r));
+    CU_ASSERT(!sea_view_has_air(r0));
     const double B = sea_planck_radiance(sc.wavelength, AIR_T) * 1e-6; /* per um */
     sea_bake b0, b;
     bake(r0, 0.0, &b0);
     bake(r, 0.0, &b);
     sea_error err;
     sea_multires_frame *f = NULL;
-    CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc(sea_render_multires(r), 0.0, NULL, NULL, &f,
+    CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc(sea_view_multires(r), 0.0, NULL, NULL, &f,
                                                    &err),
                           SEA_OK);
-    const sea_camera *cam = sea_render_camera(r);
+    const sea_camera *cam = sea_view_camera(r);
     size_t n_ray = 0, n_facet = 0, n_off = 0, n_optics_diff = 0;
     double worst = 0.0, tau_min = 1.0;
     for (size_t l = 0; l < b.n_levels; l++) {
@@ -888,11 +888,11 @@ static void check_air_maps(int table, const char *table_path)
     CU_ASSERT_EQUAL(n_optics_diff, 0);
     /* the horizon grid */
     sea_bake_horizon h;
-    CU_ASSERT_EQUAL_FATAL(sea_bake_horizon_make(r, 1e-3, &h, &err), SEA_OK);
-    const sea_scene *scr = sea_render_scene(r);
+    CU_ASSERT_EQUAL_FATAL(sea_bake_horizon_alloc(r, 1e-3, &h, &err), SEA_OK);
+    const sea_scene *scr = sea_view_scene(r);
     const double sv[3] = { sin(scr->sun_zenith) * cos(scr->sun_azimuth),
                            sin(scr->sun_zenith) * sin(scr->sun_azimuth), cos(scr->sun_zenith) };
-    const sea_moments m = sea_render_lr_moments(r);
+    const sea_moments m = sea_view_lr_moments(r);
     const sea_slope_stats st = sea_moments_stats(&m);
     double hworst = 0.0;
     for (size_t i = 0; i < h.n_arc; i++)
@@ -909,7 +909,7 @@ static void check_air_maps(int table, const char *table_path)
             sea_dir obs = sea_camera_local_dir(&g, d);
             obs.theta = fmin(obs.theta, 89.999 * DEG); /* as horizon.c holds it */
             sea_facet_optics o;
-            CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &st, obs,
+            CU_ASSERT_EQUAL_FATAL(sea_view_facet_optics(r, &st, obs,
                                                           sea_camera_local_dir(&g, sv), &o,
                                                           &err),
                                   SEA_OK);
@@ -926,8 +926,8 @@ static void check_air_maps(int table, const char *table_path)
     sea_multires_frame_free(f);
     sea_bake_free(&b0);
     sea_bake_free(&b);
-    sea_render_free(r0);
-    sea_render_free(r);
+    sea_view_free(r0);
+    sea_view_free(r);
 }
 
 static void test_air_in_maps(void)

@@ -49,11 +49,11 @@ static sea_scene small_scene(void)
     return sc;
 }
 
-static sea_render *prepare(const sea_scene *sc)
+static sea_view *prepare(const sea_scene *sc)
 {
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
-    sea_status st = sea_render_prepare(sc, &r, &err);
+    sea_status st = sea_view_alloc(sc, &r, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  prepare: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
@@ -170,7 +170,7 @@ static const char *string_of(const cJSON *o, const char *key)
     return cJSON_IsString(v) ? v->valuestring : NULL;
 }
 
-static void bake_into(const sea_render *r, const sea_bake_options *o, const char *dir)
+static void bake_into(const sea_view *r, const sea_bake_options *o, const char *dir)
 {
     sea_error err;
     sea_bake_stats stats;
@@ -199,7 +199,7 @@ static void test_sky_table(void)
     sc.sky_model = SEA_SKY_CLEAR;
     sc.sky_zenith_emissivity = 0.3;
     sc.air_temperature = 283.0;
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake_options o;
     sea_bake_options_default(&o);
     o.blender = 1;
@@ -242,7 +242,7 @@ static void test_sky_table(void)
     CU_ASSERT(worst <= 1.05 * stated + 1e-12);
     CU_ASSERT(stated < 1e-4);
     cJSON_Delete(m);
-    sea_render_free(r);
+    sea_view_free(r);
     /* isotropic: one radiance */
     const sea_scene iso = small_scene();
     r = prepare(&iso);
@@ -253,13 +253,13 @@ static void test_sky_table(void)
     CU_ASSERT_PTR_NULL(cJSON_GetObjectItem(b, "sky_table"));
     CU_ASSERT_PTR_NOT_NULL(cJSON_GetObjectItem(b, "sky_emission"));
     cJSON_Delete(m);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 static void test_manifest(void)
 {
     const sea_scene sc = small_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake_options o;
     two_frames(&o);
     char dir[4200];
@@ -299,7 +299,7 @@ static void test_manifest(void)
     /* every level as prepared; each high-resolution level's files of each
      * frame exist under the names the entries give */
     const sea_clip_level *lv;
-    const size_t nlev = sea_render_levels(r, &lv);
+    const size_t nlev = sea_view_levels(r, &lv);
     const cJSON *levels = cJSON_GetObjectItem(m, "levels");
     CU_ASSERT_EQUAL_FATAL((size_t)cJSON_GetArraySize(levels), nlev);
     size_t hr = 0, named = 0;
@@ -377,7 +377,7 @@ static void test_manifest(void)
     /* nothing beside the directory but its lock */
     CU_ASSERT_EQUAL(siblings(tmp_dir, "manifest"), 0);
     cJSON_Delete(m);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* ------------------------------------------ the levels given by the caller */
@@ -414,7 +414,7 @@ static void same_tree(const char *a, const char *b)
 static void test_levels_by_caller(void)
 {
     const sea_scene sc = small_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake_options o;
     two_frames(&o);
     char whole[4200], fed[4200];
@@ -429,13 +429,13 @@ static void test_levels_by_caller(void)
     sea_bake_writer *w = NULL;
     CU_ASSERT_EQUAL_FATAL(sea_bake_writer_alloc(r, &o, fed, NULL, NULL, &w, &err), SEA_OK);
     CU_ASSERT(sea_bake_writer_wants_view(w));
-    const sea_camera *cam = sea_render_camera(r);
+    const sea_camera *cam = sea_view_camera(r);
     for (long f = o.first; f <= o.last; f++) {
         CU_ASSERT_EQUAL(sea_bake_writer_next_frame(w), f);
         const double t = sea_bake_options_frame_time(&o, sc.time, f);
         sea_image view;
-        CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&view, cam->width, cam->height, &err), SEA_OK);
-        CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, t, &view, NULL, NULL, &err), SEA_OK);
+        CU_ASSERT_EQUAL_FATAL(sea_image_alloc(cam->width, cam->height, &view, &err), SEA_OK);
+        CU_ASSERT_EQUAL_FATAL(sea_view_render_frame(r, t, &view, NULL, NULL, &err), SEA_OK);
         CU_ASSERT_EQUAL_FATAL(sea_bake_writer_frame_begin(w, f, &err), SEA_OK);
         sea_bake b;
         sea_status st = sea_bake_frame_each(r, t, o.view_k, &b, NULL, NULL,
@@ -450,7 +450,7 @@ static void test_levels_by_caller(void)
     CU_ASSERT_EQUAL(sea_bake_writer_finish(w, &err), SEA_OK);
     sea_bake_writer_free(w);
     same_tree(whole, fed);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* ------------------------------------------------------------- previews */
@@ -458,8 +458,8 @@ static void test_levels_by_caller(void)
 static void test_no_previews(void)
 {
     const sea_scene sc = small_scene();
-    sea_render *r = prepare(&sc);
-    sea_render_drop_pixels(r); /* no sensor's image: none needed */
+    sea_view *r = prepare(&sc);
+    sea_view_drop_pixels(r); /* no sensor's image: none needed */
     sea_bake_options o;
     sea_bake_options_default(&o);
     o.previews = 0;
@@ -486,7 +486,7 @@ static void test_no_previews(void)
     CU_ASSERT_PTR_NULL(string_of(cJSON_GetObjectItem(files, "optics"), "png"));
     CU_ASSERT_EQUAL((size_t)cJSON_GetArraySize(cJSON_GetObjectItem(m, "files")), n);
     cJSON_Delete(m);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* --------------------------------------------------------------- errors */
@@ -501,7 +501,7 @@ static int stop_after(void *ctx, double fraction)
 static void test_errors(void)
 {
     sea_scene sc = small_scene();
-    sea_render *r = prepare(&sc);
+    sea_view *r = prepare(&sc);
     sea_bake_options o;
     sea_error err;
     char dir[4200];
@@ -584,7 +584,7 @@ static void test_errors(void)
         CU_ASSERT(stat(gone, &sb) != 0 && errno == ENOENT);
         CU_ASSERT_EQUAL(siblings(tmp_dir, "cancelled"), 0);
     }
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* ---------------------------------------------------------------- suite */

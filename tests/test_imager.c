@@ -60,7 +60,7 @@ static sea_imager *imager_make(const sea_imager_params *p, const sea_band *b, in
 static void image_make(sea_image *img, int w, int h)
 {
     sea_error err = { "" };
-    CU_ASSERT_FATAL(sea_image_alloc(img, w, h, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_image_alloc(w, h, img, &err) == SEA_OK);
 }
 
 static void apply(const sea_imager *im, const sea_image *img, uint64_t frame,
@@ -798,8 +798,8 @@ static void test_from_render(void)
     CU_ASSERT_FATAL(sea_scene_load(path, &sc, &err) == SEA_OK);
     sea_imager_params p;
     CU_ASSERT(sea_imager_params_from_scene(&sc, &p) == 0);
-    sea_render *r = NULL;
-    if (sea_render_prepare(&sc, &r, &err) != SEA_OK)
+    sea_view *r = NULL;
+    if (sea_view_alloc(&sc, &r, &err) != SEA_OK)
         fprintf(stderr, "\n  %s\n", err.msg);
     CU_ASSERT_FATAL(r != NULL);
     sea_imager *im = NULL;
@@ -807,22 +807,22 @@ static void test_from_render(void)
     CU_ASSERT(im == NULL);
     sea_image img;
     image_make(&img, sc.width, sc.height);
-    CU_ASSERT_FATAL(sea_render_frame(r, sc.time, &img, NULL, NULL, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_view_render_frame(r, sc.time, &img, NULL, NULL, &err) == SEA_OK);
     /* the render's own conversion, exposed: of the float radiance (6e-8
      * relative, 4e-6 K here) against the float of the double's */
     double worst_render = 0.0;
     for (int q = 0; q < sc.width * sc.height; q++)
-        worst_render = fmax(worst_render, fabs(sea_render_brightness_temperature(r, img.radiance[q]) -
+        worst_render = fmax(worst_render, fabs(sea_view_brightness_temperature(r, img.radiance[q]) -
                                                img.temperature[q]));
     CU_ASSERT(worst_render <= 4e-5);
-    sea_render_free(r);
+    sea_view_free(r);
 
     const char *set[] = { "sensor.fill_factor=1", "sensor.gain=20000", "sensor.offset=-100" };
     CU_ASSERT_FATAL(sea_scene_load_with(path, set, 3, &sc, &err) == SEA_OK);
     CU_ASSERT(sea_imager_params_from_scene(&sc, &p) == 1);
     CU_ASSERT(p.psf == SEA_PSF_NONE && p.gain == 20000.0 && p.offset == -100.0 &&
               p.bit_depth == 14);
-    CU_ASSERT_FATAL(sea_render_prepare(&sc, &r, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_view_alloc(&sc, &r, &err) == SEA_OK);
     CU_ASSERT_FATAL(sea_imager_from_render(r, &im, &err) == SEA_OK && im != NULL);
     CU_ASSERT(!sea_imager_filters(im) && sea_imager_counts(im));
     sea_imager_image out;
@@ -834,7 +834,7 @@ static void test_from_render(void)
     CU_ASSERT(worst <= 4e-5);
     sea_imager_image_free(&out);
     sea_imager_free(im);
-    sea_render_free(r);
+    sea_view_free(r);
     sea_image_free(&img);
 }
 

@@ -48,7 +48,7 @@ static sea_cov2 lr_cov(double wind)
 {
     sea_spectrum s;
     sea_cov2 c = { 0, 0, 0 };
-    CU_ASSERT(sea_spectrum_init(&s, wind, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT(sea_spectrum_init(wind, INFINITY, 0.0, &s, NULL) == SEA_OK);
     CU_ASSERT(sea_spectrum_slope_cov(&s, 0.0, &c, NULL) == SEA_OK);
     return c;
 }
@@ -650,7 +650,7 @@ static void test_two_scale_table(void)
         CU_ASSERT_FATAL(csv_numbers(line, x, 10) == 10);
         model_columns(x, rows++, &col_worst, &lib_worst);
         sea_spectrum sp;
-        CU_ASSERT_FATAL(sea_spectrum_init(&sp, x[0], INFINITY, 0.0, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_spectrum_init(x[0], INFINITY, 0.0, &sp, NULL) == SEA_OK);
         /* the render's split (sea_spectrum_split_half calls it with half the
          * spectrum's variance), at half the surface's own variance */
         double k;
@@ -687,7 +687,7 @@ static void test_two_scale_table(void)
     }
     /* the render's function is this split at half the variance, to the bit */
     sea_spectrum sp;
-    CU_ASSERT_FATAL(sea_spectrum_init(&sp, 10.0, INFINITY, 0.5, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(10.0, INFINITY, 0.5, &sp, NULL) == SEA_OK);
     for (int c = 0; c < 2; c++) {
         const double kc = c ? kmin : 0.0;
         double kh, ka;
@@ -754,7 +754,7 @@ static void test_two_scale_limits(void)
 
     /* the table */
     sea_spectrum sp;
-    CU_ASSERT_FATAL(sea_spectrum_init(&sp, 10.0, INFINITY, 0.5, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(10.0, INFINITY, 0.5, &sp, NULL) == SEA_OK);
     double kh;
     sea_cov2 res, hsub;
     CU_ASSERT_FATAL(sea_spectrum_split_half(&sp, 0.0, &kh, &res, &hsub, NULL) == SEA_OK);
@@ -1060,7 +1060,7 @@ static void test_default_all_hits(void)
         /* the rows of one wind: one set of surfaces, one covariance */
         const int b = all_hits_wind_end(x, nr, a);
         sea_spectrum sp;
-        CU_ASSERT_FATAL(sea_spectrum_init(&sp, x[a][AH_WIND], INFINITY, 0.0, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_spectrum_init(x[a][AH_WIND], INFINITY, 0.0, &sp, NULL) == SEA_OK);
         const sea_slope_stats lr = { { 0, 0 }, { x[a][AH_SXX], x[a][AH_SYY], x[a][AH_SXY] } };
         sea_model_params pd, p1, pp;
         sea_model_params_default(&pd);
@@ -1189,7 +1189,7 @@ static void test_models_all_hits(void)
         for (int a = 0; a < nr;) {
             const int b = all_hits_wind_end(x, nr, a);
             sea_spectrum sp;
-            CU_ASSERT_FATAL(sea_spectrum_init(&sp, x[a][AH_WIND], INFINITY, 0.0, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(sea_spectrum_init(x[a][AH_WIND], INFINITY, 0.0, &sp, NULL) == SEA_OK);
             const sea_slope_stats lr = { { 0, 0 }, { x[a][AH_SXX], x[a][AH_SYY], x[a][AH_SXY] } };
             all_hits_model m;
             CU_ASSERT_FATAL(all_hits_model_alloc(&mp, &sp, &lr, 1, N, 2, &m, NULL) == SEA_OK);

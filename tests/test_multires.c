@@ -366,28 +366,28 @@ static sea_scene grazing_scene(int round_earth, double look_zenith_deg)
     return sc;
 }
 
-static void prepare_frame(const sea_scene *sc, sea_render **r, sea_multires_frame **f)
+static void prepare_frame(const sea_scene *sc, sea_view **r, sea_multires_frame **f)
 {
     sea_error err;
-    sea_status st = sea_render_prepare(sc, r, &err);
+    sea_status st = sea_view_alloc(sc, r, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  prepare: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
-    st = sea_multires_frame_alloc(sea_render_multires(*r), sc->time, NULL, NULL, f, &err);
+    st = sea_multires_frame_alloc(sea_view_multires(*r), sc->time, NULL, NULL, f, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  frame: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
 }
 
 /* prepare_frame, and the bake's lean frame of the same sea and time. */
-static void prepare_frames(const sea_scene *sc, sea_render **r, sea_multires_frame **f,
+static void prepare_frames(const sea_scene *sc, sea_view **r, sea_multires_frame **f,
                            sea_multires_frame **lean)
 {
     prepare_frame(sc, r, f);
     sea_error err;
     *lean = NULL;
     sea_status st =
-        sea_multires_frame_alloc_lean(sea_render_multires(*r), sc->time, NULL, NULL, lean, &err);
+        sea_multires_frame_alloc_lean(sea_view_multires(*r), sc->time, NULL, NULL, lean, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  lean frame: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
@@ -406,11 +406,11 @@ static void prepare_frames(const sea_scene *sc, sea_render **r, sea_multires_fra
 static void test_lean_footprint(void)
 {
     sea_scene sc = lean_scene();
-    sea_render *r;
+    sea_view *r;
     sea_multires_frame *f;
     prepare_frame(&sc, &r, &f);
     const sea_clip_level *lv;
-    const size_t n = sea_render_levels(r, &lv);
+    const size_t n = sea_view_levels(r, &lv);
     CU_ASSERT_FATAL(n >= 4 && !lv[0].low_res && !lv[1].low_res && !lv[2].low_res);
     double worst = 0.0, worst_node = 0.0;
     size_t blocks = 0;
@@ -461,11 +461,11 @@ static void test_lean_footprint(void)
     CU_ASSERT(worst < 1e-6);
     CU_ASSERT(worst_node < 1e-12);
     sea_multires_frame_free(f);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* The render's rays ordered across pixel rows (sea_multires_pixel_hinted,
- * as sea_render_rows runs it: blocks of SEA_RENDER_ROW_BLOCK rows, each
+ * as sea_view_render_rows runs it: blocks of SEA_RENDER_ROW_BLOCK rows, each
  * bottom row first, a pixel's rays starting where those of the pixel below
  * met the sea when the ordering allows): the samples are sea_multires_pixel's
  * but where a ray grazes a crest and the march's samples decide, at most
@@ -479,7 +479,7 @@ static void test_hinted_rows(void)
         sea_scene sc = grazing_scene(earth, 85.0);
         sc.width = 40;
         sc.height = 4 * SEA_RENDER_ROW_BLOCK;
-        sea_render *r;
+        sea_view *r;
         sea_multires_frame *f;
         prepare_frame(&sc, &r, &f);
         const size_t W = (size_t)sc.width;
@@ -520,7 +520,7 @@ static void test_hinted_rows(void)
         CU_ASSERT(differ[0] <= sea / 500);
         CU_ASSERT(differ[1] > sea / 20);
         sea_multires_frame_free(f);
-        sea_render_free(r);
+        sea_view_free(r);
     }
 }
 
@@ -538,10 +538,10 @@ static void test_query(void)
 {
     for (int earth = 0; earth < 2; earth++) {
         sea_scene sc = grazing_scene(earth, 84.0);
-        sea_render *r;
+        sea_view *r;
         sea_multires_frame *f, *lean;
         prepare_frames(&sc, &r, &f, &lean);
-        const sea_camera *cam = sea_render_camera(r);
+        const sea_camera *cam = sea_view_camera(r);
         size_t sea = 0, same = 0, one = 0, sky = 0, lean_same = 0;
         double worst = 0.0;
         for (int j = 0; j < sc.height; j++)
@@ -594,7 +594,7 @@ static void test_query(void)
         CU_ASSERT(one > 10);
         CU_ASSERT(worst < 1e-6);
         sea_multires_frame_free(f);
-        sea_render_free(r);
+        sea_view_free(r);
     }
 }
 
@@ -645,11 +645,11 @@ static void grazing_case(double theta_deg, double wind_deg, int shadowing, int s
     sc.grid = 1024;
     sc.emissivity_method = SEA_EMIS_FAST;
     sc.sun_zenith = 120.0 * DEG;
-    sea_render *r;
+    sea_view *r;
     sea_multires_frame *f;
     prepare_frame(&sc, &r, &f);
     sea_error err;
-    const sea_moments lrm = sea_render_lr_moments(r);
+    const sea_moments lrm = sea_view_lr_moments(r);
     const sea_slope_stats lrs = sea_moments_stats(&lrm);
     const sea_dir sun = { sc.sun_zenith, 0.0 };
     double sum = 0.0, xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
@@ -662,8 +662,8 @@ static void grazing_case(double theta_deg, double wind_deg, int shadowing, int s
             off += s.level != 0;
             const sea_slope_stats st = sea_moments_stats(&s.moments);
             sea_facet_optics o, ol;
-            CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &st, s.obs, sun, &o, &err), SEA_OK);
-            CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &lrs, s.obs, sun, &ol, &err), SEA_OK);
+            CU_ASSERT_EQUAL_FATAL(sea_view_facet_optics(r, &st, s.obs, sun, &o, &err), SEA_OK);
+            CU_ASSERT_EQUAL_FATAL(sea_view_facet_optics(r, &lrs, s.obs, sun, &ol, &err), SEA_OK);
             sum += o.emissivity - ol.emissivity;
             n++;
             xmin = fmin(xmin, s.x);
@@ -676,12 +676,12 @@ static void grazing_case(double theta_deg, double wind_deg, int shadowing, int s
     /* the 1 m facets under the view, seen from the central direction
      * (toward +x: azimuth 0) */
     const sea_clip_level *lv;
-    sea_render_levels(r, &lv);
+    sea_view_levels(r, &lv);
     CU_ASSERT_FATAL(lv[0].level == 0 && !lv[0].low_res);
     const sea_facet *m = sea_heightfield_facets(sea_multires_frame_level(f, 0));
     const sea_dir obs = { sc.look_zenith, 0.0 };
     sea_facet_optics olr;
-    CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &lrs, obs, sun, &olr, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_facet_optics(r, &lrs, obs, sun, &olr, &err), SEA_OK);
     double sg = 0.0, wg = 0.0, sl = 0.0, wl = 0.0;
     for (size_t j = 0; j < lv[0].ny; j++)
         for (size_t i = 0; i < lv[0].nx; i++) {
@@ -691,7 +691,7 @@ static void grazing_case(double theta_deg, double wind_deg, int shadowing, int s
                 continue;
             const sea_slope_stats st = sea_facet_stats(&m[j * lv[0].nx + i]);
             sea_facet_optics o;
-            CU_ASSERT_EQUAL_FATAL(sea_render_facet_optics(r, &st, obs, sun, &o, &err), SEA_OK);
+            CU_ASSERT_EQUAL_FATAL(sea_view_facet_optics(r, &st, obs, sun, &o, &err), SEA_OK);
             double mX, sX;
             sea_slope_project(&st, obs.phi, &mX, &sX);
             const double g = 1.0 - mX * tan(obs.theta);
@@ -704,7 +704,7 @@ static void grazing_case(double theta_deg, double wind_deg, int shadowing, int s
     *facets_g = sg / wg - olr.emissivity;
     *facets_smith = sl / wl - olr.emissivity;
     sea_multires_frame_free(f);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 static void test_grazing_mean(void)
@@ -814,7 +814,7 @@ static void test_level_alone(void)
 {
     for (int earth = 0; earth < 2; earth++) {
         sea_scene sc = grazing_scene(earth, 84.0);
-        sea_render *r;
+        sea_view *r;
         sea_multires_frame *f, *lean;
         prepare_frames(&sc, &r, &f, &lean);
         size_t checked = 0, checked_lean = 0;
@@ -829,7 +829,7 @@ static void test_level_alone(void)
         CU_ASSERT_EQUAL(checked_lean, checked);
         sea_multires_frame_free(lean);
         sea_multires_frame_free(f);
-        sea_render_free(r);
+        sea_view_free(r);
     }
 }
 

@@ -50,7 +50,7 @@ static sea_slope_stats lr10(void)
 {
     sea_spectrum s;
     sea_slope_stats st = { { 0, 0 }, { 0, 0, 0 } };
-    CU_ASSERT(sea_spectrum_init(&s, 10.0, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT(sea_spectrum_init(10.0, INFINITY, 0.0, &s, NULL) == SEA_OK);
     CU_ASSERT(sea_spectrum_slope_cov(&s, 0.0, &st.cov, NULL) == SEA_OK);
     return st;
 }
@@ -578,7 +578,7 @@ static void test_property_sweep(void)
     for (int w = 0; w < 4; w++) {
         sea_spectrum sp;
         sea_cov2 lr;
-        CU_ASSERT_FATAL(sea_spectrum_init(&sp, winds[w], INFINITY, 0.4, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_spectrum_init(winds[w], INFINITY, 0.4, &sp, NULL) == SEA_OK);
         CU_ASSERT_FATAL(sea_spectrum_slope_cov(&sp, 0.0, &lr, NULL) == SEA_OK);
         for (int a = 0; a < 4; a++)
             for (int s = 0; s < 3; s++) {
@@ -862,7 +862,7 @@ static void test_second_hit_convergence(void)
 static void test_two_scale_fallback(void)
 {
     sea_spectrum sp;
-    CU_ASSERT_FATAL(sea_spectrum_init(&sp, 8.0, INFINITY, 0.3, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(8.0, INFINITY, 0.3, &sp, NULL) == SEA_OK);
     double kh;
     sea_cov2 res, sub, one_m;
     CU_ASSERT_FATAL(sea_spectrum_split_half(&sp, 0.0, &kh, &res, &sub, NULL) == SEA_OK);

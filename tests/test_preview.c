@@ -175,7 +175,7 @@ static void test_tone_curve(void)
 {
     sea_png_tone t;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_png_tone_make(260.0, 305.0, 503.0, &t, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_png_tone_init(260.0, 305.0, 503.0, &t, &err), SEA_OK);
     CU_ASSERT_EQUAL(t.knee, 305.0);
     CU_ASSERT_EQUAL(sea_png_tone_map(&t, 260.0), 0.0);
     CU_ASSERT_EQUAL(sea_png_tone_map(&t, 200.0), 0.0);
@@ -192,13 +192,13 @@ static void test_tone_curve(void)
     /* linear on each ramp: the upper one through (305, G) and (503, 1) */
     CU_ASSERT(fabs(sea_png_tone_map(&t, 404.0) - 0.5 * (1.0 + SEA_PNG_KNEE_GREY)) < 1e-12);
     /* a short tail: linear lo to hi */
-    CU_ASSERT_EQUAL_FATAL(sea_png_tone_make(288.0, 303.4, 304.2, &t, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_png_tone_init(288.0, 303.4, 304.2, &t, &err), SEA_OK);
     CU_ASSERT_EQUAL(t.knee, t.hi);
     CU_ASSERT(fabs(sea_png_tone_map(&t, 296.1) - 0.5) < 1e-12);
     CU_ASSERT_EQUAL(sea_png_tone_linear(1.0, 3.0, &t, &err), SEA_OK);
     CU_ASSERT(fabs(sea_png_tone_map(&t, 2.5) - 0.75) < 1e-12);
-    CU_ASSERT_EQUAL(sea_png_tone_make(3.0, 4.0, 3.0, &t, &err), SEA_ERR_DOMAIN);
-    CU_ASSERT_EQUAL(sea_png_tone_make(1.0, 0.5, 3.0, &t, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_png_tone_init(3.0, 4.0, 3.0, &t, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_png_tone_init(1.0, 0.5, 3.0, &t, &err), SEA_ERR_DOMAIN);
     CU_ASSERT_EQUAL(sea_png_tone_linear(1.0, INFINITY, &t, &err), SEA_ERR_DOMAIN);
     /* automatic: knee = 2 median - lo, lo the 0.5 % quantile, hi the max */
     float v[1001];
@@ -353,7 +353,7 @@ static void test_toned_gray(void)
     const float v[5] = {260.0f, 305.0f, 503.0f, 282.5f, 404.0f};
     sea_png_tone t;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_png_tone_make(260.0, 305.0, 503.0, &t, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_png_tone_init(260.0, 305.0, 503.0, &t, &err), SEA_OK);
     const sea_png_text text[] = {{"seabake:range_K", "260:503"}};
     CU_ASSERT_EQUAL_FATAL(sea_png_write_toned(path, 5, 1, v, &t, 16, text, 1, &err), SEA_OK);
     int w, h, bits;

@@ -32,18 +32,18 @@ static sea_scene base_scene(int size)
 
 static void render(const sea_scene *sc, double t, sea_image *img)
 {
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
-    sea_status st = sea_render_prepare(sc, &r, &err);
+    sea_status st = sea_view_alloc(sc, &r, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  prepare: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(img, sc->width, sc->height, &err), SEA_OK);
-    st = sea_render_frame(r, t, img, NULL, NULL, &err);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc->width, sc->height, img, &err), SEA_OK);
+    st = sea_view_render_frame(r, t, img, NULL, NULL, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  frame: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* Kirchhoff: with the sun below the horizon and a sky at the sea's own
@@ -146,9 +146,9 @@ static void test_clear_sky(void)
     sea_image img;
     render(&sc, 0.0, &img);
     sea_camera cam;
-    CU_ASSERT_EQUAL_FATAL(sea_camera_init(&cam, sc.sensor_x, sc.sensor_y, sc.altitude,
-                                          sc.look_zenith, sc.look_azimuth, sc.roll, sc.hfov,
-                                          sc.width, sc.height, sc.earth, NULL),
+    CU_ASSERT_EQUAL_FATAL(sea_camera_init(sc.sensor_x, sc.sensor_y, sc.altitude, sc.look_zenith,
+                                          sc.look_azimuth, sc.roll, sc.hfov, sc.width,
+                                          sc.height, sc.earth, &cam, NULL),
                           SEA_OK);
     const double B = sea_planck_radiance(10e-6, 288.0);
     const size_t W = (size_t)sc.width, H = (size_t)sc.height;
@@ -202,9 +202,9 @@ static void test_atmosphere(void)
     sc.extinction = 2e-3;
     render(&sc, 0.0, &b);
     sea_camera cam;
-    CU_ASSERT_EQUAL_FATAL(sea_camera_init(&cam, sc.sensor_x, sc.sensor_y, sc.altitude,
-                                          sc.look_zenith, sc.look_azimuth, sc.roll, sc.hfov,
-                                          sc.width, sc.height, sc.earth, NULL),
+    CU_ASSERT_EQUAL_FATAL(sea_camera_init(sc.sensor_x, sc.sensor_y, sc.altitude, sc.look_zenith,
+                                          sc.look_azimuth, sc.roll, sc.hfov, sc.width,
+                                          sc.height, sc.earth, &cam, NULL),
                           SEA_OK);
     const double Ba = sea_planck_radiance(4e-6, 300.0) * 1e-6;
     double worst = 0.0;
@@ -446,9 +446,9 @@ static void test_flat_sea_limit(void)
     render(&sc, 0.0, &img);
     sea_camera cam;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_camera_init(&cam, sc.sensor_x, sc.sensor_y, sc.altitude, sc.look_zenith,
-                                          sc.look_azimuth, sc.roll, sc.hfov, sc.width, sc.height,
-                                          sc.earth, &err),
+    CU_ASSERT_EQUAL_FATAL(sea_camera_init(sc.sensor_x, sc.sensor_y, sc.altitude, sc.look_zenith, sc.look_azimuth,
+                                          sc.roll, sc.hfov, sc.width, sc.height, sc.earth,
+                                          &cam, &err),
                           SEA_OK);
     sea_water *water = NULL;
     CU_ASSERT_EQUAL_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, sc.salinity, &water, &err), SEA_OK);
@@ -496,14 +496,14 @@ static void test_eq23_terms(void)
     sc.scales = 1;
     sc.reflections = 1;
     sc.sun_radius = 0.0;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_alloc(&sc, &r, &err), SEA_OK);
     sea_image img;
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, sc.width, sc.height, &err), SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 0.0, &img, NULL, NULL, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, &img, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_render_frame(r, 0.0, &img, NULL, NULL, &err), SEA_OK);
     sea_multires_frame *f = NULL;
-    CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc(sea_render_multires(r), 0.0, NULL, NULL, &f,
+    CU_ASSERT_EQUAL_FATAL(sea_multires_frame_alloc(sea_view_multires(r), 0.0, NULL, NULL, &f,
                                                    &err),
                           SEA_OK);
     sea_water *water = NULL;
@@ -551,7 +551,7 @@ static void test_eq23_terms(void)
              sea, worst_e, worst_L, rho_max);
     CU_ASSERT(sea > 0 && rho_max > 0.02); /* the glint was in view (its peak 0.039) */
     sea_multires_frame_free(f);
-    sea_render_free(r);
+    sea_view_free(r);
     sea_image_free(&img);
 }
 
@@ -605,7 +605,7 @@ static void test_glint_position(void)
 /* Same scene and seed, same image, bit for bit; the loop period brings the
  * sea back (1e-4 relative: float radiance of a sea whose phases return to
  * 1e-12); another time, another sea. */
-/* A render whose per-pixel plans were dropped (sea_render_drop_pixels:
+/* A render whose per-pixel plans were dropped (sea_view_drop_pixels:
  * each pixel planned as it is rendered) gives the same image, bit for bit:
  * a nadir view and a grazing one (rays of several levels, several rays a
  * pixel near the horizon). */
@@ -621,17 +621,17 @@ static void test_dropped_pixel_plans(void)
         }
         sea_image a, b;
         render(&sc, 0.5, &a);
-        sea_render *r = NULL;
+        sea_view *r = NULL;
         sea_error err;
-        CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
-        sea_render_drop_pixels(r);
-        sea_render_drop_pixels(r); /* twice: nothing left to free */
-        CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&b, sc.width, sc.height, &err), SEA_OK);
-        CU_ASSERT_EQUAL(sea_render_frame(r, 0.5, &b, NULL, NULL, &err), SEA_OK);
+        CU_ASSERT_EQUAL_FATAL(sea_view_alloc(&sc, &r, &err), SEA_OK);
+        sea_view_drop_pixels(r);
+        sea_view_drop_pixels(r); /* twice: nothing left to free */
+        CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, &b, &err), SEA_OK);
+        CU_ASSERT_EQUAL(sea_view_render_frame(r, 0.5, &b, NULL, NULL, &err), SEA_OK);
         const size_t n = (size_t)sc.width * (size_t)sc.height;
         CU_ASSERT(memcmp(a.radiance, b.radiance, n * sizeof(float)) == 0);
         CU_ASSERT(memcmp(a.level, b.level, n * sizeof(float)) == 0);
-        sea_render_free(r);
+        sea_view_free(r);
         sea_image_free(&a);
         sea_image_free(&b);
     }
@@ -718,11 +718,11 @@ static void test_clipmap_windows(void)
     sea_image a, b;
     render(&sc, 0.0, &a);
     sc.windows = SEA_WINDOWS_CLIPMAP;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_alloc(&sc, &r, &err), SEA_OK);
     const sea_clip_level *lv;
-    const size_t n = sea_render_levels(r, &lv);
+    const size_t n = sea_view_levels(r, &lv);
     int hr = 0, unread = 0;
     for (size_t l = 0; l < n; l++) {
         if (lv[l].low_res)
@@ -742,7 +742,7 @@ static void test_clipmap_windows(void)
     }
     CU_ASSERT(hr >= 5);
     CU_ASSERT(unread >= 1); /* levels no pixel chose are still there */
-    sea_render_free(r);
+    sea_view_free(r);
     render(&sc, 0.0, &b);
     double worst = 0.0;
     for (size_t i = 0; i < 64 * 64; i++) {
@@ -768,20 +768,20 @@ static int stop_now(void *ctx, double fraction)
 static void test_render_cancel(void)
 {
     sea_scene sc = base_scene(32);
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
     sea_image img;
-    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, 32, 32, &err), SEA_OK);
-    CU_ASSERT_EQUAL(sea_render_frame(r, 0.0, &img, stop_now, NULL, &err), SEA_ERR_CANCELLED);
+    CU_ASSERT_EQUAL_FATAL(sea_view_alloc(&sc, &r, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(32, 32, &img, &err), SEA_OK);
+    CU_ASSERT_EQUAL(sea_view_render_frame(r, 0.0, &img, stop_now, NULL, &err), SEA_ERR_CANCELLED);
     CU_ASSERT(strstr(err.msg, "cancelled") != NULL);
     sea_image_free(&img);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
-/* sea_render_rows: three interleaved sets of row blocks (row0 0, 1, 2,
+/* sea_view_render_rows: three interleaved sets of row blocks (row0 0, 1, 2,
  * step 3; four blocks of SEA_RENDER_ROW_BLOCK rows, the last one short)
- * give those rows of sea_render_frame bit for bit and leave every other row
+ * give those rows of sea_view_render_frame bit for bit and leave every other row
  * as it was (here the 0 of sea_image_alloc); a view 80 degrees from nadir
  * so that the top rows are sky.  A first block past the bottom renders
  * nothing; a negative first block or a step below 1 is SEA_ERR_DOMAIN. */
@@ -790,18 +790,18 @@ static void test_render_rows(void)
     sea_scene sc = base_scene(UNIT_QUICK ? 12 : 24);
     sc.height = 3 * SEA_RENDER_ROW_BLOCK + 3;
     sc.look_zenith = 80.0 * DEG;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
     sea_image full, part;
-    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&full, sc.width, sc.height, &err), SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 1.25, &full, NULL, NULL, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_alloc(&sc, &r, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, &full, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_render_frame(r, 1.25, &full, NULL, NULL, &err), SEA_OK);
     CU_ASSERT(full.level[0] == 0.0f);                                      /* sky */
     CU_ASSERT(full.level[(size_t)sc.width * (size_t)sc.height - 1] > 0.0f); /* sea */
     const size_t W = (size_t)sc.width;
     for (int row0 = 0; row0 < 3; row0++) {
-        CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&part, sc.width, sc.height, &err), SEA_OK);
-        CU_ASSERT_EQUAL_FATAL(sea_render_rows(r, 1.25, row0, 3, &part, NULL, NULL, &err), SEA_OK);
+        CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, &part, &err), SEA_OK);
+        CU_ASSERT_EQUAL_FATAL(sea_view_render_rows(r, 1.25, row0, 3, &part, NULL, NULL, &err), SEA_OK);
         int same = 1, untouched = 1;
         for (int y = 0; y < sc.height; y++) {
             const size_t o = (size_t)y * W;
@@ -822,16 +822,16 @@ static void test_render_rows(void)
         CU_ASSERT(untouched);
         sea_image_free(&part);
     }
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&part, sc.width, sc.height, &err), SEA_OK);
-    CU_ASSERT_EQUAL(sea_render_rows(r, 1.25, sc.height, 2, &part, NULL, NULL, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, &part, &err), SEA_OK);
+    CU_ASSERT_EQUAL(sea_view_render_rows(r, 1.25, sc.height, 2, &part, NULL, NULL, &err), SEA_OK);
     CU_ASSERT(part.radiance[0] == 0.0f);
-    CU_ASSERT_EQUAL(sea_render_rows(r, 1.25, -1, 2, &part, NULL, NULL, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_view_render_rows(r, 1.25, -1, 2, &part, NULL, NULL, &err), SEA_ERR_DOMAIN);
     CU_ASSERT(strstr(err.msg, "first block >= 0") != NULL);
-    CU_ASSERT_EQUAL(sea_render_rows(r, 1.25, 0, 0, &part, NULL, NULL, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_view_render_rows(r, 1.25, 0, 0, &part, NULL, NULL, &err), SEA_ERR_DOMAIN);
     CU_ASSERT(strstr(err.msg, "step >= 1") != NULL);
     sea_image_free(&part);
     sea_image_free(&full);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* seabake.h's rule for a filled struct: a failed sea_image_alloc leaves
@@ -840,9 +840,9 @@ static void test_image_ownership(void)
 {
     sea_error err;
     sea_image img;
-    CU_ASSERT_EQUAL(sea_image_alloc(&img, 0, 4, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_image_alloc(0, 4, &img, &err), SEA_ERR_DOMAIN);
     CU_ASSERT(img.radiance == NULL && img.reflectivity == NULL && img.width == 0);
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(&img, 3, 2, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(3, 2, &img, &err), SEA_OK);
     CU_ASSERT(img.width == 3 && img.height == 2 && img.level != NULL && img.level[5] == 0.0f);
     sea_image_free(&img);
     CU_ASSERT(img.radiance == NULL && img.width == 0);
@@ -897,22 +897,22 @@ static void test_low_resolution_levels(void)
     sea_scene sc = base_scene(16);
     sc.altitude = 20000.0;
     sc.wind_speed = 3.0;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_alloc(&sc, &r, &err), SEA_OK);
     const sea_clip_level *lv;
-    const size_t n = sea_render_levels(r, &lv);
+    const size_t n = sea_view_levels(r, &lv);
     CU_ASSERT(n >= 1);
     for (size_t i = 0; i < n; i++) {
         CU_ASSERT(lv[i].low_res);
         CU_ASSERT(lv[i].nx == 0 && lv[i].ny == 0);
         CU_ASSERT(lv[i].generated_share < sc.tolerance);
     }
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 
-/* The tolerance (sea_render_choices): a looser one chooses cheaper rules,
+/* The tolerance (sea_view_choices): a looser one chooses cheaper rules,
  * and the image stays close to the default's.  An oblique view of a
  * 15 m/s sea with variable-step-2n (n = 2) and the auto emissivity.  At
  * T = 5e-3 the emissivity orders (x 0.65) and the low-resolution levels
@@ -922,7 +922,7 @@ static void test_low_resolution_levels(void)
  * variance, not radiance).  The waves are the same at every T (the same
  * seed, the same sea), so every image stays within T of the default's,
  * pixel by pixel in rms, and its mean within T/2. */
-static void tol_image(double tol, sea_render_choices *ch, sea_image *img, int *skipped)
+static void tol_image(double tol, sea_view_choices *ch, sea_image *img, int *skipped)
 {
     sea_scene sc = base_scene(48); /* the bounds below are measured at this size */
     sc.wind_speed = 15.0;
@@ -937,13 +937,13 @@ static void tol_image(double tol, sea_render_choices *ch, sea_image *img, int *s
     sc.n = 2;
     sc.emissivity_method = SEA_EMIS_AUTO;
     sc.tolerance = tol;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_render_prepare(&sc, &r, &err), SEA_OK);
-    *ch = sea_render_choices_of(r);
+    CU_ASSERT_EQUAL_FATAL(sea_view_alloc(&sc, &r, &err), SEA_OK);
+    *ch = sea_view_choices_of(r);
     *skipped = 0;
     const sea_clip_level *lv;
-    const size_t n = sea_render_levels(r, &lv);
+    const size_t n = sea_view_levels(r, &lv);
     for (size_t i = 0; i < n; i++) {
         if (lv[i].sub_skipped) {
             CU_ASSERT(lv[i].sub_n == 0 && lv[i].sub_share < tol);
@@ -952,15 +952,15 @@ static void tol_image(double tol, sea_render_choices *ch, sea_image *img, int *s
             CU_ASSERT(lv[i].sub_share >= tol);
         }
     }
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(img, sc.width, sc.height, &err), SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_render_frame(r, 0.0, img, NULL, NULL, &err), SEA_OK);
-    sea_render_free(r);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc.width, sc.height, img, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_view_render_frame(r, 0.0, img, NULL, NULL, &err), SEA_OK);
+    sea_view_free(r);
 }
 
 static void test_tolerance_choices(void)
 {
     static const double tols[] = { 1e-3, 5e-3, 5e-2, 0.1 };
-    sea_render_choices ch[4];
+    sea_view_choices ch[4];
     sea_image img[4];
     int skipped[4];
     for (int k = 0; k < 4; k++)

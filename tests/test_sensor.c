@@ -10,8 +10,8 @@ static sea_camera camera(double h, double zen_deg, double az_deg, double roll_de
 {
     sea_camera c;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_camera_init(&c, 10.0, -20.0, h, zen_deg * DEG, az_deg * DEG,
-                                          roll_deg * DEG, hfov_deg * DEG, w, hgt, e, &err),
+    CU_ASSERT_EQUAL_FATAL(sea_camera_init(10.0, -20.0, h, zen_deg * DEG, az_deg * DEG, roll_deg * DEG,
+                                          hfov_deg * DEG, w, hgt, e, &c, &err),
                           SEA_OK);
     return c;
 }
@@ -123,8 +123,8 @@ static void test_spherical(void)
     /* look just below the horizon: hits; the centre ray's nadir angle is
      * pi - zen - eps */
     const double eps = 2e-4;
-    CU_ASSERT_EQUAL_FATAL(sea_camera_init(&c, 0.0, 0.0, h, M_PI - zen - eps, 0.0, 0.0, 1.0 * DEG,
-                                          11, 11, SEA_EARTH_SPHERICAL, &err),
+    CU_ASSERT_EQUAL_FATAL(sea_camera_init(0.0, 0.0, h, M_PI - zen - eps, 0.0, 0.0, 1.0 * DEG, 11,
+                                          11, SEA_EARTH_SPHERICAL, &c, &err),
                           SEA_OK);
     sea_pixel_geom g;
     sea_camera_pixel(&c, 5.5, 5.5, &g);
@@ -146,8 +146,8 @@ static void test_spherical(void)
     CU_ASSERT(isinf(g.footprint));
     CU_ASSERT(g.ray.theta < M_PI / 2.0);
     /* the flat sea is hit by the same ray, nearer */
-    CU_ASSERT_EQUAL_FATAL(sea_camera_init(&c, 0.0, 0.0, h, M_PI - zen - eps, 0.0, 0.0, 1.0 * DEG,
-                                          11, 11, SEA_EARTH_FLAT, &err),
+    CU_ASSERT_EQUAL_FATAL(sea_camera_init(0.0, 0.0, h, M_PI - zen - eps, 0.0, 0.0, 1.0 * DEG, 11,
+                                          11, SEA_EARTH_FLAT, &c, &err),
                           SEA_OK);
     sea_camera_pixel(&c, 5.5, 5.5, &g);
     ASSERT_REL(g.range, h / cos(nadir), 1e-12, 0.0);
@@ -193,16 +193,16 @@ static void test_bad_camera(void)
 {
     sea_camera c;
     sea_error err;
-    CU_ASSERT_EQUAL(sea_camera_init(&c, 0, 0, 0.0, 0, 0, 0, 1.0, 10, 10, SEA_EARTH_FLAT, &err),
+    CU_ASSERT_EQUAL(sea_camera_init(0, 0, 0.0, 0, 0, 0, 1.0, 10, 10, SEA_EARTH_FLAT, &c, &err),
                     SEA_ERR_DOMAIN);
     CU_ASSERT(strstr(err.msg, "altitude") != NULL);
-    CU_ASSERT_EQUAL(sea_camera_init(&c, 0, 0, 10, M_PI / 2, 0, 0, 1.0, 10, 10, SEA_EARTH_FLAT, &err),
+    CU_ASSERT_EQUAL(sea_camera_init(0, 0, 10, M_PI / 2, 0, 0, 1.0, 10, 10, SEA_EARTH_FLAT, &c, &err),
                     SEA_ERR_DOMAIN);
-    CU_ASSERT_EQUAL(sea_camera_init(&c, 0, 0, 10, 0, 0, 0, 0.0, 10, 10, SEA_EARTH_FLAT, &err),
+    CU_ASSERT_EQUAL(sea_camera_init(0, 0, 10, 0, 0, 0, 0.0, 10, 10, SEA_EARTH_FLAT, &c, &err),
                     SEA_ERR_DOMAIN);
-    CU_ASSERT_EQUAL(sea_camera_init(&c, 0, 0, 10, 0, 0, 0, 1.0, 0, 10, SEA_EARTH_FLAT, &err),
+    CU_ASSERT_EQUAL(sea_camera_init(0, 0, 10, 0, 0, 0, 1.0, 0, 10, SEA_EARTH_FLAT, &c, &err),
                     SEA_ERR_DOMAIN);
-    CU_ASSERT_EQUAL(sea_camera_init(&c, NAN, 0, 10, 0, 0, 0, 1.0, 10, 10, SEA_EARTH_FLAT, &err),
+    CU_ASSERT_EQUAL(sea_camera_init(NAN, 0, 10, 0, 0, 0, 1.0, 10, 10, SEA_EARTH_FLAT, &c, &err),
                     SEA_ERR_DOMAIN);
 }
 

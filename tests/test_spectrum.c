@@ -7,7 +7,7 @@ static sea_cov2 lr_cov(double U, double wind_dir)
 {
     sea_spectrum s;
     sea_cov2 c = { 0, 0, 0 };
-    CU_ASSERT_FATAL(sea_spectrum_init(&s, U, INFINITY, wind_dir, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(U, INFINITY, wind_dir, &s, NULL) == SEA_OK);
     CU_ASSERT(sea_spectrum_slope_cov(&s, 0.0, &c, NULL) == SEA_OK);
     return c;
 }
@@ -46,7 +46,7 @@ static void test_cox_munk(void)
 static void test_cov_monotone_in_kc(void)
 {
     sea_spectrum s;
-    CU_ASSERT_FATAL(sea_spectrum_init(&s, 7.0, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(7.0, INFINITY, 0.0, &s, NULL) == SEA_OK);
     sea_cov2 prev, c;
     CU_ASSERT(sea_spectrum_slope_cov(&s, 0.0, &prev, NULL) == SEA_OK);
     for (double kc = 1e-3; kc < 1e5; kc *= 1.5) {
@@ -65,7 +65,7 @@ static void test_cov_monotone_in_kc(void)
 static void test_cov_quadrature(void)
 {
     sea_spectrum s;
-    CU_ASSERT_FATAL(sea_spectrum_init(&s, 12.0, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(12.0, INFINITY, 0.0, &s, NULL) == SEA_OK);
     const double kc = 0.5;
     sea_cov2 c;
     CU_ASSERT(sea_spectrum_slope_cov(&s, kc, &c, NULL) == SEA_OK);
@@ -87,7 +87,7 @@ static void test_cov_quadrature(void)
 static void test_directional_normalisation(void)
 {
     sea_spectrum s;
-    CU_ASSERT_FATAL(sea_spectrum_init(&s, 8.0, INFINITY, 0.3, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(8.0, INFINITY, 0.3, &s, NULL) == SEA_OK);
     const double ks[] = { 0.05, 1.0, 400.0 };
     for (int i = 0; i < 3; i++) {
         const int n = 720;
@@ -124,15 +124,15 @@ static void test_alpha_m_low_wind(void)
     ASSERT_REL(sea_spectrum_alpha_m(2.0), 1e-2 * (1 + 3 * log(2.0)), 1e-14, 0);
     ASSERT_REL(sea_spectrum_alpha_m(0.1), 1e-3 * exp(9.0) * 1e-10, 1e-12, 0);
     sea_spectrum s3;
-    CU_ASSERT_FATAL(sea_spectrum_init(&s3, 3.0, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(3.0, INFINITY, 0.0, &s3, NULL) == SEA_OK);
     CU_ASSERT(!sea_spectrum_alpha_m_continued(&s3));
     ASSERT_REL(s3.alpha_m, 1e-2 * (1 + log(s3.u_star / 0.23)), 1e-14, 0);
-    CU_ASSERT_FATAL(sea_spectrum_init(&s3, 2.95, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(2.95, INFINITY, 0.0, &s3, NULL) == SEA_OK);
     CU_ASSERT(sea_spectrum_alpha_m_continued(&s3));
     double prev = 0.0;
     for (double U = SEA_WIND_MIN; U <= SEA_WIND_MAX; U += 0.25) {
         sea_spectrum s;
-        CU_ASSERT_FATAL(sea_spectrum_init(&s, U, INFINITY, 0.0, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_spectrum_init(U, INFINITY, 0.0, &s, NULL) == SEA_OK);
         CU_ASSERT(s.alpha_m > 0.0 && s.alpha_m > prev);
         prev = s.alpha_m;
     }
@@ -148,16 +148,16 @@ static void test_sweep_and_fetch(void)
         CU_ASSERT(isfinite(c.xx) && isfinite(c.yy) && c.yy > 0.0 && c.xx >= c.yy);
     }
     sea_spectrum inf, far, young;
-    CU_ASSERT(sea_spectrum_init(&inf, 10.0, INFINITY, 0.0, NULL) == SEA_OK);
-    CU_ASSERT(sea_spectrum_init(&far, 10.0, 1e12, 0.0, NULL) == SEA_OK);
-    CU_ASSERT(sea_spectrum_init(&young, 10.0, 2e4, 0.0, NULL) == SEA_OK);
+    CU_ASSERT(sea_spectrum_init(10.0, INFINITY, 0.0, &inf, NULL) == SEA_OK);
+    CU_ASSERT(sea_spectrum_init(10.0, 1e12, 0.0, &far, NULL) == SEA_OK);
+    CU_ASSERT(sea_spectrum_init(10.0, 2e4, 0.0, &young, NULL) == SEA_OK);
     ASSERT_REL(far.omega_c, inf.omega_c, 1e-6, 0);
     CU_ASSERT(young.omega_c > 1.5 && young.k_p > inf.k_p);
     sea_error err;
     sea_spectrum s;
-    CU_ASSERT(sea_spectrum_init(&s, 0.2, INFINITY, 0.0, &err) == SEA_ERR_DOMAIN);
-    CU_ASSERT(sea_spectrum_init(&s, 10.0, 10.0, 0.0, &err) == SEA_ERR_DOMAIN);
-    CU_ASSERT(sea_spectrum_init(&s, NAN, INFINITY, 0.0, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(sea_spectrum_init(0.2, INFINITY, 0.0, &s, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(sea_spectrum_init(10.0, 10.0, 0.0, &s, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(sea_spectrum_init(NAN, INFINITY, 0.0, &s, &err) == SEA_ERR_DOMAIN);
 }
 
 int test_spectrum_register(void)

@@ -111,7 +111,7 @@ static sea_slope_stats lr_stats(double U)
 {
     sea_spectrum s;
     sea_slope_stats st = { { 0, 0 }, { 0, 0, 0 } };
-    CU_ASSERT(sea_spectrum_init(&s, U, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT(sea_spectrum_init(U, INFINITY, 0.0, &s, NULL) == SEA_OK);
     CU_ASSERT(sea_spectrum_slope_cov(&s, 0.0, &st.cov, NULL) == SEA_OK);
     return st;
 }
@@ -160,18 +160,18 @@ static sea_scene small_scene(int size)
 
 static void render(const sea_scene *sc, sea_image *img)
 {
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_error err = { "" };
-    sea_status st = sea_render_prepare(sc, &r, &err);
+    sea_status st = sea_view_alloc(sc, &r, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  prepare: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
-    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(img, sc->width, sc->height, &err), SEA_OK);
-    st = sea_render_frame(r, sc->time, img, NULL, NULL, &err);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc->width, sc->height, img, &err), SEA_OK);
+    st = sea_view_render_frame(r, sc->time, img, NULL, NULL, &err);
     if (st != SEA_OK)
         fprintf(stderr, "  frame: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 /* ------------------------------------------ 1. grazing views to 89.99 deg */
@@ -414,7 +414,7 @@ static void test_wind_range(void)
     for (int i = 0; i < 13; i++) {
         sea_spectrum s;
         sea_cov2 c;
-        CU_ASSERT_FATAL(sea_spectrum_init(&s, Us[i], INFINITY, 0.0, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_spectrum_init(Us[i], INFINITY, 0.0, &s, NULL) == SEA_OK);
         CU_ASSERT(s.alpha_m > 0.0 && isfinite(s.alpha_m));
         /* The curvature spectrum is positive over the whole integration range. */
         int positive = 1;
@@ -443,8 +443,8 @@ static void test_wind_range(void)
     /* Below the spectrum's domain: refused, not extrapolated. */
     sea_spectrum s;
     sea_error err = { "" };
-    CU_ASSERT(sea_spectrum_init(&s, 0.3, INFINITY, 0.0, &err) == SEA_ERR_DOMAIN);
-    CU_ASSERT(sea_spectrum_init(&s, 40.5, INFINITY, 0.0, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(sea_spectrum_init(0.3, INFINITY, 0.0, &s, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(sea_spectrum_init(40.5, INFINITY, 0.0, &s, &err) == SEA_ERR_DOMAIN);
 }
 
 /* The 1997 alpha_m = 1e-2 (1 + ln x) turns negative for x = u_star/c_m < 1/e
@@ -464,20 +464,20 @@ static void test_alpha_m_low_wind(void)
         CU_ASSERT(sea_spectrum_alpha_m(exp(lx)) > 0.0);
     /* Where the 1997 form would be negative, the continuation is used. */
     sea_spectrum s;
-    CU_ASSERT_FATAL(sea_spectrum_init(&s, 1.0, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(1.0, INFINITY, 0.0, &s, NULL) == SEA_OK);
     const double x = s.u_star / 0.23;
     MEASURED("alpha_m at 1 m/s: u*/c_m %.4f, 1997 form %.3e, used %.3e\n", x,
              1e-2 * (1.0 + log(x)), s.alpha_m);
     CU_ASSERT(1.0 + log(x) < 0.0);
     CU_ASSERT(s.alpha_m > 0.0);
     CU_ASSERT(sea_spectrum_alpha_m_continued(&s)); /* render --explain says so */
-    CU_ASSERT_FATAL(sea_spectrum_init(&s, 10.0, INFINITY, 0.0, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(10.0, INFINITY, 0.0, &s, NULL) == SEA_OK);
     CU_ASSERT(!sea_spectrum_alpha_m_continued(&s));
     /* The wind below which the continuation applies (fully developed sea). */
     double lo = 0.5, hi = 10.0;
     for (int it = 0; it < 50; it++) {
         const double mid = 0.5 * (lo + hi);
-        CU_ASSERT_FATAL(sea_spectrum_init(&s, mid, INFINITY, 0.0, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(sea_spectrum_init(mid, INFINITY, 0.0, &s, NULL) == SEA_OK);
         if (sea_spectrum_alpha_m_continued(&s))
             lo = mid;
         else
@@ -495,8 +495,8 @@ static void test_young_sea(void)
     sea_spectrum y, d;
     sea_cov2 cy, cd;
     sea_error err = { "" };
-    CU_ASSERT_FATAL(sea_spectrum_init(&y, 40.0, 1000.0, 0.0, &err) == SEA_OK);
-    CU_ASSERT_FATAL(sea_spectrum_init(&d, 40.0, INFINITY, 0.0, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(40.0, 1000.0, 0.0, &y, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(40.0, INFINITY, 0.0, &d, &err) == SEA_OK);
     CU_ASSERT(isfinite(y.omega_c) && isfinite(y.k_p) && isfinite(y.u_star) &&
               isfinite(y.alpha_p) && isfinite(y.alpha_m) && isfinite(y.gamma) &&
               isfinite(y.delta));
@@ -509,7 +509,7 @@ static void test_young_sea(void)
     MEASURED("young sea 40 m/s, 1 km: Omega_c %.3f, k_p %.4f rad/m (developed %.5f), "
              "mss %.4f (developed %.4f)\n",
              y.omega_c, y.k_p, d.k_p, ry, rd);
-    CU_ASSERT(sea_spectrum_init(&y, 40.0, 999.0, 0.0, &err) == SEA_ERR_DOMAIN);
+    CU_ASSERT(sea_spectrum_init(40.0, 999.0, 0.0, &y, &err) == SEA_ERR_DOMAIN);
     /* The optics of that sea stay in range at grazing. */
     const sea_slope_stats st = { { 0, 0 }, cy };
     emis(SEA_EMIS_AUTO, &st, (sea_dir){ 89.99 * DEG, 0.0 });
@@ -530,7 +530,7 @@ static void test_cutoff_beyond_km(void)
     sea_spectrum s;
     sea_cov2 lr, c4, c5, cg;
     sea_error err = { "" };
-    CU_ASSERT_FATAL(sea_spectrum_init(&s, 10.0, INFINITY, 0.3, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_init(10.0, INFINITY, 0.3, &s, &err) == SEA_OK);
     CU_ASSERT_FATAL(sea_spectrum_slope_cov(&s, 0.0, &lr, &err) == SEA_OK);
     CU_ASSERT_FATAL(sea_spectrum_slope_cov(&s, 1e4, &c4, &err) == SEA_OK);
     CU_ASSERT_FATAL(sea_spectrum_slope_cov(&s, 1e6, &c5, &err) == SEA_OK);
@@ -543,7 +543,7 @@ static void test_cutoff_beyond_km(void)
     wp.finest = UNIT_QUICK ? 1.0 / 32.0 : 1.0 / 256.0;
     wp.directions = 8;
     sea_waves *w = NULL;
-    CU_ASSERT_FATAL(sea_waves_create(&s, &wp, &w, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_waves_alloc(&s, &wp, &w, &err) == SEA_OK);
     const double kc = M_PI / wp.finest;
     cg = sea_waves_generated_cov(w, kc);
     sea_cov2 sub;
@@ -656,10 +656,10 @@ static void test_single_precision(void)
 
     sea_scene sc = small_scene(8);
     sc.grid = 16;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_bake b;
     sea_error err = { "" };
-    CU_ASSERT_FATAL(sea_render_prepare(&sc, &r, &err) == SEA_OK);
+    CU_ASSERT_FATAL(sea_view_alloc(&sc, &r, &err) == SEA_OK);
     CU_ASSERT_FATAL(sea_bake_frame(r, 0.0, 1, &b, NULL, NULL, &err) == SEA_OK);
     /* The largest texel list of any level. */
     const sea_bake_level *lv = &b.levels[0];
@@ -711,7 +711,7 @@ static void test_single_precision(void)
     rmdir(dir);
     free(buf);
     sea_bake_free(&b);
-    sea_render_free(r);
+    sea_view_free(r);
 }
 
 int test_stability_register(void)

@@ -15,7 +15,7 @@ static sea_spectrum sea_with_swell(double wind, double hs, double tp, double dir
 {
     sea_spectrum s;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_spectrum_init(&s, wind, INFINITY, 0.0, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_spectrum_init(wind, INFINITY, 0.0, &s, &err), SEA_OK);
     const sea_swell sw = { .hs = hs, .tp = tp, .dir = dir_deg * DEG, .spread = spread_deg * DEG,
                            .gamma = 3.3 };
     sea_status st = sea_spectrum_add_swell(&s, &sw, &err);
@@ -34,9 +34,9 @@ static sea_waves *plan(const sea_spectrum *s, sea_waves_kind kind, double finest
     p.fft_size = fft;
     sea_waves *w = NULL;
     sea_error err;
-    sea_status st = sea_waves_create(s, &p, &w, &err);
+    sea_status st = sea_waves_alloc(s, &p, &w, &err);
     if (st != SEA_OK)
-        fprintf(stderr, "  sea_waves_create: %s\n", err.msg);
+        fprintf(stderr, "  sea_waves_alloc: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
     return w;
 }
@@ -298,7 +298,7 @@ static void test_slope_variance(void)
 static void test_direction_of_travel(void)
 {
     sea_spectrum s;
-    CU_ASSERT_EQUAL_FATAL(sea_spectrum_init(&s, 0.5, INFINITY, 0.0, NULL), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_spectrum_init(0.5, INFINITY, 0.0, &s, NULL), SEA_OK);
     const sea_swell sw = { .hs = 2.0, .tp = 10.0, .dir = 150.0 * DEG, .spread = 10.0 * DEG,
                            .gamma = 3.3 };
     CU_ASSERT_EQUAL_FATAL(sea_spectrum_add_swell(&s, &sw, NULL), SEA_OK);
@@ -370,7 +370,7 @@ static void test_bad_input(void)
 {
     sea_spectrum s;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_spectrum_init(&s, 10.0, INFINITY, 0.0, NULL), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_spectrum_init(10.0, INFINITY, 0.0, &s, NULL), SEA_OK);
     const sea_swell good = { .hs = 2.0, .tp = 10.0, .dir = 0.0, .spread = 15.0 * DEG,
                              .gamma = 3.3 };
     sea_swell bad[] = { good, good, good, good, good, good, good, good, good };
@@ -445,14 +445,14 @@ static void test_horizon_change(void)
         if (st != SEA_OK)
             fprintf(stderr, "  %s\n", err.msg);
         CU_ASSERT_FATAL(st == SEA_OK);
-        sea_render *r = NULL;
-        CU_ASSERT_FATAL(sea_render_prepare(&sc, &r, &err) == SEA_OK);
+        sea_view *r = NULL;
+        CU_ASSERT_FATAL(sea_view_alloc(&sc, &r, &err) == SEA_OK);
         sea_image img;
-        CU_ASSERT_FATAL(sea_image_alloc(&img, sc.width, sc.height, &err) == SEA_OK);
-        CU_ASSERT_FATAL(sea_render_frame(r, sc.time, &img, NULL, NULL, &err) == SEA_OK);
+        CU_ASSERT_FATAL(sea_image_alloc(sc.width, sc.height, &img, &err) == SEA_OK);
+        CU_ASSERT_FATAL(sea_view_render_frame(r, sc.time, &img, NULL, NULL, &err) == SEA_OK);
         T[c] = band_temperature(&sc, &img, 0.0, 2.0);
         sea_image_free(&img);
-        sea_render_free(r);
+        sea_view_free(r);
     }
     MEASURED("mast.ini at night, 0-2 deg below the horizon: %.3f K; Douglas 7 along the view "
              "%+.3f K, across %+.3f K\n",

@@ -15,7 +15,7 @@ static sea_spectrum sea_state(double wind, double wind_dir)
 {
     sea_spectrum s;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_spectrum_init(&s, wind, INFINITY, wind_dir, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_spectrum_init(wind, INFINITY, wind_dir, &s, &err), SEA_OK);
     return s;
 }
 
@@ -29,9 +29,9 @@ static sea_waves *plan(const sea_spectrum *s, sea_waves_kind kind, size_t fft_si
     p.seed = seed;
     sea_waves *w = NULL;
     sea_error err;
-    sea_status st = sea_waves_create(s, &p, &w, &err);
+    sea_status st = sea_waves_alloc(s, &p, &w, &err);
     if (st != SEA_OK)
-        fprintf(stderr, "  sea_waves_create: %s\n", err.msg);
+        fprintf(stderr, "  sea_waves_alloc: %s\n", err.msg);
     CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
     return w;
 }
@@ -373,7 +373,7 @@ static void test_determinism(void)
     free(b);
 }
 
-/* FFT plans are planned once, in sea_waves_create, and only executed by the
+/* FFT plans are planned once, in sea_waves_alloc, and only executed by the
  * sampling calls: several threads sampling every level of one plan at once,
  * each at its own time, get what one thread gets, bit for bit.  N = 96 has
  * levels 96 ... 3 (the odd one goes through FFTW's alignment buffer). */
@@ -435,9 +435,9 @@ static void test_plans_share_bins(void)
     sea_waves_params_default(&p);
     sea_waves *a = NULL, *b = NULL;
     sea_error err;
-    CU_ASSERT_EQUAL_FATAL(sea_waves_create(&s, &p, &a, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_waves_alloc(&s, &p, &a, &err), SEA_OK);
     p.finest = 4.0;
-    CU_ASSERT_EQUAL_FATAL(sea_waves_create(&s, &p, &b, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_waves_alloc(&s, &p, &b, &err), SEA_OK);
     CU_ASSERT(sea_waves_count(b) < sea_waves_count(a));
     double ha, hb;
     sea_vec2 ga, gb;
@@ -496,7 +496,7 @@ static void test_loop_period(void)
         p.loop_period = 12.5;
         sea_waves *w = NULL;
         sea_error err;
-        CU_ASSERT_EQUAL_FATAL(sea_waves_create(&s, &p, &w, &err), SEA_OK);
+        CU_ASSERT_EQUAL_FATAL(sea_waves_alloc(&s, &p, &w, &err), SEA_OK);
         sea_moments a[16], b[16], c[16];
         const sea_rect r = { 4.0, 0, 0, 4, 4 };
         CU_ASSERT_EQUAL(sea_waves_facets(w, &r, 1, 3.0, a, &err), SEA_OK);
@@ -578,20 +578,20 @@ static void test_bad_input(void)
     sea_error err;
     sea_waves_params_default(&p);
     p.finest = 0.0;
-    CU_ASSERT_EQUAL(sea_waves_create(&s, &p, &w, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_waves_alloc(&s, &p, &w, &err), SEA_ERR_DOMAIN);
     CU_ASSERT_PTR_NULL(w);
     sea_waves_params_default(&p);
     p.directions = 4;
-    CU_ASSERT_EQUAL(sea_waves_create(&s, &p, &w, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_waves_alloc(&s, &p, &w, &err), SEA_ERR_DOMAIN);
     sea_waves_params_default(&p);
     p.kind = SEA_WAVES_FFT;
     p.fft_size = 63;
-    CU_ASSERT_EQUAL(sea_waves_create(&s, &p, &w, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_waves_alloc(&s, &p, &w, &err), SEA_ERR_DOMAIN);
     p.fft_size = 64;
     p.loop_period = -1.0;
-    CU_ASSERT_EQUAL(sea_waves_create(&s, &p, &w, &err), SEA_ERR_DOMAIN);
+    CU_ASSERT_EQUAL(sea_waves_alloc(&s, &p, &w, &err), SEA_ERR_DOMAIN);
     p.loop_period = 0.0;
-    CU_ASSERT_EQUAL_FATAL(sea_waves_create(&s, &p, &w, &err), SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_waves_alloc(&s, &p, &w, &err), SEA_OK);
 
     sea_moments mo[4];
     sea_rect r = { 0.5, 0, 0, 2, 2 }; /* below the finest facet */

@@ -234,7 +234,7 @@ static int bake_cancel(void *ctx, double fraction)
 
 /* Rank 0: every frame into the writer, its own computed by the writer,
  * the others' received (under MPI), then the finish. */
-static sea_status bake_all(const sea_cli_bake *s, const sea_render *r, const char *tmp,
+static sea_status bake_all(const sea_cli_bake *s, const sea_view *r, const char *tmp,
                            sea_cli_bake_stats *stats, sea_error *err)
 {
     const long first = s->opt.framed ? s->opt.first : 0, last = s->opt.framed ? s->opt.last : 0;
@@ -287,7 +287,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     (void)out; /* files go to DIR, the summary to standard error */
     const double start = sea_cli_seconds();
     sea_cli_bake s;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_bake_dir *od = NULL;
     sea_cli_bake_stats stats = {0};
     double prepare = 0.0;
@@ -308,12 +308,12 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     }
     if (st == SEA_OK) {
         const double t0 = sea_cli_seconds();
-        st = sea_render_prepare(&s.sc, &r, err);
+        st = sea_view_alloc(&s.sc, &r, err);
         prepare = sea_cli_seconds() - t0;
         /* no sensor's image to render: the pixels' plans are not needed
          * (the maps' view texels plan theirs as they go) */
         if (st == SEA_OK && !bake_sensor(&s))
-            sea_render_drop_pixels(r);
+            sea_view_drop_pixels(r);
     }
     st = sea_cli_mpi_agree(st, 0, NULL, err);
     if (st == SEA_OK && s.explain && rank == 0)
@@ -333,7 +333,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
     /* Under MPI the job ends together: the error is reported, not died of. */
     if (sea_cli_interrupted() != 0 && st != SEA_OK && size == 1) {
         /* the temporary directory is gone: die of the signal, as asked */
-        sea_render_free(r);
+        sea_view_free(r);
         free(s.dir);
         sea_cli_die_of_signal(err->msg);
         return st;
@@ -349,7 +349,7 @@ static sea_status run_bake(const sea_cli_args *args, FILE *out, sea_error *err)
                 s.dir, stats.texels, secs, secs > 0.0 ? (double)stats.texels / secs : 0.0,
                 prepare, stats.compute, p->waves, p->image, p->optics, p->view, stats.write);
     }
-    sea_render_free(r);
+    sea_view_free(r);
     free(s.dir);
     return st;
 }

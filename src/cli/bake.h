@@ -46,8 +46,8 @@ int sea_cli_bake_owner(const sea_cli_bake *s, long f);
 
 /* A rank other than 0: its frames (--frames) or its texel rows of the one
  * frame, sent to rank 0 level by level. */
-sea_status sea_cli_bake_send_frames(const sea_cli_bake *s, const sea_render *r, sea_error *err);
-sea_status sea_cli_bake_send_rows(const sea_cli_bake *s, const sea_render *r, sea_error *err);
+sea_status sea_cli_bake_send_frames(const sea_cli_bake *s, const sea_view *r, sea_error *err);
+sea_status sea_cli_bake_send_rows(const sea_cli_bake *s, const sea_view *r, sea_error *err);
 
 /* Rank 0's side: buffers for the levels of the others' frames (the largest
  * level's) and which ranks still send. */
@@ -59,11 +59,11 @@ typedef struct {
     bool *sending;
 } sea_cli_bake_inbox;
 sea_status sea_cli_bake_inbox_alloc(sea_cli_bake_inbox *in, const sea_cli_bake *s,
-                                    const sea_render *r, sea_error *err);
+                                    const sea_view *r, sea_error *err);
 /* Frame f, computed by rank owner (--frames) or by every rank's texel rows
  * (one frame), into the writer. */
 sea_status sea_cli_bake_frame_mpi(sea_cli_bake_inbox *in, const sea_cli_bake *s,
-                                  const sea_render *r, sea_bake_writer *w, int owner, long f,
+                                  const sea_view *r, sea_bake_writer *w, int owner, long f,
                                   sea_cli_bake_progress *prog, sea_cli_bake_stats *stats,
                                   sea_error *err);
 /* Rank owner's frame is taken (st SEA_OK: GO) or not (STOP); none for

@@ -107,7 +107,7 @@ static sea_status level_send(void *ctx, const sea_bake *b, size_t l, sea_error *
 /* A rank other than 0: its frames, each level to rank 0 (see above).  A
  * level whose copy failed for memory was not queued whole: the END that
  * follows cannot be told apart, so that failure aborts the job. */
-sea_status sea_cli_bake_send_frames(const sea_cli_bake *s, const sea_render *r, sea_error *err)
+sea_status sea_cli_bake_send_frames(const sea_cli_bake *s, const sea_view *r, sea_error *err)
 {
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     const long first = s->opt.framed ? s->opt.first : 0, last = s->opt.framed ? s->opt.last : 0;
@@ -256,7 +256,7 @@ static sea_status rows_send(void *ctx, const sea_bake *b, size_t l, sea_error *e
 }
 
 /* A rank other than 0: its rows of the one frame (see above). */
-sea_status sea_cli_bake_send_rows(const sea_cli_bake *s, const sea_render *r, sea_error *err)
+sea_status sea_cli_bake_send_rows(const sea_cli_bake *s, const sea_view *r, sea_error *err)
 {
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_cli_bake_progress prog = {{"bake", 0, 1, -1, 0.0}, false};
@@ -342,7 +342,7 @@ static sea_status rows_gather(void *ctx, const sea_bake *b, size_t l, sea_error 
  * level still coming is dropped and answered STOP); failed: rank 0 failed
  * before the frame, which it then only receives. */
 static sea_status bake_rows_frame(sea_bake_writer *w, sea_cli_bake_inbox *in, bool *open,
-                                  const sea_render *r, double t, int view_k, bool failed,
+                                  const sea_view *r, double t, int view_k, bool failed,
                                   sea_cli_bake_progress *prog, sea_bake *b, sea_error *err)
 {
     const int size = sea_cli_mpi_size();
@@ -374,7 +374,7 @@ static sea_status bake_rows_frame(sea_bake_writer *w, sea_cli_bake_inbox *in, bo
  * project it, rendered here.  A failure before the frame still receives
  * it (the ranks' messages must be matched), writing nothing. */
 sea_status sea_cli_bake_frame_mpi(sea_cli_bake_inbox *in, const sea_cli_bake *s,
-                                  const sea_render *r, sea_bake_writer *w, int owner, long f,
+                                  const sea_view *r, sea_bake_writer *w, int owner, long f,
                                   sea_cli_bake_progress *prog, sea_cli_bake_stats *stats,
                                   sea_error *err)
 {
@@ -387,10 +387,10 @@ sea_status sea_cli_bake_frame_mpi(sea_cli_bake_inbox *in, const sea_cli_bake *s,
     sea_image view = {0};
     const bool want_view = sea_bake_writer_wants_view(w);
     if (first == SEA_OK && want_view) {
-        const sea_camera *cam = sea_render_camera(r);
-        first = sea_image_alloc(&view, cam->width, cam->height, &first_err);
+        const sea_camera *cam = sea_view_camera(r);
+        first = sea_image_alloc(cam->width, cam->height, &view, &first_err);
         if (first == SEA_OK)
-            first = sea_render_frame(r, t, &view, NULL, NULL, &first_err);
+            first = sea_view_render_frame(r, t, &view, NULL, NULL, &first_err);
     }
     sea_bake b;
     sea_status st;
@@ -428,7 +428,7 @@ sea_status sea_cli_bake_frame_mpi(sea_cli_bake_inbox *in, const sea_cli_bake *s,
 }
 
 sea_status sea_cli_bake_inbox_alloc(sea_cli_bake_inbox *in, const sea_cli_bake *s,
-                                    const sea_render *r, sea_error *err)
+                                    const sea_view *r, sea_error *err)
 {
     const int size = sea_cli_mpi_size();
     memset(in, 0, sizeof *in);
@@ -437,7 +437,7 @@ sea_status sea_cli_bake_inbox_alloc(sea_cli_bake_inbox *in, const sea_cli_bake *
     if (size == 1)
         return SEA_OK;
     const sea_clip_level *lv;
-    const size_t nlev = sea_render_levels(r, &lv), k2 = in->view_k * in->view_k;
+    const size_t nlev = sea_view_levels(r, &lv), k2 = in->view_k * in->view_k;
     for (size_t l = 0; l < nlev; l++)
         if (!lv[l].low_res && lv[l].nx * lv[l].ny > in->nmax)
             in->nmax = lv[l].nx * lv[l].ny;

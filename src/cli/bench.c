@@ -96,7 +96,7 @@ static sea_status bench_facets(const sea_spectrum *spec, sea_waves_kind kind, si
     sea_moments *mo = NULL;
     int n;
     const double t0 = sea_cli_seconds();
-    sea_status st = sea_waves_create(spec, &p, &w, err);
+    sea_status st = sea_waves_alloc(spec, &p, &w, err);
     const double plan = sea_cli_seconds() - t0;
     if (st == SEA_OK)
         st = sea_facet_method_n(w, method, n_arg, SEA_CLI_BENCH_FACET, &n, err);
@@ -144,7 +144,7 @@ static sea_status bench_fft_vs_sinusoids(const sea_spectrum *spec, size_t N, int
     sea_waves *fft = NULL, *sin = NULL;
     double *full = NULL, *sub = NULL;
     const size_t S = SEA_CLI_BENCH_SUB;
-    sea_status st = sea_waves_create(spec, &p, &fft, err);
+    sea_status st = sea_waves_alloc(spec, &p, &fft, err);
     if (st == SEA_OK)
         st = sea_waves_to_sinusoids(fft, &sin, err);
     if (st == SEA_OK)
@@ -260,7 +260,7 @@ static sea_status run_bench(const sea_cli_args *args, FILE *stdout_f, sea_error 
     sea_cli_clean_stale_files("bench", png2);
     const int threads = max_threads(), reps = quick ? 1 : 3;
     const size_t side = quick ? 256 : 1024, patch = quick ? 1024 : 4096, N = quick ? 128 : 256;
-    if ((st = sea_spectrum_init(&spec, SEA_CLI_BENCH_WIND, INFINITY, 0.0, err)) != SEA_OK)
+    if ((st = sea_spectrum_init(SEA_CLI_BENCH_WIND, INFINITY, 0.0, &spec, err)) != SEA_OK)
         goto done;
 
     fprintf(out, "%-6s %-18s %-46s %9s %10s %11s %3s\n", "section", "method", "settings",

@@ -456,15 +456,15 @@ static void bench_fig_scene(int fig, int side, sea_scene *sc)
 static sea_status bench_image(const sea_scene *sc, sea_image *img, double *seconds,
                               sea_error *err)
 {
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     const double t0 = sea_cli_seconds();
-    sea_status st = sea_render_prepare(sc, &r, err);
+    sea_status st = sea_view_alloc(sc, &r, err);
     if (st == SEA_OK)
-        st = sea_image_alloc(img, sc->width, sc->height, err);
+        st = sea_image_alloc(sc->width, sc->height, img, err);
     if (st == SEA_OK)
-        st = sea_render_frame(r, sc->time, img, NULL, NULL, err);
+        st = sea_view_render_frame(r, sc->time, img, NULL, NULL, err);
     *seconds = sea_cli_seconds() - t0;
-    sea_render_free(r);
+    sea_view_free(r);
     return st;
 }
 

@@ -413,9 +413,9 @@ void sea_cli_progress_end(sea_cli_progress *p);
 
 /* --explain (render, bake; lines start "WHAT: "): the levels, windows, sub-facets, emissivity
  * rule, wave components, fallbacks and spectral samples that
- * sea_render_prepare chose for the scene file scene_path, and why, on
+ * sea_view_alloc chose for the scene file scene_path, and why, on
  * standard error. */
-void sea_cli_explain(const char *what, const char *scene_path, const sea_render *r);
+void sea_cli_explain(const char *what, const char *scene_path, const sea_view *r);
 
 /* ------------------------------------------------------ charts (chart.c) */
 

@@ -291,7 +291,7 @@ static sea_status conv_wind(const conv_setup *c, const sea_optics *optics, doubl
         st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for %zu facets", kmax);
         goto done;
     }
-    if ((st = sea_spectrum_init(&spec, wind, c->fetch, sea_cli_radians(c->wind_dir_deg), err)) !=
+    if ((st = sea_spectrum_init(wind, c->fetch, sea_cli_radians(c->wind_dir_deg), &spec, err)) !=
             SEA_OK ||
         (st = sea_spectrum_slope_cov(&spec, 0.0, &lr, err)) != SEA_OK)
         goto done;
@@ -311,7 +311,7 @@ static sea_status conv_wind(const conv_setup *c, const sea_optics *optics, doubl
     p.finest = SEA_CLI_CONV_FINEST;
     p.seed = c->seed;
     if (c->method != SEA_METHOD_ONE_METER &&
-        (st = sea_waves_create(&spec, &p, &waves, err)) != SEA_OK)
+        (st = sea_waves_alloc(&spec, &p, &waves, err)) != SEA_OK)
         goto done;
 
     for (int x = c->x1; x <= c->x2; ++x) {
@@ -342,7 +342,7 @@ static sea_status conv_wind(const conv_setup *c, const sea_optics *optics, doubl
             waves = NULL;
             p.kind = SEA_WAVES_FFT;
             p.fft_size = (size_t)N;
-            if ((st = sea_waves_create(&spec, &p, &waves, err)) != SEA_OK)
+            if ((st = sea_waves_alloc(&spec, &p, &waves, err)) != SEA_OK)
                 goto done;
             break;
         }

@@ -1,6 +1,6 @@
 /* explain.c - --explain of render and bake: the levels, windows,
  * sub-facets, emissivity rule, wave components, fallbacks and spectral
- * samples that sea_render_prepare chose, and why, on standard error. */
+ * samples that sea_view_alloc chose, and why, on standard error. */
 #include <math.h>
 #include <stdio.h>
 
@@ -9,19 +9,19 @@
 /* Wavelengths listed by --explain before "...". */
 enum { EXPLAIN_SAMPLES = 16 };
 
-/* --explain of render and bake: what sea_render_prepare chose, and why. */
-void sea_cli_explain(const char *what, const char *scene_path, const sea_render *r)
+/* --explain of render and bake: what sea_view_alloc chose, and why. */
+void sea_cli_explain(const char *what, const char *scene_path, const sea_view *r)
 {
-    const sea_scene *sc = sea_render_scene(r);
+    const sea_scene *sc = sea_view_scene(r);
     const sea_clip_level *lv;
-    const size_t n = sea_render_levels(r, &lv);
+    const size_t n = sea_view_levels(r, &lv);
     const size_t npix = (size_t)sc->width * (size_t)sc->height;
     size_t sea_pixels = 0;
     for (size_t i = 0; i < n; ++i)
         sea_pixels += lv[i].pixels;
     char grid[64];
     size_t grid_needed = 0;
-    const size_t fallback = sea_multires_fallback(sea_render_multires(r), &grid_needed);
+    const size_t fallback = sea_multires_fallback(sea_view_multires(r), &grid_needed);
     if (sc->grid == SEA_GRID_AUTO && sc->windows == SEA_WINDOWS_CLIPMAP)
         snprintf(grid, sizeof grid, "grid auto: 256");
     else if (sc->grid == SEA_GRID_AUTO)
@@ -128,7 +128,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
         fprintf(stderr, "  windows = clipmap: every high-resolution level is %d x %d facets "
                         "around the point the optical axis meets, whether pixels read it or not\n",
                 sc->grid > 0 ? sc->grid : 256, sc->grid > 0 ? sc->grid : 256);
-    const sea_render_choices ch = sea_render_choices_of(r);
+    const sea_view_choices ch = sea_view_choices_of(r);
     if (sc->emissivity_method == SEA_EMIS_AUTO)
         fprintf(stderr,
                 "%s: emissivity: auto rule, orders x %g (%s): n_gl = ceil(%g (%g + %g s_X)), "
@@ -224,7 +224,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_render 
         fprintf(stderr, "%s: waves: %zu FFT modes (the same at every tolerance)\n", what,
                 ch.wave_count);
     const double *wl, *wt;
-    const size_t k = sea_render_samples(r, &wl, &wt);
+    const size_t k = sea_view_samples(r, &wl, &wt);
     if (sc->wavelength > 0.0) {
         fprintf(stderr, "%s: 1 spectral sample, at %g um\n", what, wl[0] * 1e6);
         return;

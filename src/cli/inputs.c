@@ -153,7 +153,7 @@ sea_status sea_cli_sea_state(const sea_cli_args *args, sea_spectrum *spec, doubl
     sea_status st = sea_cli_opt_sea_state(args, wind, fetch, &wind_dir_deg, err);
     if (st != SEA_OK)
         return st;
-    return sea_spectrum_init(spec, *wind, *fetch, sea_cli_radians(wind_dir_deg), err);
+    return sea_spectrum_init(*wind, *fetch, sea_cli_radians(wind_dir_deg), spec, err);
 }
 
 /* Covariance of the waves shorter than a facet of size L (0: all waves). */

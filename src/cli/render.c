@@ -3,7 +3,7 @@
  * their files are render_frames.c's).
  *
  * One prepare (camera, levels, spectral samples, wave plan), then one
- * sea_render_frame per frame; each frame writes the radiance to OUT.exr
+ * sea_view_render_frame per frame; each frame writes the radiance to OUT.exr
  * (channel Y), the requested AOVs to OUT.<aov>.exr and a brightness
  * temperature preview to OUT.png (each AOV its own OUT.<aov>.png), with a
  * frame suffix (OUT_0001.exr) when --frames is given.  The previews' tone
@@ -380,14 +380,14 @@ static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err
     (void)out; /* the images go to files, the reports to standard error */
     const double start = sea_cli_seconds();
     sea_cli_render s;
-    sea_render *r = NULL;
+    sea_view *r = NULL;
     sea_status st = render_parse(args, &s, err);
     if (st == SEA_OK)
         st = sea_cli_render_check_outputs(&s, err);
     if (st == SEA_OK)
         st = sea_cli_threads_start(err);
     if (st == SEA_OK)
-        st = sea_render_prepare(&s.sc, &r, err);
+        st = sea_view_alloc(&s.sc, &r, err);
     /* The scene's camera, if it gives one: planned once for every frame. */
     if (st == SEA_OK) {
         sea_error lib = {{0}};
@@ -417,14 +417,14 @@ static sea_status run_render(const sea_cli_args *args, FILE *out, sea_error *err
                         : sea_cli_render_rows_mpi(&s, r, start, err);
         /* Under MPI the job ends together: the error is reported, not died of. */
         if (st != SEA_OK && sea_cli_interrupted() != 0 && size == 1) {
-            sea_render_free(r);
+            sea_view_free(r);
             render_setup_free(&s);
             sea_cli_die_of_signal(err->msg);
             return st;
         }
         sea_cli_signals_restore();
     }
-    sea_render_free(r);
+    sea_view_free(r);
     render_setup_free(&s);
     return st;
 }

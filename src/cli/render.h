@@ -84,14 +84,14 @@ sea_status sea_cli_render_check_outputs(const sea_cli_render *s, sea_error *err)
 /* Every frame, written as it is done, then the summary line: in one
  * process, or under MPI frames shared among the ranks (--frames) or the
  * row blocks of the one frame. */
-sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, double start,
+sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_view *r, double start,
                                  sea_error *err);
-sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *r, double start,
+sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_view *r, double start,
                                      sea_error *err);
 /* The scene's camera keys in one line ("optics gaussian psf_sigma 1.5
  * pixels, fill_factor 1, netd 0.05 K at 300 K, ..."), "" without any. */
 void sea_cli_camera_text(const sea_scene *sc, char *buf, size_t size);
-sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r, double start,
+sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_view *r, double start,
                                    sea_error *err);
 
 #endif /* SEABAKE_CLI_RENDER_H */

@@ -43,10 +43,10 @@ static char *frame_path(const char *stem, bool framed, long frame, const char *m
 
 /* "1,2,512(LR) m": facet sizes of the levels prepare chose, finest first,
  * and the pixels on coarser facets than they ask, if any. */
-static void levels_text(const sea_render *r, char *buf, size_t size)
+static void levels_text(const sea_view *r, char *buf, size_t size)
 {
     const sea_clip_level *lv;
-    const size_t n = sea_render_levels(r, &lv);
+    const size_t n = sea_view_levels(r, &lv);
     size_t used = 0;
     buf[0] = '\0';
     for (size_t i = 0; i < n && used < size; ++i) {
@@ -59,7 +59,7 @@ static void levels_text(const sea_render *r, char *buf, size_t size)
     /* the pixels that read coarser facets than their footprint asks, for
      * want of a larger grid: said in the summary, with the grid */
     size_t grid_needed = 0;
-    const size_t fb = sea_multires_fallback(sea_render_multires(r), &grid_needed);
+    const size_t fb = sea_multires_fallback(sea_view_multires(r), &grid_needed);
     if (used < size)
         used += (size_t)snprintf(buf + used, size - used, " m");
     if (fb > 0 && used < size)
@@ -425,11 +425,11 @@ static sea_status render_summary(const sea_cli_render *s, const char *levels, do
 /* Every frame, written as it is done; then the summary line.  A signal
  * stops the frame being rendered within a row: its files are not written
  * (the frames before it are complete and stay). */
-sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, double start,
+sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_view *r, double start,
                                 sea_error *err)
 {
     sea_image img;
-    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    sea_status st = sea_image_alloc(s->sc.width, s->sc.height, &img, err);
     if (st != SEA_OK)
         return st;
     char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
@@ -440,7 +440,7 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
     double t_min = INFINITY, t_max = -INFINITY;
     render_previews pv;
     memset(&pv, 0, sizeof pv);
-    pv.n_levels = sea_render_levels(r, &pv.levels);
+    pv.n_levels = sea_view_levels(r, &pv.levels);
     camera_tally ct;
     camera_tally_init(s, &ct);
     sea_imager_image cam;
@@ -451,7 +451,7 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
     for (long f = first; f <= last && st == SEA_OK; ++f) {
         const double t = s->framed ? s->sc.time + (double)f / s->rate : s->sc.time;
         prog.bar.index = (size_t)(f - first);
-        st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
+        st = sea_view_render_frame(r, t, &img, render_progress_fn, &prog, err);
         bool wrote = false;
         /* the camera's frame f: its temporal noise is drawn for f */
         if (st == SEA_OK && ct.on && sea_cli_interrupted() == 0)
@@ -506,7 +506,7 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_render *r, d
  *    are removed, so that what stays is what one process leaves: the
  *    frames before the failure.
  *  - one frame: rank k renders the blocks of SEA_RENDER_ROW_BLOCK rows
- *    k, k + N, ... (sea_render_rows, interleaved so that sky and sea rows
+ *    k, k + N, ... (sea_view_render_rows, interleaved so that sky and sea rows
  *    are shared evenly) and sends them to rank 0, which writes every file.
  * Rank 0 alone shows progress and prints the summary, whose temperatures
  * are reduced over the ranks. */
@@ -566,12 +566,12 @@ static sea_status interrupted_mpi(long first, long kept, sea_error *err)
 }
 
 /* --frames A:B shared among the ranks (see above). */
-sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *r, double start,
+sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_view *r, double start,
                                     sea_error *err)
 {
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_image img;
-    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    sea_status st = sea_image_alloc(s->sc.width, s->sc.height, &img, err);
     if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) != SEA_OK) {
         sea_image_free(&img);
         return st;
@@ -585,7 +585,7 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *
     double t_min = INFINITY, t_max = -INFINITY;
     render_previews pv;
     memset(&pv, 0, sizeof pv);
-    pv.n_levels = sea_render_levels(r, &pv.levels);
+    pv.n_levels = sea_view_levels(r, &pv.levels);
     /* each rank's camera makes its own frames: the noise of frame f is f's */
     camera_tally ct;
     camera_tally_init(s, &ct);
@@ -606,7 +606,7 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_render *
         bool wrote = false, write = mine;
         prog.bar.index = (size_t)(base - first);
         if (mine)
-            st = sea_render_frame(r, t, &img, render_progress_fn, &prog, err);
+            st = sea_view_render_frame(r, t, &img, render_progress_fn, &prog, err);
         if (mine && st == SEA_OK && ct.on && sea_cli_interrupted() == 0)
             st = sea_imager_apply(s->camera, &img, (uint64_t)f, &cam, err);
         /* as sea_cli_render_frames: a signal's message, whatever stopped the frame */
@@ -666,7 +666,7 @@ static void image_planes(const sea_image *img, float *planes[RENDER_PLANES])
     planes[4] = img->reflectivity;
 }
 
-/* The image rows of rank k's row blocks (k, k + N, ...; sea_render_rows),
+/* The image rows of rank k's row blocks (k, k + N, ...; sea_view_render_rows),
  * top first, into rows (NULL: only counted); returns their number. */
 static size_t rank_rows(size_t H, int k, int size, size_t *rows)
 {
@@ -712,13 +712,13 @@ static void gather_rows(sea_image *img, float *pack, size_t *rows, int rank, int
 }
 
 /* One frame shared by rows among the ranks, written by rank 0 (see above). */
-sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r, double start,
+sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_view *r, double start,
                                   sea_error *err)
 {
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     const size_t W = (size_t)s->sc.width;
     sea_image img;
-    sea_status st = sea_image_alloc(&img, s->sc.width, s->sc.height, err);
+    sea_status st = sea_image_alloc(s->sc.width, s->sc.height, &img, err);
     float *pack = NULL;
     size_t *rows = NULL, most = 0;
     for (int k = 1; k < size; k++) {
@@ -736,7 +736,7 @@ sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r,
     render_progress prog = {{"render", 0, 1, -1, 0.0}, s->progress && rank == 0};
     const double t = s->sc.time;
     if (st == SEA_OK)
-        st = sea_render_rows(r, t, rank, size, &img, render_progress_fn, &prog, err);
+        st = sea_view_render_rows(r, t, rank, size, &img, render_progress_fn, &prog, err);
     if (st == SEA_OK && sea_cli_interrupted() != 0)
         st = sea_fail(err, SEA_ERR_CANCELLED, "interrupted by signal %d: no file written",
                       sea_cli_interrupted());
@@ -750,7 +750,7 @@ sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_render *r,
     if (st == SEA_OK && rank == 0) {
         render_previews pv;
         memset(&pv, 0, sizeof pv);
-        pv.n_levels = sea_render_levels(r, &pv.levels);
+        pv.n_levels = sea_view_levels(r, &pv.levels);
         /* the camera sees the gathered frame, on rank 0 */
         if (ct.on && (st = sea_imager_image_alloc(s->camera, &cam, err)) == SEA_OK)
             st = sea_imager_apply(s->camera, &img, 0, &cam, err);

@@ -385,7 +385,7 @@ static sea_status run_slopes(const sea_cli_args *args, FILE *out, sea_error *err
     /* what a killed run left beside the output (marked, its maker gone) */
     if (s.output != SLOPES_STDOUT)
         sea_cli_clean_stale_files("slopes", s.path);
-    if ((st = sea_spectrum_init(&spec, s.wind, s.fetch, sea_cli_radians(s.wind_dir_deg), err)) !=
+    if ((st = sea_spectrum_init(s.wind, s.fetch, sea_cli_radians(s.wind_dir_deg), &spec, err)) !=
         SEA_OK)
         return st;
 
@@ -397,7 +397,7 @@ static sea_status run_slopes(const sea_cli_args *args, FILE *out, sea_error *err
     p.loop_period = s.loop_period;
     if (s.kind == SEA_WAVES_FFT)
         p.fft_size = s.fft_size;
-    if ((st = sea_waves_create(&spec, &p, &waves, err)) != SEA_OK)
+    if ((st = sea_waves_alloc(&spec, &p, &waves, err)) != SEA_OK)
         goto done;
     mo = malloc(np * sizeof *mo);
     if (mo == NULL) {

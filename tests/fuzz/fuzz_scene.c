@@ -8,7 +8,7 @@
  * curve "r.csv", so that `water = w.csv` and `response = r.csv` load.
  *
  * Each execution must take milliseconds, so an accepted scene is shrunk
- * before sea_render_prepare: at most 8 x 6 pixels (2 x 2 with the adaptive
+ * before sea_view_alloc: at most 8 x 6 pixels (2 x 2 with the adaptive
  * emissivity), grid 16, sub-facet exponent <= 3, at most 2 band samples,
  * a tolerance of at least 1e-3, one scale (two build a table of what they
  * add per spectral sample, or integrate it per texel: seconds under the
@@ -118,23 +118,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     shrink(&sc);
 
-    sea_render *r = NULL;
-    st = sea_render_prepare(&sc, &r, &err);
+    sea_view *r = NULL;
+    st = sea_view_alloc(&sc, &r, &err);
     fuzz_check_error(st, &err);
     if (st != SEA_OK) {
         FUZZ_ASSERT(r == NULL);
         return 0;
     }
     const sea_clip_level *lv;
-    size_t nl = sea_render_levels(r, &lv);
+    size_t nl = sea_view_levels(r, &lv);
     FUZZ_ASSERT(nl >= 1 && nl <= SEA_CLIP_MAX_LEVELS);
     for (size_t l = 1; l < nl; l++)
         FUZZ_ASSERT(lv[l].level > lv[l - 1].level);
 
     sea_image img;
-    st = sea_image_alloc(&img, sc.width, sc.height, &err);
+    st = sea_image_alloc(sc.width, sc.height, &img, &err);
     FUZZ_ASSERT(st == SEA_OK);
-    st = sea_render_frame(r, sc.time, &img, NULL, NULL, &err);
+    st = sea_view_render_frame(r, sc.time, &img, NULL, NULL, &err);
     fuzz_check_error(st, &err);
     if (st == SEA_OK)
         check_image(&img);
@@ -159,6 +159,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         sea_bake_free(&b);
     }
-    sea_render_free(r);
+    sea_view_free(r);
     return 0;
 }
