@@ -57,6 +57,39 @@ SEA_INTERNAL void sea_optics_set_spectral_basis(struct sea_optics *p, int on);
  * largest difference from a table's reflectance, measured (NAN: none). */
 SEA_INTERNAL int sea_optics_spectral_rank(const struct sea_optics *p, const double complex *N,
                                           size_t n, double *err);
+/* optics.c, for polar.c: the nodes of the emissivity's fixed rules
+ * (sea_emissivity_n with method SEA_EMIS_AUTO or SEA_EMIS_FAST, or *rule),
+ * so that another facet quantity is averaged exactly as the emissivity
+ * averages 1 - rho: node q is a facet of slope (gX, gY) in the frame of the
+ * view azimuth (X along it, Y to its left), cos psi toward v and weight w
+ * (projected area, shadowing and the rule's weights; the weights sum to 1,
+ * none when every facet is turned away).  *exact: the emissivity evaluates
+ * the Fresnel formula at these nodes, not the plan's table (a facet
+ * without slope spread).  At most SEA_FACET_NODES_MAX nodes.  Errors as
+ * sea_emissivity_n's, and SEA_ERR_DOMAIN for SEA_EMIS_FULL; reads p. */
+typedef struct {
+    double gX, gY, cos_psi, w;
+} sea_facet_node;
+enum { SEA_FACET_NODES_MAX = SEA_EMIS_GL_MAX * SEA_EMIS_GH_MAX };
+SEA_INTERNAL sea_status sea_optics_facet_nodes(const struct sea_optics *p, sea_emis_method method,
+                                               const sea_emis_rule *rule,
+                                               const sea_slope_stats *st, sea_dir v,
+                                               sea_facet_node *nodes, size_t *count, int *exact,
+                                               sea_error *err);
+/* 1 - rho(psi) of index N as the emissivity reads it at a node: the plan's
+ * table of N where it has one and exact is 0, else the formula.  Reads p
+ * (may build N's table under p's lock). */
+SEA_INTERNAL double sea_optics_one_minus_rho(const struct sea_optics *p, double complex N,
+                                             int exact, double cos_psi);
+/* SEA_EMIS_FULL's adaptive average of nval <= SEA_FACET_VALUES_MAX facet
+ * values, fn(gX, gY, cos psi, ctx, vals) in the frame above, one adaptive
+ * quadrature each (about 1 ms); errors as sea_emissivity's; reads p. */
+enum { SEA_FACET_VALUES_MAX = 4 };
+typedef void (*sea_facet_fn)(double gX, double gY, double cos_psi, void *ctx, double *vals);
+SEA_INTERNAL sea_status sea_optics_facet_mean_full(const struct sea_optics *p,
+                                                   const sea_slope_stats *st, sea_dir v,
+                                                   sea_facet_fn fn, void *ctx, int nval,
+                                                   double *out, sea_error *err);
 
 /* gridtable.c: the interval [x[i], x[i + 1]] of an increasing x (n >= 2)
  * that holds at, x[i] < at <= x[i + 1] inside, i clamped to [0, n - 2]

@@ -1919,6 +1919,101 @@ void sea_bake_normal(const sea_moments *m, double n[3]);
 void sea_bake_roughness(const sea_moments *m, double *roughness, double *anisotropy,
                         double *rotation);
 
+/* ------------------------------ polarisation (seabake-model(7), POLARISATION) */
+
+/* Linear Stokes parameters (I, Q, U) of a radiance, or of an emissivity or
+ * reflectivity per unit black-body or incident radiance.  Circular
+ * polarisation (V) is not carried: emission has none, and a single
+ * reflection of unpolarised light makes none.
+ *
+ * The sensor's frame, toward the sensor along v = (theta, phi) (sea_dir):
+ *     e_h = (-sin phi, cos phi, 0)   horizontal, z x v / |z x v| for theta > 0,
+ *     e_v = v x e_h = (-cos theta cos phi, -cos theta sin phi, sin theta),
+ * e_v in the vertical (meridian) plane of the view, the image's "up".
+ *     I = I_v + I_h,  Q = I_v - I_h,  U = I(+45) - I(-45),
+ * I_v and I_h the radiances through a polariser along e_v and e_h, +-45 along
+ * (e_v +- e_h)/sqrt 2.  +Q is vertical, the p polarisation of a flat sea in
+ * the plane of the view: emission from water is p-polarised (Q > 0),
+ * reflection s-polarised (Q < 0), as in the LWIR literature (Shaw 1999).
+ * At nadir the frame is the azimuth phi's. */
+typedef struct {
+    double i, q, u; /* I, Q, U (complex.h takes the name I) */
+} sea_stokes;
+
+/* Degree of linear polarisation sqrt(Q^2 + U^2) / I, in [0, 1] for a
+ * physical s; 0 where I <= 0.  Pure. */
+double sea_stokes_dolp(const sea_stokes *s);
+
+/* Fresnel reflectances per polarisation, air -> water (complex index N,
+ * n > 0, k >= 0) at local incidence psi, cos_psi in [0, 1] (clamped):
+ *     w = sqrt(N^2 - sin^2 psi) (principal root),
+ *     R_s = |(cos psi - w)/(cos psi + w)|^2,
+ *     R_p = |(N^2 cos psi - w)/(N^2 cos psi + w)|^2,
+ * each in [0, 1], 1 at grazing; (R_s + R_p)/2 = sea_fresnel_unpolarized
+ * to 1e-15 relative (the same real arithmetic).  R_p <= R_s, R_p reaching
+ * its minimum near Brewster's angle atan(n).  Pure. */
+void sea_polar_fresnel(double cos_psi, double complex N, double *R_s, double *R_p);
+
+/* One-hit Stokes emissivity toward v (Eq 7 per polarisation): the same
+ * average over the seen facets, weighted by projected area and shadowing,
+ * with the same nodes, as sea_emissivity (method AUTO or FAST) or
+ * sea_emissivity_rule (*rule, when not NULL), of each facet's emission
+ * (1 - R_p along its local p, 1 - R_s along its local s, psi the facet's
+ * local incidence) rotated into the sensor's frame:
+ *     e_I = E_w[1 - (R_s + R_p)/2]
+ *     e_Q = E_w[(R_s - R_p)/2 cos 2chi],  e_U = E_w[(R_s - R_p)/2 sin 2chi],
+ * chi the angle from e_v to the facet's plane of incidence around v: with
+ * the facet normal n ~ (-gamma_X, -gamma_Y, 1) in the frame of the view
+ * azimuth, a = n.e_v ~ sin theta + gamma_X cos theta, b = n.e_h ~ -gamma_Y,
+ *     cos 2chi = (a^2 - b^2)/(a^2 + b^2),  sin 2chi = 2ab/(a^2 + b^2)
+ * (0 and 0 at normal incidence, where R_s = R_p).  e_I is sea_emissivity's
+ * value (its 1 - rho, from the plan's table where it reads one; to
+ * summation order, 1e-15); method SEA_EMIS_FULL averages the three by the
+ * adaptive reference (about 3 ms).  A flat sea gives Fresnel's emission,
+ * DoLP = (R_s - R_p)/(2 - R_s - R_p); a slope law symmetric about the
+ * view's vertical plane gives e_U = 0, and its mirror image the opposite
+ * e_U.  Only first hits: the emission the seen facets reflect from facets
+ * met again (reflections >= 2) is not in it.
+ * SEA_ERR_DOMAIN for a direction outside [0, 90) deg, invalid stats
+ * (sea_slope_stats_check) or orders out of range; SEA_ERR_NUMERIC as
+ * sea_emissivity's reference.  Reads p: plan once, call from many threads. */
+sea_status sea_polar_emissivity(const sea_optics *p, sea_emis_method method,
+                                const sea_emis_rule *rule, double complex N,
+                                const sea_slope_stats *st, sea_dir v, sea_stokes *out,
+                                sea_error *err);
+
+/* The same for n indices at once (a band's samples): out[i] is what
+ * sea_polar_emissivity gives for N[i]; the nodes and their frames are found
+ * once.  Same errors; reads p. */
+sea_status sea_polar_emissivity_n(const sea_optics *p, sea_emis_method method,
+                                  const sea_emis_rule *rule, const double complex *N, size_t n,
+                                  const sea_slope_stats *st, sea_dir v, sea_stokes *out,
+                                  sea_error *err);
+
+/* One-hit Stokes reflectivity toward v of an unpolarised sky of uniform
+ * radiance L_sky, per unit L_sky: every seen facet reflects the sky in its
+ * mirror direction (the one-hit model, in which the sky term of the scalar
+ * radiance is (1 - eps~) L_sky) with R_s along s and R_p along p, so
+ *     r_I = 1 - e_I,  r_Q = -e_Q,  r_U = -e_U
+ * of sea_polar_emissivity's e for the same arguments; the radiance's Stokes
+ * vector is then e B(T_sea) + r L_sky (Q = U = 0 for an isotropic black
+ * sky at the sea's temperature, as Kirchhoff asks).  Errors as
+ * sea_polar_emissivity's; reads p. */
+sea_status sea_polar_reflectivity_sky(const sea_optics *p, sea_emis_method method,
+                                      const sea_emis_rule *rule, double complex N,
+                                      const sea_slope_stats *st, sea_dir v, sea_stokes *out,
+                                      sea_error *err);
+
+/* Stokes effective reflectivity rho~(inc; obs) of a collimated unpolarised
+ * source (the sun) toward obs, per steradian of incidence (Eq 13-14):
+ * out->i = sea_reflectivity(N, st, inc, obs), and the mirror facet's
+ * polarisation rotated into obs's frame:
+ *     out->q = out->i (R_p - R_s)/(R_p + R_s) cos 2chi0,  out->u = ... sin 2chi0,
+ * R at the mirror facet's incidence psi0, chi0 from its normal as above
+ * (a = n0.e_v, b = n0.e_h).  0 where sea_reflectivity is 0.  Pure. */
+void sea_polar_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc,
+                            sea_dir obs, sea_stokes *out);
+
 #ifdef __cplusplus
 }
 #endif

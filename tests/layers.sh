@@ -9,7 +9,7 @@
 # Layers, lowest first (the number orders them), one folder each:
 #   0 base       src/base/      status textfile tempfile gridtable geometry
 #  10 physics    src/physics/   water water_data planck spectrum shadow
-#  20 optics     src/optics/    optics twoscale model
+#  20 optics     src/optics/    optics twoscale model polar
 #  30 sea        src/sea/       waves multires camera
 #  35 exporters  exporters/     exr preview arrays povray blender (+ generated)
 #  40 view       src/view/      scene view radiometry imager

@@ -314,6 +314,16 @@ static int first_hit(const mc_surface *s, const double o[3], const double d[3], 
     return -1;
 }
 
+int mc_first_hit(const mc_surface *s, const double o[3], const double d[3], long skip,
+                 mc_hit *out)
+{
+    hit h;
+    const int k = first_hit(s, o, d, skip, &h);
+    if (k == 1)
+        *out = (mc_hit){ h.t, h.gx, h.gy, h.tri };
+    return k;
+}
+
 typedef struct {
     double complex x, y, z;
 } cvec;

@@ -98,4 +98,16 @@ typedef struct {
 int mc_trace(const mc_surface *s, sea_dir v, const double complex *N, int nwl, long rays,
              unsigned long seed, mc_tally *out);
 
+/* The tracer's ray-surface intersection, for tests/mc_stokes.c: the first
+ * hit of o + t d, t > 0 (o and d's horizontal parts in index space, z
+ * physical), skipping triangle skip (-1: none): 1 and *out (path length,
+ * index-space gradient of the triangle, its id), 0 on escape, -1 on a leak
+ * or the path limit. */
+typedef struct {
+    double t, gx, gy;
+    long tri;
+} mc_hit;
+int mc_first_hit(const mc_surface *s, const double o[3], const double d[3], long skip,
+                 mc_hit *out);
+
 #endif

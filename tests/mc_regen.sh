@@ -19,15 +19,19 @@
 #    0.04 at 85 deg along the wind), and tests/test_mc.c holds the model,
 #    stored and today's, to an independent Eq 7 within 1e-6; sd from the
 #    12 stored rows, sigma = sd sqrt(1/12 + 1/4).
+#  - tests/data/mc_stokes.csv (one-scale surfaces, 1024^2, 16 seeds, all
+#    hits with polarisation): 10 m/s, 4 and 10 um, 80 and 85 deg, wind at
+#    45 deg to the view, on 4 new surfaces (seeds 17-20), columns Q, U and
+#    dolp; sigma = se_stored sqrt(16) sqrt(1/16 + 1/4).
 #  - tests/data/mc_sea_full_emissivity.csv (8192^2 surfaces, 1 GB each and
 #    a minute of CPU apiece): not traced again here.
 #
-# Bound: |new - stored| <= 4 sigma.  40 comparisons (strongly correlated:
+# Bound: |new - stored| <= 4 sigma.  52 comparisons (strongly correlated:
 # the wavelengths share their paths, the columns their surfaces); at 4
-# sigma a correct tracer fails one with probability at most 40 x 6.3e-5 =
-# 2.5e-3 for any other choice of seeds, while a change of the tracer that
+# sigma a correct tracer fails one with probability at most 52 x 6.3e-5 =
+# 3.3e-3 for any other choice of seeds, while a change of the tracer that
 # moves a row by 4 sigma (2e-4 to 1e-3 at 80-85 deg, 2e-5 at 40) fails.
-# The seeds are fixed, so the outcome is reproducible.  About 30 s of CPU.
+# The seeds are fixed, so the outcome is reproducible.  About 35 s of CPU.
 : "${top_srcdir:?top_srcdir must name the source directory}"
 TEST_NAME=mc_regen
 passed=0
@@ -98,6 +102,27 @@ if ./tests/mc_sea_oracle -n 1024 -d 0.04 -s 4 -S 13 -r 50000 -w 10 -t 80,85 -p 0
 else
     failed=$((failed + 1))
     echo "FAIL: $TEST_NAME: tests/mc_sea_oracle failed: $(tail -n 3 "$tmp/sea.err")"
+fi
+
+if ./tests/mc_stokes_oracle -n 1024 -l 8 -s 4 -S 17 -r 50000 -w 10 -t 80,85 -p 45 \
+    -o "$tmp/stokes.csv" 2>"$tmp/stokes.err"; then
+    # wind,wl,theta,phi,sxx,syy,I,I_se,Q,Q_se,U,U_se,V,dolp,dolp_se,...
+    grep -hv '^#' "$data/mc_stokes.csv" "$tmp/stokes.csv" | awk -F, '
+        $1 == "wind_ms" { file++; next }
+        file == 1 { key = $1 "," $2 "," $3 "," $4; q[key] = $9; qs[key] = $10
+                    u[key] = $11; us[key] = $12; d[key] = $14; ds[key] = $15; next }
+        file == 2 {
+            key = $1 "," $2 "," $3 "," $4
+            if (!(key in q)) { print key " no-stored-row 0"; next }
+            f = sqrt(16) * sqrt(1 / 16 + 1 / 4)
+            printf "%s:Q %.3g %.3g\n", key, $9 - q[key], qs[key] * f
+            printf "%s:U %.3g %.3g\n", key, $11 - u[key], us[key] * f
+            printf "%s:dolp %.3g %.3g\n", key, $14 - d[key], ds[key] * f
+        }' >"$tmp/cmp"
+    compare mc_stokes
+else
+    failed=$((failed + 1))
+    echo "FAIL: $TEST_NAME: tests/mc_stokes_oracle failed: $(tail -n 3 "$tmp/stokes.err")"
 fi
 
 echo "$TEST_NAME: $passed passed, $failed failed"

@@ -66,7 +66,8 @@ int main(void)
         test_sensor_register() || test_multires_register() || test_render_register() ||
         test_bake_register() || test_bakedir_register() || test_preview_register() ||
         test_exr_register() || test_arrays_register() || test_stability_register() ||
-        test_mc_register() || test_imager_register() || test_swell_register()) {
+        test_mc_register() || test_imager_register() || test_swell_register() ||
+        test_polar_register()) {
         fprintf(stderr, "unit: cannot register the suites: %s\n", CU_get_error_msg());
         CU_cleanup_registry();
         return 2;

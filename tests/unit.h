@@ -49,6 +49,7 @@ int test_multires_register(void);
 int test_mc_register(void);
 int test_imager_register(void);
 int test_swell_register(void);
+int test_polar_register(void);
 
 /* SEA_UNIT_QUICK set (check-valgrind sets it, and scripts/test for the
  * sanitizer run): the statistical tests that need large areas run on small

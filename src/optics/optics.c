@@ -3087,3 +3087,111 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
     }
 }
 
+
+/* ------------------------------------- the emissivity's nodes, for others */
+
+/* sea_optics_facet_nodes (internal.h): the nodes sea_emissivity_n sums,
+ * with their facet slopes put back from the rule's abscissae (the same
+ * operations as nodes_fixed's and inner_nodes'), their weights w_i w_j
+ * over the sum of the w_i (so that they sum to 1, as the emissivity's
+ * average divides), cos psi as the emissivity reads it. */
+sea_status sea_optics_facet_nodes(const sea_optics *p, sea_emis_method method,
+                                  const sea_emis_rule *rule, const sea_slope_stats *st, sea_dir v,
+                                  sea_facet_node *nodes, size_t *count, int *exact, sea_error *err)
+{
+    sea_status s;
+    *count = 0;
+    *exact = 0;
+    if (rule == NULL && method != SEA_EMIS_AUTO && method != SEA_EMIS_FAST)
+        return sea_fail(err, SEA_ERR_DOMAIN, "no fixed nodes for emissivity method %d",
+                        (int)method);
+    if (rule != NULL && (rule->n_gl < 1 || rule->n_gl > SEA_EMIS_GL_MAX || rule->n_gh < 0 ||
+                         rule->n_gh > SEA_EMIS_GH_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "product rule %d x %d is outside 1..%d Gauss-Legendre x 0..%d "
+                        "Gauss-Hermite nodes",
+                        rule->n_gl, rule->n_gh, SEA_EMIS_GL_MAX, SEA_EMIS_GH_MAX);
+    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
+        return s;
+    view_frame f;
+    view_frame_init(p, st, v, &f);
+    const fixed_rule r = fixed_rule_of(&f, method, rule);
+    fixed_nodes nd;
+    nodes_fixed(p, &f, r, &nd);
+    /* a facet without slope spread evaluates the formula (emissivity_of_nodes) */
+    *exact = nd.plain;
+    if (nd.zero)
+        return SEA_OK;
+    double t_lo, t_hi;
+    view_window(&f, r.t_cut, &t_lo, &t_hi);
+    const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
+    const double *x = &p->gl_x[SEA_TRI(r.n_gl - 1)];
+    const double *xj = r.n_gh > 0 ? &p->gh_x[SEA_TRI(r.n_gh - 1)] : NULL;
+    double den = 0.0;
+    for (int i = 0; i < nd.n_i; i++)
+        if (nd.plain || nd.w_i[i] > 0.0)
+            den += nd.w_i[i];
+    if (!(den > 0.0))
+        return SEA_OK;
+    size_t q = 0;
+    for (int i = 0; i < nd.n_i; i++) {
+        if (!nd.plain && !(nd.w_i[i] > 0.0))
+            continue;
+        const double t = nd.plain ? 0.0 : mid + half * x[i];
+        const double gX = nd.plain ? f.m_X : f.m_X + f.s_X * t;
+        const double mY = nd.plain ? f.m_Y : f.m_Y + f.b_YX * t;
+        for (int j = 0; j < nd.n_j; j++) {
+            nodes[q].gX = gX;
+            nodes[q].gY = r.n_gh == 0 ? f.m_Y : mY + f.s_Y_given_X * xj[j];
+            nodes[q].cos_psi = nd.cos_psi[i * nd.n_j + j];
+            nodes[q].w = nd.w_i[i] * nd.w_j[j] / den;
+            q++;
+        }
+    }
+    *count = q;
+    return SEA_OK;
+}
+
+double sea_optics_one_minus_rho(const sea_optics *p, double complex N, int exact, double cos_psi)
+{
+    size_t slot = 0;
+    const emis_ctx e = { N, exact ? NULL : fresnel_of(p, N, &slot) };
+    return one_minus_rho(&e, cos_psi);
+}
+
+/* sea_optics_facet_mean_full (internal.h): expect_reference, the adaptive
+ * rule of SEA_EMIS_FULL, for each value of fn in turn. */
+typedef struct {
+    sea_facet_fn fn;
+    void *ctx;
+    int which;
+} facet_full_ctx;
+
+static double facet_full_fn(const view_frame *f, double gX, double gY, double cos_psi, void *ctx)
+{
+    (void)f;
+    const facet_full_ctx *c = ctx;
+    double vals[SEA_FACET_VALUES_MAX];
+    c->fn(gX, gY, cos_psi, c->ctx, vals);
+    return vals[c->which];
+}
+
+sea_status sea_optics_facet_mean_full(const sea_optics *p, const sea_slope_stats *st, sea_dir v,
+                                      sea_facet_fn fn, void *ctx, int nval, double *out,
+                                      sea_error *err)
+{
+    sea_status s;
+    if (nval < 1 || nval > SEA_FACET_VALUES_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "%d facet values is outside 1..%d", nval,
+                        SEA_FACET_VALUES_MAX);
+    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
+        return s;
+    view_frame f;
+    view_frame_init(p, st, v, &f);
+    for (int k = 0; k < nval; k++) {
+        facet_full_ctx c = { fn, ctx, k };
+        if ((s = expect_reference(p, &f, facet_full_fn, &c, 0, &out[k], err)) != SEA_OK)
+            return s;
+    }
+    return SEA_OK;
+}
