@@ -1134,6 +1134,11 @@ typedef struct {
     double look_azimuth;       /* look_azimuth, deg -> rad: where the camera points,
                                   finite; 180 (the paper's phi_obs = 0) */
     double roll;               /* roll, deg -> rad, finite; 0 */
+    double polarizer;          /* polarizer, deg [-180, 180] -> rad: the render's radiance
+                                  is what a camera behind an ideal linear polariser at
+                                  this angle from the image's up axis, toward its right,
+                                  reads (I + Q cos 2a + U sin 2a; seabake-model(7),
+                                  POLARISATION); NAN (none, the radiance I) */
     double hfov;               /* hfov, deg [SEA_HFOV_MIN_DEG, 170] -> rad, full horizontal
                                   field of view */
     int width, height;         /* width, height, pixels [1, 16384], required */
@@ -1460,14 +1465,24 @@ double sea_view_brightness_temperature(const sea_view *r, double radiance);
  * W m^-2 sr^-1 um^-1 for one wavelength, in-band W m^-2 sr^-1 for a band;
  * temperature: brightness temperature, K; level: facet size (m) of the
  * clipmap level a pixel used, 0 for the sky; emissivity and reflectivity
- * (rho~ sun -> sensor, sr^-1): response-weighted band means, 0 for the sky. */
+ * (rho~ sun -> sensor, sr^-1): response-weighted band means, 0 for the sky.
+ * stokes_i, stokes_q, stokes_u: the linear Stokes parameters of the radiance
+ * in the images' units, in the camera's frame (reference: the image's up
+ * axis, +45 toward its right; seabake-model(7), POLARISATION), 0 for Q and U
+ * of the sky; NULL unless sea_image_alloc_stokes made them.  Q and U are the
+ * one-hit model's (whatever reflections and scales the intensity takes);
+ * stokes_i is the radiance before the scene's polarizer. */
 typedef struct {
     int width, height;
     float *radiance, *temperature, *level, *emissivity, *reflectivity;
+    float *stokes_i, *stokes_q, *stokes_u;
 } sea_image;
 
 /* Fills img with zeroed planes the caller releases with sea_image_free(). */
 sea_status sea_image_alloc(int width, int height, sea_image *img, sea_error *err);
+/* Adds the Stokes planes to img (allocated by sea_image_alloc): renders then
+ * fill them.  SEA_ERR_NOMEM. */
+sea_status sea_image_alloc_stokes(sea_image *img, sea_error *err);
 void sea_image_free(sea_image *img);
 
 /* Renders the frame at time t (s, |t| <= SEA_TIME_MAX; the scene's own time is sc->time) into

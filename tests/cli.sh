@@ -1043,6 +1043,33 @@ check_match render.png_tone "$(png_text "$RDIR/out.png" seabake:tone)" \
 check_eq render.aov_png_temperature_same "$(png_text "$RDIR/out.temperature.png" seabake:tone)" \
     "$(png_text "$RDIR/out.png" seabake:tone)"
 
+# --aov stokes: OUT.stokes.exr, channels I, Q, U in the radiance's unit, I
+# the radiance itself; the radiance file is byte for byte the one without
+# it.  [sensor] polarizer: the radiance a camera behind a polariser reads,
+# I + Q cos 2a + U sin 2a; at 0 and 90 deg they average to I (the unit
+# suite polar checks the planes to 1e-6); a bake refuses it (its maps are
+# I), naming the key.
+sb_run render "$RSCENE" -o "$RDIR/pol.exr" --aov stokes --png none --quiet
+check_rc render.stokes_rc 0
+check render.stokes_file test -s "$RDIR/pol.stokes.exr"
+for c in I Q U; do
+    sb_run convert "$RDIR/pol.stokes.exr" "$RDIR/pol_$c.npy" --channel "$c"
+    check_rc "render.stokes_channel_$c" 0
+done
+check render.stokes_unit grep -qa "W m^-2 sr^-1" "$RDIR/pol.stokes.exr"
+check render.stokes_quantity grep -qa "stokes" "$RDIR/pol.stokes.exr"
+sb_run render "$RSCENE" -o "$RDIR/nopol.exr" --png none --quiet
+check render.stokes_radiance_same cmp -s "$RDIR/pol.exr" "$RDIR/nopol.exr"
+sb_run convert "$RDIR/nopol.exr" "$RDIR/nopol.npy"
+check render.stokes_i_is_radiance cmp -s <(tail -c +129 "$RDIR/nopol.npy") <(tail -c +129 "$RDIR/pol_I.npy")
+sb_run render "$RSCENE" -o "$RDIR/pol0.exr" --set sensor.polarizer=0 --png none --quiet
+check_rc render.polarizer_rc 0
+check render.polarizer_differs bash -c "! cmp -s '$RDIR/pol0.exr' '$RDIR/nopol.exr'"
+rm -rf "$RDIR/polbake"
+sb_run bake "$RSCENE" -o "$RDIR/polbake" --set sensor.polarizer=30
+check_error bake.polarizer 2 "\\[sensor\\] polarizer = 30 deg: a bake's maps are the radiance I"
+check bake.polarizer_no_dir test ! -e "$RDIR/polbake"
+
 # The same scene gives the same bytes, whatever the thread count.
 sb_run render "$RSCENE" -o "$RDIR/again.exr" --threads 1 --quiet
 check_eq render.quiet "$SB_OUT$SB_ERR" ""
@@ -1296,9 +1323,13 @@ render_usage() {
     check_error "$name" 2 "$re"
     check_eq "$name.no_file" "$(render_files 'bad.*')" 0
 }
-render_usage render.aov_nonsense "--aov: 'nonsense' is not one of level, emissivity, reflectivity, temperature" \
+render_usage render.aov_nonsense "--aov: 'nonsense' is not one of level, emissivity, reflectivity, temperature, stokes" \
     "$RSCENE" -o "$RDIR/bad.exr" --aov level,nonsense
 render_usage render.aov_twice "--aov: 'level' is given twice" "$RSCENE" -o "$RDIR/bad.exr" --aov level,level
+render_usage render.aov_stokes_twice "--aov: 'stokes' is given twice" "$RSCENE" -o "$RDIR/bad.exr" \
+    --aov stokes,level,stokes
+render_usage render.polarizer_range "\\[sensor\\] polarizer: 200 is out of range \\(allowed: \\[-180, 180\\] deg\\)" \
+    "$RSCENE" -o "$RDIR/bad.exr" --set sensor.polarizer=200
 render_usage render.missing_scene "missing SCENE.ini" -o "$RDIR/bad.exr"
 render_usage render.two_scenes "unexpected argument" "$RSCENE" "$RSCENE" -o "$RDIR/bad.exr"
 render_usage render.extension "-o: '.*bad.txt' must end in .exr" "$RSCENE" -o "$RDIR/bad.txt"

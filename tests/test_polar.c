@@ -563,6 +563,235 @@ static void test_published(void)
     CU_ASSERT(hi >= 0.04 && hi <= 0.10);
 }
 
+/* ------------------------------------------------------ the rendered image */
+
+/* A night view at 75 deg, 10 um, 10 m/s, the sky at 0 K (so the sea's own
+ * emission alone), 33 x 33 pixels over 10 deg: one hit, one scale, the
+ * model sea_polar_emissivity is. */
+static sea_scene night_scene(void)
+{
+    sea_scene sc;
+    sea_scene_defaults(&sc);
+    sc.wind_speed = 10.0;
+    sc.wind_dir = 0.0;
+    sc.temperature = 290.0;
+    sc.sun_zenith = 120.0 * M_PI / 180.0;
+    sc.sky_radiance = 0.0;
+    sc.altitude = 30.0;
+    sc.look_zenith = 75.0 * M_PI / 180.0;
+    sc.look_azimuth = M_PI;
+    sc.hfov = 10.0 * M_PI / 180.0;
+    sc.width = sc.height = 33;
+    sc.wavelength = 10e-6;
+    sc.reflections = 1;
+    sc.scales = 1;
+    return sc;
+}
+
+/* Renders sc with its Stokes planes (stokes != 0) or without. */
+static void render_stokes(const sea_scene *sc, int stokes, sea_image *img)
+{
+    sea_view *r = NULL;
+    sea_error err;
+    sea_status st = sea_view_alloc(sc, &r, &err);
+    if (st != SEA_OK)
+        fprintf(stderr, "  prepare: %s\n", err.msg);
+    CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
+    CU_ASSERT_EQUAL_FATAL(sea_image_alloc(sc->width, sc->height, img, &err), SEA_OK);
+    if (stokes)
+        CU_ASSERT_EQUAL_FATAL(sea_image_alloc_stokes(img, &err), SEA_OK);
+    st = sea_view_render_frame(r, 0.0, img, NULL, NULL, &err);
+    if (st != SEA_OK)
+        fprintf(stderr, "  frame: %s\n", err.msg);
+    CU_ASSERT_EQUAL_FATAL(st, SEA_OK);
+    sea_view_free(r);
+}
+
+/* The image's polarisation against the model's, and what must not move:
+ *  - I is the radiance, bit for bit, and asking for the Stokes planes
+ *    leaves the radiance bit for bit as without them;
+ *  - every sea pixel's emission is p-polarised: Q > 0 along the image's up
+ *    axis, DoLP within (0.02, 0.12) (the tracer's first hits at 75 deg,
+ *    10 um: 4-8 %, tests/data/mc_stokes.csv);
+ *  - the image's mean Q / I is the one-hit model's e_Q / e_I on the sea's
+ *    slope statistics seen from 75 deg (sea_polar_emissivity), within 10 %
+ *    of it: the resolved facets the pixels see spread the ratio, and their
+ *    mean is not the ratio of the means (measured 3.6 %);
+ *  - seen from 20 km through 2 deg, every pixel is low-resolution (m = 0,
+ *    the whole sea's covariance): the centre pixel, whose ray is the camera
+ *    axis (frame angle psi = 0, view zenith 75 deg exactly on the flat
+ *    sea), has Q / I and U / I of the model itself, with the wind at 45 deg
+ *    to the view (e_U = 0.0016: U's sign and size in the camera's frame),
+ *    to the float planes' rounding (1e-6 of I). */
+static void night_check(double wind_dir, int low_res)
+{
+    sea_scene sc = night_scene();
+    sc.wind_dir = wind_dir;
+    if (low_res) {
+        sc.altitude = 20000.0;
+        sc.hfov = 2.0 * M_PI / 180.0;
+    }
+    sea_image img, plain;
+    render_stokes(&sc, 1, &img);
+    render_stokes(&sc, 0, &plain);
+    const size_t n = (size_t)sc.width * (size_t)sc.height;
+    CU_ASSERT(memcmp(img.radiance, plain.radiance, n * sizeof(float)) == 0);
+    CU_ASSERT(memcmp(img.radiance, img.stokes_i, n * sizeof(float)) == 0);
+    CU_ASSERT(plain.stokes_q == NULL);
+    double mean = 0.0, mean_u = 0.0;
+    size_t sea = 0;
+    int p_pol = 1;
+    for (size_t i = 0; i < n; i++) {
+        if (!(img.level[i] > 0.0f))
+            continue;
+        const sea_stokes px = { img.stokes_i[i], img.stokes_q[i], img.stokes_u[i] };
+        const double dolp = sea_stokes_dolp(&px);
+        p_pol = p_pol && px.q > 0.0 && dolp > 0.02 && dolp < 0.12;
+        mean += px.q / px.i;
+        mean_u += px.u / px.i;
+        sea++;
+    }
+    CU_ASSERT_FATAL(sea == n);
+    CU_ASSERT(p_pol);
+    mean /= (double)sea;
+    mean_u /= (double)sea;
+    /* the model on the whole sea's slopes */
+    sea_spectrum spec;
+    sea_slope_stats st = { { 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+    CU_ASSERT_FATAL(sea_spectrum_init(sc.wind_speed, INFINITY, sc.wind_dir, &spec, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_slope_cov(&spec, 0.0, &st.cov, NULL) == SEA_OK);
+    sea_water *w = NULL;
+    double complex N;
+    sea_optics *p = NULL;
+    CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_water_index(w, sc.wavelength, &N, NULL) == SEA_OK);
+    CU_ASSERT_FATAL(sea_optics_alloc(&p, NULL) == SEA_OK);
+    sea_optics_set_shadowing(p, sc.shadowing);
+    sea_stokes e;
+    CU_ASSERT_FATAL(sea_polar_emissivity(p, SEA_EMIS_AUTO, NULL, N, &st,
+                                         (sea_dir){ sc.look_zenith, 0.0 }, &e, NULL) == SEA_OK);
+    printf("\n    measured: night image (wind %.0f deg) mean Q/I %.5f, model e_Q/e_I %.5f "
+           "(%.2f %%); mean U/I %.3g, model e_U/e_I %.3g\n",
+           wind_dir * 180.0 / M_PI, mean, e.q / e.i, 100.0 * fabs(mean / (e.q / e.i) - 1.0),
+           mean_u, e.u / e.i);
+    if (low_res) {
+        const size_t c = 16 * 33 + 16;
+        CU_ASSERT(img.level[c] > 100.0f); /* low-resolution */
+        ASSERT_ABS(img.stokes_q[c] / img.stokes_i[c], e.q / e.i, 1e-6);
+        ASSERT_ABS(img.stokes_u[c] / img.stokes_i[c], e.u / e.i, 1e-6);
+        CU_ASSERT(fabs(e.u / e.i) > 1e-3);
+    } else {
+        CU_ASSERT(fabs(mean / (e.q / e.i) - 1.0) < 0.10);
+    }
+    sea_optics_free(p);
+    sea_water_free(w);
+    sea_image_free(&img);
+    sea_image_free(&plain);
+}
+
+static void test_render_night(void)
+{
+    night_check(0.0, 0);
+    night_check(45.0 * M_PI / 180.0, 0);
+    night_check(45.0 * M_PI / 180.0, 1);
+}
+
+/* The camera's frame.  Rolled by rho (sea_camera_init: right' = right cos
+ * rho + up sin rho, so up' = up cos rho - right sin rho), the image's axes
+ * turn and the view's e_v (the unrolled up at the centre pixel, the same
+ * sea point: odd sizes) lies at psi = rho from up' toward right'.  So at
+ * 90 deg Q and U are negated, and at 45 deg Q' = -U and U' = Q; I is
+ * unchanged.  The wind at 45 deg to the view gives U its own value.  Seen
+ * from 20 km through 2 deg (every pixel low-resolution, as in
+ * test_render_night), so that the pixel's rays, which turn with the image,
+ * read the same slopes.  To float rounding, 1e-6 of I. */
+static void test_render_roll(void)
+{
+    sea_scene sc = night_scene();
+    sc.wind_dir = 45.0 * M_PI / 180.0;
+    sc.altitude = 20000.0;
+    sc.hfov = 2.0 * M_PI / 180.0;
+    sea_image a, b, h;
+    render_stokes(&sc, 1, &a);
+    sc.roll = 90.0 * M_PI / 180.0;
+    render_stokes(&sc, 1, &b);
+    sc.roll = 45.0 * M_PI / 180.0;
+    render_stokes(&sc, 1, &h);
+    const size_t c = 16 * 33 + 16;
+    const double tol = 1e-6 * a.stokes_i[c];
+    ASSERT_REL(b.stokes_i[c], a.stokes_i[c], 1e-6, 0.0);
+    ASSERT_ABS(b.stokes_q[c], -a.stokes_q[c], tol);
+    ASSERT_ABS(b.stokes_u[c], -a.stokes_u[c], tol);
+    ASSERT_ABS(h.stokes_q[c], -a.stokes_u[c], tol);
+    ASSERT_ABS(h.stokes_u[c], a.stokes_q[c], tol);
+    CU_ASSERT(a.stokes_q[c] > 0.0f);
+    CU_ASSERT(fabs(a.stokes_u[c]) > 10.0 * tol); /* U is not 0 */
+    sea_image_free(&a);
+    sea_image_free(&b);
+    sea_image_free(&h);
+}
+
+/* A polarizer at 0, 45, 90 and 135 deg reads I + Q cos 2a + U sin 2a, so
+ * (p0 + p90) / 2 = I, (p0 - p90) / 2 = Q, (p45 - p135) / 2 = U: to float
+ * rounding of the planes (1e-6 of I), on tiny.ini's glint (sun in view: the
+ * glint s-polarised, Q < 0). */
+static void test_render_polarizer(void)
+{
+    sea_scene sc = night_scene();
+    sc.sun_zenith = 50.0 * M_PI / 180.0;
+    sc.sun_azimuth = M_PI;
+    sc.look_zenith = 60.0 * M_PI / 180.0;
+    sc.hfov = 40.0 * M_PI / 180.0;
+    sc.wavelength = 4e-6;
+    sc.reflections = SEA_REFLECTIONS_AUTO;
+    sc.scales = 2;
+    sea_image st;
+    render_stokes(&sc, 1, &st);
+    sea_image pol[4];
+    for (int k = 0; k < 4; k++) {
+        sc.polarizer = 45.0 * k * M_PI / 180.0;
+        render_stokes(&sc, 0, &pol[k]);
+    }
+    const size_t n = (size_t)sc.width * (size_t)sc.height;
+    double worst = 0.0, qneg = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        const double Ii = st.stokes_i[i];
+        worst = fmax(worst, fabs(0.5 * (pol[0].radiance[i] + pol[2].radiance[i]) - Ii) / Ii);
+        worst = fmax(worst, fabs(0.5 * (pol[0].radiance[i] - pol[2].radiance[i]) - st.stokes_q[i]) / Ii);
+        worst = fmax(worst, fabs(0.5 * (pol[1].radiance[i] - pol[3].radiance[i]) - st.stokes_u[i]) / Ii);
+        qneg += st.stokes_q[i] < 0.0f;
+    }
+    CU_ASSERT(worst < 1e-6);
+    CU_ASSERT(qneg > 0.5 * (double)n);
+    sea_image_free(&st);
+    for (int k = 0; k < 4; k++)
+        sea_image_free(&pol[k]);
+}
+
+/* In a blackbody enclosure (no sun, a uniform sky at the sea's temperature)
+ * nothing is polarised, whatever the model: Q = U = 0 to rounding (1e-9 of
+ * I), at the default reflections and two scales as at one hit. */
+static void test_render_enclosure(void)
+{
+    for (int k = 0; k < 2; k++) {
+        sea_scene sc = night_scene();
+        sc.sky_radiance = -1.0;
+        sc.sky_temperature = sc.temperature;
+        if (k == 1) {
+            sc.reflections = SEA_REFLECTIONS_AUTO;
+            sc.scales = 2;
+        }
+        sea_image img;
+        render_stokes(&sc, 1, &img);
+        const size_t n = (size_t)sc.width * (size_t)sc.height;
+        double worst = 0.0;
+        for (size_t i = 0; i < n; i++)
+            worst = fmax(worst, (fabs(img.stokes_q[i]) + fabs(img.stokes_u[i])) / img.stokes_i[i]);
+        CU_ASSERT(worst < 1e-9);
+        sea_image_free(&img);
+    }
+}
+
 int test_polar_register(void)
 {
     CU_pSuite s = CU_add_suite("polar", setup, teardown);
@@ -580,5 +809,9 @@ int test_polar_register(void)
            CU_add_test(s, "ray tracer: flat sea", test_mc_flat) == NULL ||
            CU_add_test(s, "ray tracer: two routes", test_mc_routes) == NULL ||
            CU_add_test(s, "model vs ray-traced DoLP", test_mc_table) == NULL ||
-           CU_add_test(s, "published figures", test_published) == NULL;
+           CU_add_test(s, "published figures", test_published) == NULL ||
+           CU_add_test(s, "render: night emission", test_render_night) == NULL ||
+           CU_add_test(s, "render: the camera's frame", test_render_roll) == NULL ||
+           CU_add_test(s, "render: polarizer", test_render_polarizer) == NULL ||
+           CU_add_test(s, "render: enclosure", test_render_enclosure) == NULL;
 }

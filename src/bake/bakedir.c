@@ -73,6 +73,11 @@ double sea_bake_options_frame_time(const sea_bake_options *o, double time0, long
 
 sea_status sea_bake_options_check(const sea_bake_options *o, const sea_scene *sc, sea_error *err)
 {
+    if (sc != NULL && !isnan(sc->polarizer))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "[sensor] polarizer = %.6g deg: a bake's maps are the radiance I (allowed: "
+                        "no polarizer in a scene to bake; seabake render applies one)",
+                        sc->polarizer * 180.0 / M_PI);
     if (o->exr.pixel != SEA_EXR_FLOAT && o->exr.pixel != SEA_EXR_HALF)
         return sea_fail(err, SEA_ERR_DOMAIN, "bake options: exr.pixel %d is not float or half",
                         (int)o->exr.pixel);

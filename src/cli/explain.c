@@ -213,6 +213,12 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_view *r
                 "%s: scales: 1 (one Gaussian surface, the paper: at 80-85 deg low resolution is "
                 "8-20e-3 below ray-traced sea surfaces and 1 m facets, seabake-model(7))\n",
                 what);
+    if (!isnan(sc->polarizer))
+        fprintf(stderr,
+                "%s: polarizer: %g deg from the image's up axis: the radiance is what a camera "
+                "behind it reads, I + Q cos 2a + U sin 2a (Q and U of one surface hit; "
+                "seabake-model(7), POLARISATION)\n",
+                what, sc->polarizer * 180.0 / M_PI);
     if (ch.wave_count == 0)
         fprintf(stderr, "%s: waves: none (every level is low-resolution)\n", what);
     else if (ch.directions > 0)

@@ -49,7 +49,11 @@ static const char RENDER_HELP[] =
     "                      must exist\n"
     "  --aov LIST          comma list of level (facet size, m; 0 for the sky),\n"
     "                      emissivity, reflectivity (sr^-1), temperature\n"
-    "                      (brightness, K): each to OUT.<aov>.exr, channel Y\n"
+    "                      (brightness, K): each to OUT.<aov>.exr, channel Y;\n"
+    "                      stokes: the linear Stokes parameters of the radiance\n"
+    "                      in the camera's frame to OUT.stokes.exr, channels I,\n"
+    "                      Q, U (radiance units; +Q along the image's up axis;\n"
+    "                      Q and U of one surface hit; no preview)\n"
     "  --png FILE.png      the preview of the brightness temperature; default\n"
     "                      OUT.png; none: no previews at all.  Grey, two linear\n"
     "                      ramps: the 0.5 % quantile black, knee K = 2 median -\n"
@@ -207,8 +211,8 @@ static void explain_camera(const sea_cli_render *s)
                 s->sc.tolerance, formula);
 }
 
-/* "--aov level,temperature". */
-static sea_status parse_aovs(const char *text, bool aov[AOV_COUNT], sea_error *err)
+/* "--aov level,temperature,stokes". */
+static sea_status parse_aovs(const char *text, bool aov[AOV_COUNT], bool *stokes, sea_error *err)
 {
     const char *p = text;
     for (;;) {
@@ -218,15 +222,19 @@ static sea_status parse_aovs(const char *text, bool aov[AOV_COUNT], sea_error *e
         for (int q = 0; q < AOV_COUNT; ++q)
             if (strlen(RENDER_AOVS[q].name) == len && strncmp(RENDER_AOVS[q].name, p, len) == 0)
                 k = q;
-        if (k < 0)
+        const bool is_stokes = len == 6 && strncmp(p, "stokes", 6) == 0;
+        if (k < 0 && !is_stokes)
             return sea_fail(err, SEA_ERR_PARSE,
                             "--aov: '%.*s' is not one of level, emissivity, reflectivity, "
-                            "temperature (in '%s')",
+                            "temperature, stokes (in '%s')",
                             (int)len, p, text);
-        if (aov[k])
+        if (is_stokes ? *stokes : aov[k])
             return sea_fail(err, SEA_ERR_PARSE, "--aov: '%s' is given twice (in '%s')",
-                            RENDER_AOVS[k].name, text);
-        aov[k] = true;
+                            is_stokes ? "stokes" : RENDER_AOVS[k].name, text);
+        if (is_stokes)
+            *stokes = true;
+        else
+            aov[k] = true;
         if (end == NULL)
             return SEA_OK;
         p = end + 1;
@@ -327,7 +335,7 @@ static sea_status render_parse(const sea_cli_args *args, sea_cli_render *s, sea_
         (st = parse_png_tone(args, s, err)) != SEA_OK)
         return st;
     const char *aov = sea_cli_args_get(args, "aov");
-    if (aov != NULL && (st = parse_aovs(aov, s->aov, err)) != SEA_OK)
+    if (aov != NULL && (st = parse_aovs(aov, s->aov, &s->stokes, err)) != SEA_OK)
         return st;
 
     if ((st = sea_cli_opt_frames(args, &s->framed, &s->frame_a, &s->frame_b, &s->rate, err)) !=

@@ -39,6 +39,7 @@ typedef struct {
     int png_tone;   /* --png-tone: a render_tone */
     double png_lo, png_hi;
     bool aov[AOV_COUNT];
+    bool stokes; /* --aov stokes: OUT.stokes.exr, channels I, Q, U */
     bool framed;
     long frame_a, frame_b;
     double rate;

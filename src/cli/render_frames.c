@@ -224,7 +224,7 @@ static sea_status write_frame(const sea_cli_render *s, const sea_image *img,
                               render_previews *pv, sea_error *err)
 {
     const sea_scene *sc = &s->sc;
-    char *written[2 + 2 * AOV_COUNT + CAMERA_FILES];
+    char *written[3 + 2 * AOV_COUNT + CAMERA_FILES];
     size_t n_written = 0;
     sea_status st = s->png && !pv->ready ? render_previews_setup(s, img, pv, err) : SEA_OK;
     if (st != SEA_OK)
@@ -284,6 +284,22 @@ static sea_status write_frame(const sea_cli_render *s, const sea_image *img,
             break;
         }
         st = render_write_preview(s, img, k, pv, path, err);
+        if (st == SEA_OK)
+            written[n_written++] = path;
+        else
+            free(path);
+    }
+
+    /* the Stokes parameters, with the radiance's unit */
+    if (st == SEA_OK && s->stokes) {
+        if ((path = frame_path(s->out_stem, s->framed, frame, ".stokes", s->out_ext)) == NULL)
+            st = sea_fail(err, SEA_ERR_NOMEM, "out of memory");
+        attrs[0].value = "stokes";
+        attrs[1].value = sc->wavelength > 0.0 ? "W m^-2 sr^-1 um^-1" : "W m^-2 sr^-1";
+        const sea_exr_channel iqu[3] = {{"I", img->stokes_i}, {"Q", img->stokes_q},
+                                        {"U", img->stokes_u}};
+        if (st == SEA_OK)
+            st = sea_exr_write(path, img->width, img->height, iqu, 3, attrs, n_attrs, &opt, err);
         if (st == SEA_OK)
             written[n_written++] = path;
         else
@@ -431,6 +447,8 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_view *r, dou
 {
     sea_image img;
     sea_status st = sea_image_alloc(s->sc.width, s->sc.height, &img, err);
+    if (st == SEA_OK && s->stokes)
+        st = sea_image_alloc_stokes(&img, err);
     if (st != SEA_OK)
         return st;
     char levels[SEA_CLIP_MAX_LEVELS * 24 + 128];
@@ -516,7 +534,7 @@ sea_status sea_cli_render_frames(const sea_cli_render *s, const sea_view *r, dou
  * one). */
 static void remove_frame(const sea_cli_render *s, long frame)
 {
-    char *paths[2 + 2 * AOV_COUNT + CAMERA_FILES];
+    char *paths[3 + 2 * AOV_COUNT + CAMERA_FILES];
     size_t n = 0;
     paths[n++] = frame_path(s->out_stem, s->framed, frame, "", s->out_ext);
     if (s->camera != NULL) {
@@ -535,6 +553,8 @@ static void remove_frame(const sea_cli_render *s, long frame)
         if (s->png)
             paths[n++] = frame_path(s->out_stem, s->framed, frame, middle, ".png");
     }
+    if (s->stokes)
+        paths[n++] = frame_path(s->out_stem, s->framed, frame, ".stokes", s->out_ext);
     if (s->png)
         paths[n++] = frame_path(s->png_stem, s->framed, frame, "", s->png_ext);
     for (size_t i = 0; i < n; i++) {
@@ -573,6 +593,8 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_view *r,
     const int rank = sea_cli_mpi_rank(), size = sea_cli_mpi_size();
     sea_image img;
     sea_status st = sea_image_alloc(s->sc.width, s->sc.height, &img, err);
+    if (st == SEA_OK && s->stokes)
+        st = sea_image_alloc_stokes(&img, err);
     if ((st = sea_cli_mpi_agree(st, 0, NULL, err)) != SEA_OK) {
         sea_image_free(&img);
         return st;
@@ -659,14 +681,21 @@ sea_status sea_cli_render_frames_mpi(const sea_cli_render *s, const sea_view *r,
 }
 
 /* The five planes of img, in the order rows are packed. */
-enum { RENDER_PLANES = 5 };
-static void image_planes(const sea_image *img, float *planes[RENDER_PLANES])
+enum { RENDER_PLANES = 8 };
+/* The image's planes, the Stokes planes when it has them; returns how many. */
+static int image_planes(const sea_image *img, float *planes[RENDER_PLANES])
 {
     planes[0] = img->radiance;
     planes[1] = img->temperature;
     planes[2] = img->level;
     planes[3] = img->emissivity;
     planes[4] = img->reflectivity;
+    if (img->stokes_i == NULL)
+        return 5;
+    planes[5] = img->stokes_i;
+    planes[6] = img->stokes_q;
+    planes[7] = img->stokes_u;
+    return 8;
 }
 
 /* The rows of rank k > 0 to rank 0, through pack (room for the largest
@@ -675,7 +704,7 @@ static void gather_rows(sea_image *img, float *pack, size_t *rows, int rank, int
 {
     const size_t W = (size_t)img->width, H = (size_t)img->height;
     float *planes[RENDER_PLANES];
-    image_planes(img, planes);
+    const size_t np = (size_t)image_planes(img, planes);
     for (int k = 1; k < size; k++) {
         if (rank != 0 && rank != k)
             continue;
@@ -683,18 +712,18 @@ static void gather_rows(sea_image *img, float *pack, size_t *rows, int rank, int
         if (n == 0)
             continue;
         for (size_t i = 0; rank == k && i < n; i++)
-            for (int p = 0; p < RENDER_PLANES; p++)
-                memcpy(pack + (i * RENDER_PLANES + (size_t)p) * W, planes[p] + rows[i] * W,
+            for (size_t p = 0; p < np; p++)
+                memcpy(pack + (i * np + p) * W, planes[p] + rows[i] * W,
                        W * sizeof *pack);
-        const size_t bytes = n * RENDER_PLANES * W * sizeof *pack;
+        const size_t bytes = n * np * W * sizeof *pack;
         if (rank == k) {
             sea_cli_mpi_send(pack, bytes, 0, k);
             continue;
         }
         sea_cli_mpi_recv(pack, bytes, k, k);
         for (size_t i = 0; i < n; i++)
-            for (int p = 0; p < RENDER_PLANES; p++)
-                memcpy(planes[p] + rows[i] * W, pack + (i * RENDER_PLANES + (size_t)p) * W,
+            for (size_t p = 0; p < np; p++)
+                memcpy(planes[p] + rows[i] * W, pack + (i * np + p) * W,
                        W * sizeof *pack);
     }
 }
@@ -707,6 +736,8 @@ sea_status sea_cli_render_rows_mpi(const sea_cli_render *s, const sea_view *r, d
     const size_t W = (size_t)s->sc.width;
     sea_image img;
     sea_status st = sea_image_alloc(s->sc.width, s->sc.height, &img, err);
+    if (st == SEA_OK && s->stokes)
+        st = sea_image_alloc_stokes(&img, err);
     float *pack = NULL;
     size_t *rows = NULL, most = 0;
     for (int k = 1; k < size; k++) {

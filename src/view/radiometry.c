@@ -182,9 +182,65 @@ static const double SEA_GLINT_NEGLIGIBLE = 1e-3;
 /* Radiance of a facet with stats st seen from obs, sun from sun (or none),
  * summed over the samples with their weights; band means of emissivity and
  * reflectivity through *e and *rho. */
+/* The linear polarisation of a facet's radiance per sample, in the frame of
+ * the view (reference e_v, seabake.h POLARISATION): the one-hit Stokes
+ * emissivity (e_I, e_Q, e_U; sea_polar_emissivity_n) against the contrast
+ * between the sea's blackbody and the sky the facets reflect,
+ *     Q = e_Q (B_sea - L_sky),  U = e_U (B_sea - L_sky),
+ * L_sky = sky_all / (1 - eps) the radiance of the sky the model's facets
+ * reflect (eps the model's emissivity, sky_all what they reflect of it):
+ * at one hit under a uniform sky exactly emission's e_Q B plus the sky's
+ * one-hit reflection -e_Q L_sky, and 0 in a blackbody enclosure (sky at the
+ * sea's temperature) whatever the model; a sky that is not uniform is
+ * reflected as a uniform one of the same reflected radiance would be.  The
+ * sun's glint (rr_all) is polarised as its mirror facet reflects it
+ * (sea_polar_reflectivity). */
+static sea_status facet_stokes(const sea_radiometry *rad, const sea_model *model,
+                               const sea_slope_stats *st, sea_dir obs, sea_dir sun, int sun_up,
+                               const double *eps_all, const double *sky_all,
+                               const double *rr_all, double *Qk, double *Uk, sea_error *err)
+{
+    sea_stokes es[SEA_SCENE_BAND_MAX];
+    sea_status s = sea_polar_emissivity_n(sea_model_optics(model), SEA_EMIS_AUTO, NULL, rad->N,
+                                          rad->nsamp, st, obs, es, err);
+    if (s != SEA_OK)
+        return s;
+    for (size_t i = 0; i < rad->nsamp; i++) {
+        const double refl = 1.0 - eps_all[i];
+        const double contrast = rad->lsea[i] - (refl > 0.0 ? sky_all[i] / refl : 0.0);
+        Qk[i] = es[i].q * contrast;
+        Uk[i] = es[i].u * contrast;
+        if (sun_up && rr_all[i] > 0.0 && rad->esun[i] > 0.0) {
+            sea_stokes ps;
+            sea_polar_reflectivity(rad->N[i], st, sun, obs, &ps);
+            if (ps.i > 0.0) {
+                Qk[i] += rr_all[i] * rad->esun[i] * ps.q / ps.i;
+                Uk[i] += rr_all[i] * rad->esun[i] * ps.u / ps.i;
+            }
+        }
+    }
+    return SEA_OK;
+}
+
+double sea_radiometry_transmitted(const sea_radiometry *rad, const double *Xk, double range)
+{
+    const double ext = sea_radiometry_extinction(rad);
+    double s = 0.0;
+    for (size_t k = 0; k < rad->nsamp; k++) {
+        double tau = 1.0;
+        if (ext > 0.0)
+            tau = exp(-ext * range);
+        else if (rad->atm_grid != NULL)
+            tau = sea_profile_at(rad->atm_x, &rad->atm_tau[k * rad->atm_nx], rad->atm_nx, range);
+        s += rad->wt[k] * tau * Xk[k];
+    }
+    return s;
+}
+
 sea_status sea_radiometry_facet(const sea_radiometry *rad, const sea_model *model,
                                 const sea_slope_stats *st, sea_dir obs, sea_dir sun, int sun_up,
-                                double *L, double *e, double *rho, double *Lk, sea_error *err)
+                                double *L, double *e, double *rho, double *Lk, double *Qk,
+                                double *Uk, sea_error *err)
 {
     double sl = 0.0, se = 0.0, sr = 0.0;
     double eps_all[SEA_SCENE_BAND_MAX], rr_all[SEA_SCENE_BAND_MAX];
@@ -215,6 +271,11 @@ sea_status sea_radiometry_facet(const sea_radiometry *rad, const sea_model *mode
                                 rad->sc->sun_radius,
                                 0.1 * rad->sc->tolerance, isfinite(negligible) ? negligible : 0.0,
                                 rr_all);
+    }
+    if (Qk != NULL) {
+        s = facet_stokes(rad, model, st, obs, sun, sun_up, eps_all, sky_all, rr_all, Qk, Uk, err);
+        if (s != SEA_OK)
+            return s;
     }
     for (size_t i = 0; i < rad->nsamp; i++) {
         const double eps = eps_all[i];

@@ -57,11 +57,18 @@ SEA_INTERNAL sea_status sea_radiometry_samples(sea_radiometry *rad, size_t k,
 /* Radiance of a facet with stats st seen from obs under model, sun from sun
  * (sun_up: above the horizon), summed over the samples with their weights
  * (SI); band means of emissivity and reflectivity through *e and *rho; per
- * sample in Lk when not NULL. */
+ * sample in Lk when not NULL; per sample its linear polarisation Q and U in
+ * the view's frame (reference e_v; one hit) in Qk and Uk when Qk is not
+ * NULL (then Uk neither). */
 SEA_INTERNAL sea_status sea_radiometry_facet(const sea_radiometry *rad, const sea_model *model,
                                              const sea_slope_stats *st, sea_dir obs, sea_dir sun,
                                              int sun_up, double *L, double *e, double *rho,
-                                             double *Lk, sea_error *err);
+                                             double *Lk, double *Qk, double *Uk, sea_error *err);
+/* sum_k w_k tau_k(range) X_k: the part of a per-sample polarised radiance
+ * that reaches the sensor through the air (the path radiance is not
+ * polarised); sum_k w_k X_k without air. */
+SEA_INTERNAL double sea_radiometry_transmitted(const sea_radiometry *rad, const double *Xk,
+                                               double range);
 /* Brightness temperature of a band radiance L (SI, > 0). */
 SEA_INTERNAL double sea_radiometry_temperature(const sea_radiometry *rad, double L);
 /* Radiance unit of the images: per um for one wavelength (SI is per m). */

@@ -211,7 +211,8 @@ typedef enum {
     K_SUN_TRANSMITTANCE, K_SUN_ANGULAR_RADIUS,
     K_SKY_RADIANCE, K_SKY_TEMPERATURE, K_SKY_MODEL, K_SKY_ZENITH_EMISSIVITY,
     K_SKY_TABLE, K_AIR_TEMPERATURE, K_EXTINCTION, K_ATMOSPHERE_TABLE,
-    K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_HFOV, K_WIDTH, K_HEIGHT,
+    K_X, K_Y, K_ALTITUDE, K_LOOK_ZENITH, K_LOOK_AZIMUTH, K_ROLL, K_POLARIZER, K_HFOV, K_WIDTH,
+    K_HEIGHT,
     K_WAVELENGTH, K_BAND, K_RESPONSE, K_SAMPLES,
     K_PSF_SIGMA, K_F_NUMBER, K_PITCH, K_MTF, K_FILL_FACTOR, K_NETD, K_NETD_TEMPERATURE,
     K_NOISE_SEED, K_FPN_GAIN, K_FPN_OFFSET, K_FPN_SEED, K_GAIN, K_OFFSET, K_BIT_DEPTH,
@@ -350,6 +351,7 @@ static const key_spec SEA_KEYS[K_COUNT] = {
     [K_LOOK_AZIMUTH] = REAL(SEC_SENSOR, "look_azimuth", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG,
                             "deg", look_azimuth),
     [K_ROLL] = REAL(SEC_SENSOR, "roll", -INF, INF, LO_OPEN | HI_OPEN, SEA_DEG, "deg", roll),
+    [K_POLARIZER] = REAL(SEC_SENSOR, "polarizer", -180.0, 180.0, 0, SEA_DEG, "deg", polarizer),
     [K_HFOV] = REAL(SEC_SENSOR, "hfov", SEA_HFOV_MIN_DEG, 170.0, REQUIRED, SEA_DEG, "deg", hfov),
     [K_WIDTH] = INT(SEC_SENSOR, "width", 1, 16384, REQUIRED, "pixels", width),
     [K_HEIGHT] = INT(SEC_SENSOR, "height", 1, 16384, REQUIRED, "pixels", height),
@@ -1130,6 +1132,7 @@ void sea_scene_defaults(sea_scene *sc)
     sc->look_zenith = 0.0;
     sc->look_azimuth = 180.0 * SEA_DEG;
     sc->roll = 0.0;
+    sc->polarizer = NAN;
     sc->hfov = NAN;
     sc->width = sc->height = 0;
     sc->wavelength = -1.0;

@@ -68,7 +68,21 @@ void sea_image_free(sea_image *img)
     free(img->level);
     free(img->emissivity);
     free(img->reflectivity);
+    free(img->stokes_i);
+    free(img->stokes_q);
+    free(img->stokes_u);
     memset(img, 0, sizeof *img);
+}
+
+sea_status sea_image_alloc_stokes(sea_image *img, sea_error *err)
+{
+    const size_t n = (size_t)img->width * (size_t)img->height;
+    float **planes[3] = { &img->stokes_i, &img->stokes_q, &img->stokes_u };
+    for (int i = 0; i < 3; i++)
+        if (*planes[i] == NULL && (*planes[i] = calloc(n, sizeof(float))) == NULL)
+            return sea_fail(err, SEA_ERR_NOMEM, "out of memory for a %d x %d image's Stokes planes",
+                            img->width, img->height);
+    return SEA_OK;
 }
 
 void sea_view_free(sea_view *r)
@@ -119,7 +133,7 @@ sea_status sea_view_facet_optics(const sea_view *r, const sea_slope_stats *st, s
                                    sea_dir sun, sea_facet_optics *out, sea_error *err)
 {
     double L, e, rho;
-    sea_status s = sea_radiometry_facet(&r->rad, r->model, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho, NULL, err);
+    sea_status s = sea_radiometry_facet(&r->rad, r->model, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho, NULL, NULL, NULL, err);
     if (s != SEA_OK)
         return s;
     out->emissivity = e;
@@ -142,7 +156,7 @@ sea_status sea_view_facet_seen(const sea_view *r, const sea_slope_stats *st, sea
     double L, e, rho;
     double Lk[SEA_SCENE_BAND_MAX];
     sea_status s = sea_radiometry_facet(&r->rad, r->model, st, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
-                                  r->rad.atm_grid != NULL ? Lk : NULL, err);
+                                  r->rad.atm_grid != NULL ? Lk : NULL, NULL, NULL, err);
     if (s != SEA_OK)
         return s;
     const double unit = sea_radiometry_unit(&r->rad);
@@ -317,7 +331,7 @@ sea_status sea_view_alloc(const sea_scene *sc, sea_view **out, sea_error *err)
                 TRY(sea_radiometry_samples(&r->rad, k, &resp, err));
                 TRY(set_model(r, &spec, &lrs, 1, err));
                 TRY(sea_radiometry_facet(&r->rad, r->model, &lrs, obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
-                                   NULL, err));
+                                   NULL, NULL, NULL, err));
                 if (fabs(L - prev) <= sc->tolerance * fabs(L))
                     break;
                 prev = L;
@@ -356,10 +370,50 @@ typedef struct {
     double sun_vec[3];
     double sky_L, unit, ext;
     float sky_T;
+    int polarised; /* Stokes planes asked for, or a polarizer */
 } pixel_consts;
 
 /* Pixel (i, j) of img from what it sees, s: the sky, or the sea's radiance
  * through the air. */
+/* A pixel's linear polarisation (Q, U in the view's frame at the point met:
+ * reference e_v, +45 toward e_h; seabake.h POLARISATION) turned into the
+ * camera's frame: reference the image's up axis projected across the ray
+ * through the pixel's centre, +45 toward the image's right.  With the
+ * frame's angle psi from up to e_v (toward right),
+ *     Q' = Q cos 2psi - U sin 2psi,  U' = Q sin 2psi + U cos 2psi. */
+static void pixel_stokes(const sea_view *r, const sea_multires_sample *s, size_t i, size_t j,
+                         double Q, double U, double *Qc, double *Uc)
+{
+    const double *n = s->normal;
+    double d[3];
+    sea_camera_ray(&r->cam, (double)i + 0.5, (double)j + 0.5, d);
+    /* the local frame of sea_camera_local_dir: east e, north nn, up n */
+    double e[3] = { 1.0 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2] };
+    const double en = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    for (int k = 0; k < 3; k++)
+        e[k] /= en;
+    const double nn[3] = { n[1] * e[2] - n[2] * e[1], n[2] * e[0] - n[0] * e[2],
+                           n[0] * e[1] - n[1] * e[0] };
+    const double st = sin(s->obs.theta), ct = cos(s->obs.theta);
+    const double sp = sin(s->obs.phi), cp = cos(s->obs.phi);
+    /* e_v = (-cos theta cos phi, -cos theta sin phi, sin theta) locally */
+    double ev[3];
+    for (int k = 0; k < 3; k++)
+        ev[k] = -ct * cp * e[k] - ct * sp * nn[k] + st * n[k];
+    /* the image's up across the ray, and its right (d x up) */
+    const double *up = r->cam.up;
+    const double ud = up[0] * d[0] + up[1] * d[1] + up[2] * d[2];
+    const double u2[3] = { up[0] - ud * d[0], up[1] - ud * d[1], up[2] - ud * d[2] };
+    const double r2[3] = { d[1] * u2[2] - d[2] * u2[1], d[2] * u2[0] - d[0] * u2[2],
+                           d[0] * u2[1] - d[1] * u2[0] };
+    const double a = ev[0] * u2[0] + ev[1] * u2[1] + ev[2] * u2[2];
+    const double b = ev[0] * r2[0] + ev[1] * r2[1] + ev[2] * r2[2];
+    const double h = a * a + b * b;
+    const double c2 = h > 0.0 ? (a - b) * (a + b) / h : 1.0, s2 = h > 0.0 ? 2.0 * a * b / h : 0.0;
+    *Qc = Q * c2 - U * s2;
+    *Uc = Q * s2 + U * c2;
+}
+
 static sea_status shade_pixel(const sea_view *r, const pixel_consts *pc,
                               const sea_multires_sample *s, size_t i, size_t j, sea_image *img,
                               sea_error *err)
@@ -381,6 +435,10 @@ static sea_status shade_pixel(const sea_view *r, const pixel_consts *pc,
         img->temperature[q] = Ts;
         img->level[q] = 0.0f;
         img->emissivity[q] = img->reflectivity[q] = 0.0f;
+        if (img->stokes_i != NULL) { /* the sky's emission: unpolarised */
+            img->stokes_i[q] = img->radiance[q];
+            img->stokes_q[q] = img->stokes_u[q] = 0.0f;
+        }
         return SEA_OK;
     }
     sea_pixel_geom g;
@@ -388,9 +446,11 @@ static sea_status shade_pixel(const sea_view *r, const pixel_consts *pc,
     const sea_dir sun = sea_camera_local_dir(&g, pc->sun_vec);
     const sea_slope_stats ss = sea_moments_stats(&s->moments);
     double L, e, rho;
-    double Lk[SEA_SCENE_BAND_MAX];
-    sea_status st = sea_radiometry_facet(&r->rad, r->model, &ss, s->obs, sun, sun.theta < M_PI / 2.0, &L, &e, &rho,
-                                   r->rad.atm_grid != NULL ? Lk : NULL, err);
+    double Lk[SEA_SCENE_BAND_MAX], Qk[SEA_SCENE_BAND_MAX], Uk[SEA_SCENE_BAND_MAX];
+    const int polarised = pc->polarised;
+    sea_status st = sea_radiometry_facet(&r->rad, r->model, &ss, s->obs, sun, sun.theta < M_PI / 2.0,
+                                         &L, &e, &rho, r->rad.atm_grid != NULL ? Lk : NULL,
+                                         polarised ? Qk : NULL, polarised ? Uk : NULL, err);
     /* the air along the range met (through_air, shared with the bake's
      * maps: sea_view_facet_seen); the table's transmittance and path
      * radiance must reach that range */
@@ -406,8 +466,24 @@ static sea_status shade_pixel(const sea_view *r, const pixel_consts *pc,
         st = sea_fail(err, SEA_ERR_NUMERIC, "radiance %g at pixel (%zu, %zu)", L, i, j);
     if (st != SEA_OK)
         return st;
-    img->radiance[q] = (float)(L * pc->unit);
-    img->temperature[q] = (float)sea_radiometry_temperature(&r->rad, L);
+    double Lseen = L;
+    if (polarised) {
+        double Q, U;
+        pixel_stokes(r, s, i, j, sea_radiometry_transmitted(&r->rad, Qk, s->range),
+                     sea_radiometry_transmitted(&r->rad, Uk, s->range), &Q, &U);
+        if (img->stokes_i != NULL) {
+            img->stokes_i[q] = (float)(L * pc->unit);
+            img->stokes_q[q] = (float)(Q * pc->unit);
+            img->stokes_u[q] = (float)(U * pc->unit);
+        }
+        if (!isnan(sc->polarizer))
+            Lseen = L + Q * cos(2.0 * sc->polarizer) + U * sin(2.0 * sc->polarizer);
+        if (!(isfinite(Lseen) && Lseen > 0.0))
+            return sea_fail(err, SEA_ERR_NUMERIC, "radiance %g behind the polarizer at pixel (%zu, %zu)",
+                            Lseen, i, j);
+    }
+    img->radiance[q] = (float)(Lseen * pc->unit);
+    img->temperature[q] = (float)sea_radiometry_temperature(&r->rad, Lseen);
     img->level[q] = (float)pc->facet[s->level];
     img->emissivity[q] = (float)e;
     img->reflectivity[q] = (float)rho;
@@ -505,6 +581,7 @@ static sea_status render_rows(const sea_view *r, const sea_multires_frame *given
     const sea_multires_frame *f = given != NULL ? given : own;
     pixel_consts pc;
     pixel_consts_of(r, &pc);
+    pc.polarised = img->stokes_i != NULL || !isnan(sc->polarizer);
     const size_t W = (size_t)sc->width;
     size_t rows_done = 0;
     int failed = 0, cancelled = 0, nomem = 0;
