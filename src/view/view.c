@@ -90,6 +90,7 @@ void sea_view_free(sea_view *r)
     if (r == NULL)
         return;
     sea_multires_free(r->mr);
+    sea_model_free(r->model);
     sea_radiometry_free(&r->rad);
     free(r);
 }
