@@ -291,6 +291,15 @@ SEA_INTERNAL sea_status sea_view_render_frame_in(const sea_view *r, const sea_mu
 SEA_INTERNAL sea_status sea_view_check_image(const sea_view *r, const sea_image *img,
                                                sea_error *err);
 
+/* camera.c, for the render's Stokes planes: the angle psi from the image's
+ * up axis (across the ray through image point (u, v), +psi toward the
+ * image's right) to e_v, the vertical of the view frame (seabake.h,
+ * POLARISATION) at the sea point of vertical `normal` seen from obs (its
+ * local direction to the sensor), as cos 2psi and sin 2psi; (1, 0) where
+ * e_v has no component across the ray.  Pure. */
+SEA_INTERNAL void sea_camera_stokes_frame(const sea_camera *c, double u, double v,
+                                          const double normal[3], sea_dir obs, double *cos_2psi,
+                                          double *sin_2psi);
 /* camera.c, for the multiresolution plan.  Where the ray through image
  * point (u, v) meets the sea: 1 and its map point (x, y) as
  * sea_camera_pixel gives it, or 0 (a miss; x and y then unspecified). */

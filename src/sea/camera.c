@@ -145,14 +145,23 @@ int sea_camera_hits(const sea_camera *c, double u, double v)
     return sea_camera_corner(c, u, v, &x, &y);
 }
 
+/* The local frame of a sea point of vertical n: east e (x projected on the
+ * tangent plane: n is never along x for the scenes a sensor sees, its tilt
+ * is at most a few degrees) and north nn = n x e. */
+static void local_frame(const double n[3], double e[3], double nn[3])
+{
+    e[0] = 1.0 - n[0] * n[0];
+    e[1] = -n[0] * n[1];
+    e[2] = -n[0] * n[2];
+    normalize3(e);
+    cross3(n, e, nn);
+}
+
 sea_dir sea_camera_local_dir(const sea_pixel_geom *g, const double d[3])
 {
     const double *n = g->normal;
-    /* local east: x projected on the tangent plane (n is never along x for
-     * the scenes a sensor sees: its tilt is at most a few degrees) */
-    double e[3] = { 1.0 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2] }, nn[3];
-    normalize3(e);
-    cross3(n, e, nn);
+    double e[3], nn[3];
+    local_frame(n, e, nn);
     const double cz = fmax(-1.0, fmin(1.0, dot3(d, n)));
     sea_dir o = { acos(cz), atan2(dot3(d, nn), dot3(d, e)) };
     if (o.phi < 0.0)
@@ -276,4 +285,25 @@ void sea_camera_sea_point(const sea_camera *c, double x, double y, double q[3], 
     q[2] = pc[2] - R;
     for (int i = 0; i < 3; i++)
         n[i] = pc[i] / R;
+}
+
+void sea_camera_stokes_frame(const sea_camera *c, double u, double v, const double normal[3],
+                             sea_dir obs, double *cos_2psi, double *sin_2psi)
+{
+    double d[3], e[3], nn[3], ev[3];
+    sea_camera_ray(c, u, v, d);
+    local_frame(normal, e, nn);
+    /* e_v = (-cos theta cos phi, -cos theta sin phi, sin theta) locally */
+    const double st = sin(obs.theta), ct = cos(obs.theta);
+    const double sp = sin(obs.phi), cp = cos(obs.phi);
+    for (int k = 0; k < 3; k++)
+        ev[k] = -ct * cp * e[k] - ct * sp * nn[k] + st * normal[k];
+    /* the image's up across the ray, and its right (d x up) */
+    const double ud = dot3(c->up, d);
+    const double up[3] = { c->up[0] - ud * d[0], c->up[1] - ud * d[1], c->up[2] - ud * d[2] };
+    double right[3];
+    cross3(d, up, right);
+    const double a = dot3(ev, up), b = dot3(ev, right), h = a * a + b * b;
+    *cos_2psi = h > 0.0 ? (a - b) * (a + b) / h : 1.0;
+    *sin_2psi = h > 0.0 ? 2.0 * a * b / h : 0.0;
 }

@@ -380,37 +380,14 @@ typedef struct {
  * reference e_v, +45 toward e_h; seabake.h POLARISATION) turned into the
  * camera's frame: reference the image's up axis projected across the ray
  * through the pixel's centre, +45 toward the image's right.  With the
- * frame's angle psi from up to e_v (toward right),
+ * frame's angle psi from up to e_v (toward right, sea_camera_stokes_frame),
  *     Q' = Q cos 2psi - U sin 2psi,  U' = Q sin 2psi + U cos 2psi. */
 static void pixel_stokes(const sea_view *r, const sea_multires_sample *s, size_t i, size_t j,
                          double Q, double U, double *Qc, double *Uc)
 {
-    const double *n = s->normal;
-    double d[3];
-    sea_camera_ray(&r->cam, (double)i + 0.5, (double)j + 0.5, d);
-    /* the local frame of sea_camera_local_dir: east e, north nn, up n */
-    double e[3] = { 1.0 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2] };
-    const double en = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-    for (int k = 0; k < 3; k++)
-        e[k] /= en;
-    const double nn[3] = { n[1] * e[2] - n[2] * e[1], n[2] * e[0] - n[0] * e[2],
-                           n[0] * e[1] - n[1] * e[0] };
-    const double st = sin(s->obs.theta), ct = cos(s->obs.theta);
-    const double sp = sin(s->obs.phi), cp = cos(s->obs.phi);
-    /* e_v = (-cos theta cos phi, -cos theta sin phi, sin theta) locally */
-    double ev[3];
-    for (int k = 0; k < 3; k++)
-        ev[k] = -ct * cp * e[k] - ct * sp * nn[k] + st * n[k];
-    /* the image's up across the ray, and its right (d x up) */
-    const double *up = r->cam.up;
-    const double ud = up[0] * d[0] + up[1] * d[1] + up[2] * d[2];
-    const double u2[3] = { up[0] - ud * d[0], up[1] - ud * d[1], up[2] - ud * d[2] };
-    const double r2[3] = { d[1] * u2[2] - d[2] * u2[1], d[2] * u2[0] - d[0] * u2[2],
-                           d[0] * u2[1] - d[1] * u2[0] };
-    const double a = ev[0] * u2[0] + ev[1] * u2[1] + ev[2] * u2[2];
-    const double b = ev[0] * r2[0] + ev[1] * r2[1] + ev[2] * r2[2];
-    const double h = a * a + b * b;
-    const double c2 = h > 0.0 ? (a - b) * (a + b) / h : 1.0, s2 = h > 0.0 ? 2.0 * a * b / h : 0.0;
+    double c2, s2;
+    sea_camera_stokes_frame(&r->cam, (double)i + 0.5, (double)j + 0.5, s->normal, s->obs, &c2,
+                            &s2);
     *Qc = Q * c2 - U * s2;
     *Uc = Q * s2 + U * c2;
 }
