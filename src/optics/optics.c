@@ -1606,6 +1606,18 @@ static fixed_rule fixed_rule_of(const view_frame *f, sea_emis_method method,
     return (fixed_rule){ a.n_gl, a.n_gh, SEA_RULE_T_CUT };
 }
 
+/* A fixed product rule's orders within their tables (NULL: none given). */
+static sea_status check_rule(const sea_emis_rule *rule, sea_error *err)
+{
+    if (rule != NULL && (rule->n_gl < 1 || rule->n_gl > SEA_EMIS_GL_MAX || rule->n_gh < 0 ||
+                         rule->n_gh > SEA_EMIS_GH_MAX))
+        return sea_fail(err, SEA_ERR_DOMAIN,
+                        "product rule %d x %d is outside 1..%d Gauss-Legendre x 0..%d "
+                        "Gauss-Hermite nodes",
+                        rule->n_gl, rule->n_gh, SEA_EMIS_GL_MAX, SEA_EMIS_GH_MAX);
+    return SEA_OK;
+}
+
 sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
                             const sea_emis_rule *rule, const double complex *N, size_t n,
                             const sea_slope_stats *st, sea_dir v, double *out, sea_error *err)
@@ -1617,12 +1629,8 @@ sea_status sea_emissivity_n(const sea_optics *p, sea_emis_method method,
                 return s;
         return SEA_OK;
     }
-    if (rule != NULL && (rule->n_gl < 1 || rule->n_gl > SEA_EMIS_GL_MAX || rule->n_gh < 0 ||
-                         rule->n_gh > SEA_EMIS_GH_MAX))
-        return sea_fail(err, SEA_ERR_DOMAIN,
-                        "product rule %d x %d is outside 1..%d Gauss-Legendre x 0..%d "
-                        "Gauss-Hermite nodes",
-                        rule->n_gl, rule->n_gh, SEA_EMIS_GL_MAX, SEA_EMIS_GH_MAX);
+    if ((s = check_rule(rule, err)) != SEA_OK)
+        return s;
     if (rule == NULL && method != SEA_EMIS_AUTO && method != SEA_EMIS_FAST)
         return sea_fail(err, SEA_ERR_DOMAIN, "unknown emissivity method %d", (int)method);
     if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
@@ -2565,9 +2573,8 @@ static sea_status emissivity_general(const sea_optics *p, sea_emis_method method
     if (reflections == 1 && sky == NULL)
         return sea_emissivity_n(p, method, rule, N, n, st, v, out, err);
     sea_status s;
-    if (rule != NULL && (rule->n_gl < 1 || rule->n_gl > SEA_EMIS_GL_MAX || rule->n_gh < 0 ||
-                         rule->n_gh > SEA_EMIS_GH_MAX))
-        return sea_emissivity_n(p, method, rule, N, n, st, v, out, err); /* its message */
+    if ((s = check_rule(rule, err)) != SEA_OK)
+        return s;
     if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
         return s;
     /* the sensor's facets by the rule reflections = 1 would use (full: auto) */
@@ -3105,12 +3112,8 @@ sea_status sea_optics_facet_nodes(const sea_optics *p, sea_emis_method method,
     if (rule == NULL && method != SEA_EMIS_AUTO && method != SEA_EMIS_FAST)
         return sea_fail(err, SEA_ERR_DOMAIN, "no fixed nodes for emissivity method %d",
                         (int)method);
-    if (rule != NULL && (rule->n_gl < 1 || rule->n_gl > SEA_EMIS_GL_MAX || rule->n_gh < 0 ||
-                         rule->n_gh > SEA_EMIS_GH_MAX))
-        return sea_fail(err, SEA_ERR_DOMAIN,
-                        "product rule %d x %d is outside 1..%d Gauss-Legendre x 0..%d "
-                        "Gauss-Hermite nodes",
-                        rule->n_gl, rule->n_gh, SEA_EMIS_GL_MAX, SEA_EMIS_GH_MAX);
+    if ((s = check_rule(rule, err)) != SEA_OK)
+        return s;
     if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
         return s;
     view_frame f;
