@@ -11,6 +11,10 @@
 #include "indep.h"
 #include "mc.h"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 /* ------------------------------------------------------------- surfaces */
 
 static void surface_finish(mc_surface *s)
@@ -141,6 +145,51 @@ int mc_next_option(int argc, char **argv, int *a, int *opt, const char **value)
     *value = argv[*a + 1];
     *a += 2;
     return 1;
+}
+
+int mc_grid_options_parse(int argc, char **argv, mc_grid_options *o)
+{
+    int at = 1, opt, r;
+    const char *v;
+    while ((r = mc_next_option(argc, argv, &at, &opt, &v)) > 0) {
+        switch (opt) {
+        case 'n': o->n = atoi(v); break;
+        case 'l': o->ell = atof(v); break;
+        case 's': o->seeds = atoi(v); break;
+        case 'r': o->rays = atol(v); break;
+        case 'S': o->seed0 = strtoul(v, NULL, 10); break;
+        case 'w': o->nw = mc_parse_list(v, o->winds, MC_LIST_MAX); break;
+        case 'L': o->nl = mc_parse_list(v, o->wls, MC_MAXWL); break;
+        case 't': o->nt = mc_parse_list(v, o->ths, MC_LIST_MAX); break;
+        case 'p': o->np = mc_parse_list(v, o->phs, MC_LIST_MAX); break;
+        case 'o': o->outpath = v; break;
+        default: return -1;
+        }
+    }
+    if (r < 0 || o->n < 8 || o->seeds < 2 || o->rays < 1 || o->nw < 1 || o->nl < 1 ||
+        o->nt < 1 || o->np < 1 || !(o->ell > 0))
+        return -1;
+    return 0;
+}
+
+int mc_threads(void)
+{
+#ifdef _OPENMP
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
+void mc_mean_se(const double *x, int k, double *mean, double *se)
+{
+    double a = 0.0, q = 0.0;
+    for (int s = 0; s < k; s++)
+        a += x[s] / k;
+    for (int s = 0; s < k; s++)
+        q += (x[s] - a) * (x[s] - a) / (k - 1);
+    *mean = a;
+    *se = sqrt(q / k);
 }
 
 int mc_parse_list(const char *s, double *out, int max)

@@ -59,6 +59,28 @@ int mc_parse_list(const char *s, double *out, int max);
 /* The oracles' options, "-x VALUE" pairs: the next one's letter and value
  * from argv[*a] on (advancing *a); 1, 0 when none is left, -1 if malformed. */
 int mc_next_option(int argc, char **argv, int *a, int *opt, const char **value);
+/* The options the grid oracles (mc_oracle, mc_stokes_oracle) share, their
+ * defaults set by the caller: -n GRID, -l ELL_CELLS, -s SEEDS, -r RAYS,
+ * -S FIRST_SEED, -w WINDS, -L WAVELENGTHS_UM (at most MC_MAXWL), -t
+ * THETAS_DEG, -p PHIS_DEG (lists of at most MC_LIST_MAX), -o FILE. */
+enum { MC_LIST_MAX = 16 };
+typedef struct {
+    int n, seeds;
+    double ell;
+    long rays;
+    unsigned long seed0;
+    double winds[MC_LIST_MAX], wls[MC_LIST_MAX], ths[MC_LIST_MAX], phs[MC_LIST_MAX];
+    int nw, nl, nt, np;
+    const char *outpath;
+} mc_grid_options;
+/* Parses argv over o's defaults: 0, or -1 for an unknown option, a
+ * malformed one, or a value out of range (n >= 8, seeds >= 2, rays >= 1,
+ * every list non-empty, ell > 0). */
+int mc_grid_options_parse(int argc, char **argv, mc_grid_options *o);
+/* The threads an OpenMP parallel region gets (1 without OpenMP). */
+int mc_threads(void);
+/* The mean of x[0..k) and its standard error (k >= 2). */
+void mc_mean_se(const double *x, int k, double *mean, double *se);
 /* A surface from given heights (copied) and cell matrix A (invertible). */
 int mc_surface_from_heights(mc_surface *s, int n, const double *h, const double A[2][2]);
 void mc_surface_free(mc_surface *s);

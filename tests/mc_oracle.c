@@ -22,20 +22,7 @@
 
 #include "mc.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
-enum { MAXL = 16 };
-
-static int threads(void)
-{
-#ifdef _OPENMP
-    return omp_get_max_threads();
-#else
-    return 1;
-#endif
-}
+enum { MAXL = MC_LIST_MAX };
 
 static void usage(void)
 {
@@ -47,36 +34,17 @@ static void usage(void)
 
 int main(int argc, char **argv)
 {
-    int n = 512, seeds = 8;
-    double ell = 8;
-    long rays = 60000;
-    unsigned long seed0 = 1;
-    double winds[MAXL] = { 3, 5, 10, 15 }, wls[MAXL] = { 4, 10 };
-    double ths[MAXL] = { 0, 40, 60, 70, 75, 80, 85 }, phs[MAXL] = { 0, 90 };
-    int nw = 4, nl = 2, nt = 7, np = 2;
-    const char *outpath = NULL;
-    int opt_at = 1, opt, r;
-    const char *optv;
-    while ((r = mc_next_option(argc, argv, &opt_at, &opt, &optv)) > 0) {
-        const char *v = optv;
-        switch (opt) {
-        case 'n': n = atoi(v); break;
-        case 'l': ell = atof(v); break;
-        case 's': seeds = atoi(v); break;
-        case 'r': rays = atol(v); break;
-        case 'S': seed0 = strtoul(v, NULL, 10); break;
-        case 'w': nw = mc_parse_list(v, winds, MAXL); break;
-        case 'L': nl = mc_parse_list(v, wls, MC_MAXWL); break;
-        case 't': nt = mc_parse_list(v, ths, MAXL); break;
-        case 'p': np = mc_parse_list(v, phs, MAXL); break;
-        case 'o': outpath = v; break;
-        default: usage();
-        }
-    }
-    if (r < 0)
+    mc_grid_options o = { .n = 512, .seeds = 8, .ell = 8, .rays = 60000, .seed0 = 1,
+                          .winds = { 3, 5, 10, 15 }, .wls = { 4, 10 },
+                          .ths = { 0, 40, 60, 70, 75, 80, 85 }, .phs = { 0, 90 },
+                          .nw = 4, .nl = 2, .nt = 7, .np = 2 };
+    if (mc_grid_options_parse(argc, argv, &o) != 0)
         usage();
-    if (n < 8 || seeds < 2 || rays < 1 || nw < 1 || nl < 1 || nt < 1 || np < 1 || !(ell > 0))
-        usage();
+    const int n = o.n, seeds = o.seeds, nw = o.nw, nl = o.nl, nt = o.nt, np = o.np;
+    const double ell = o.ell, *winds = o.winds, *wls = o.wls, *ths = o.ths, *phs = o.phs;
+    const long rays = o.rays;
+    const unsigned long seed0 = o.seed0;
+    const char *outpath = o.outpath;
     sea_init();
     clock_t c0 = clock();
     time_t wall0 = time(NULL);
@@ -181,7 +149,7 @@ int main(int argc, char **argv)
                "# CPU time %.0f s (%d threads' total); energy closure max %.1e per ray, weight\n"
                "# left at the 1e-6 cut max %.1e, leaks %ld, stopped rays %ld.\n",
             n, n, ell, max_cov_err, seed0, seed0 + seeds - 1, seeds, rays, cpu,
-            threads(),
+            mc_threads(),
             max_energy, max_residual, leaks, stopped);
     fprintf(f, "wind_ms,wavelength_um,theta_deg,phi_deg,sxx,syy,eps1,eps1_se,eps,eps_se,"
                "eps_pol,eps_pol_se,esc1,esc2,esc3,multi,model\n");

@@ -49,20 +49,7 @@
 
 #include "mc.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
-enum { MAXL = 16 };
-
-static int threads(void)
-{
-#ifdef _OPENMP
-    return omp_get_max_threads();
-#else
-    return 1;
-#endif
-}
+enum { MAXL = MC_LIST_MAX };
 
 static void usage(void)
 {
@@ -138,18 +125,6 @@ fail:
     fprintf(stderr, "mc_sea_oracle: the model: %s\n", err.msg);
     sea_model_free(m);
     return -1;
-}
-
-/* The mean of x[0..k) and its standard error. */
-static void mean_se(const double *x, int k, double *mean, double *se)
-{
-    double a = 0.0, q = 0.0;
-    for (int s = 0; s < k; s++)
-        a += x[s] / k;
-    for (int s = 0; s < k; s++)
-        q += (x[s] - a) * (x[s] - a) / (k - 1);
-    *mean = a;
-    *se = sqrt(q / k);
 }
 
 int main(int argc, char **argv)
@@ -332,8 +307,8 @@ int main(int argc, char **argv)
                     g[s] = ms[k] - e1[k];
                     g[seeds + s] = mc[k] - e1[k];
                 }
-                mean_se(g, seeds, &a[0], &se[0]);
-                mean_se(g + seeds, seeds, &a[1], &se[1]);
+                mc_mean_se(g, seeds, &a[0], &se[0]);
+                mc_mean_se(g + seeds, seeds, &a[1], &se[1]);
                 fprintf(stderr,
                         "%4g m/s %4g deg phi %3g: Smith %+6.2f +- %.2f  correlated %+6.2f +- %.2f\n",
                         winds[w], ths[d / np], phs[d % np], 1e3 * a[0], 1e3 * se[0], 1e3 * a[1],
@@ -408,7 +383,7 @@ int main(int argc, char **argv)
                 "# CPU %.0f s (%d threads' total); energy closure max %.1e per ray, weight left at\n"
                 "# the 1e-6 cut max %.1e, rays found below the surface (leaks) %ld, stopped %ld.\n",
                 8.0 * dx, n * dx, n, n, dx, seed0, seed0 + seeds - 1, rays, wls_s, seeds, jensen,
-                cpu, threads(), max_energy, max_residual, leaks, stopped);
+                cpu, mc_threads(), max_energy, max_residual, leaks, stopped);
         fprintf(f, "wind_ms,wavelength_um,theta_deg,phi_deg,sxx,syy,sxy,eps1,eps1_se,eps,eps_se,"
                    "multi,model_smith,model_corr,model_default\n");
         fprintf(stderr, "\nmodel - ray tracing (every hit), x 1e-3; eps_se\n");
@@ -421,10 +396,10 @@ int main(int argc, char **argv)
                     double a1, se1, af, sef, mu = 0.0;
                     for (int s = 0; s < seeds; s++)
                         x[s] = e1[AT(w, d, l, s)];
-                    mean_se(x, seeds, &a1, &se1);
+                    mc_mean_se(x, seeds, &a1, &se1);
                     for (int s = 0; s < seeds; s++)
                         x[s] = ea[AT(w, d, l, s)];
-                    mean_se(x, seeds, &af, &sef);
+                    mc_mean_se(x, seeds, &af, &sef);
                     for (int s = 0; s < seeds; s++)
                         mu += multi[((size_t)w * ndir + d) * seeds + s] / seeds;
                     const size_t q = ((size_t)w * ndir + d) * nl + l;

@@ -21,20 +21,7 @@
 
 #include "mc_stokes.h"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
-enum { MAXL = 16 };
-
-static int threads(void)
-{
-#ifdef _OPENMP
-    return omp_get_max_threads();
-#else
-    return 1;
-#endif
-}
+enum { MAXL = MC_LIST_MAX };
 
 static void usage(void)
 {
@@ -44,50 +31,19 @@ static void usage(void)
     exit(2);
 }
 
-/* mean and standard error of the mean of x[0..n) */
-static void mean_se(const double *x, int n, double *m, double *se)
-{
-    double s = 0, q = 0;
-    for (int i = 0; i < n; i++)
-        s += x[i];
-    *m = s / n;
-    for (int i = 0; i < n; i++)
-        q += (x[i] - *m) * (x[i] - *m);
-    *se = sqrt(q / (n - 1) / n);
-}
-
 int main(int argc, char **argv)
 {
-    int n = 512, seeds = 16;
-    double ell = 8;
-    long rays = 30000;
-    unsigned long seed0 = 1;
-    double winds[MAXL] = { 5, 10, 15 }, wls[MAXL] = { 4, 10 };
-    double ths[MAXL] = { 60, 70, 75, 80, 85 }, phs[MAXL] = { 0, 45 };
-    int nw = 3, nl = 2, nt = 5, np = 2;
-    const char *outpath = NULL;
-    int opt_at = 1, opt, r;
-    const char *optv;
-    while ((r = mc_next_option(argc, argv, &opt_at, &opt, &optv)) > 0) {
-        const char *v = optv;
-        switch (opt) {
-        case 'n': n = atoi(v); break;
-        case 'l': ell = atof(v); break;
-        case 's': seeds = atoi(v); break;
-        case 'r': rays = atol(v); break;
-        case 'S': seed0 = strtoul(v, NULL, 10); break;
-        case 'w': nw = mc_parse_list(v, winds, MAXL); break;
-        case 'L': nl = mc_parse_list(v, wls, MC_MAXWL); break;
-        case 't': nt = mc_parse_list(v, ths, MAXL); break;
-        case 'p': np = mc_parse_list(v, phs, MAXL); break;
-        case 'o': outpath = v; break;
-        default: usage();
-        }
-    }
-    if (r < 0)
+    mc_grid_options o = { .n = 512, .seeds = 16, .ell = 8, .rays = 30000, .seed0 = 1,
+                          .winds = { 5, 10, 15 }, .wls = { 4, 10 },
+                          .ths = { 60, 70, 75, 80, 85 }, .phs = { 0, 45 },
+                          .nw = 3, .nl = 2, .nt = 5, .np = 2 };
+    if (mc_grid_options_parse(argc, argv, &o) != 0)
         usage();
-    if (n < 8 || seeds < 2 || rays < 1 || nw < 1 || nl < 1 || nt < 1 || np < 1 || !(ell > 0))
-        usage();
+    const int n = o.n, seeds = o.seeds, nw = o.nw, nl = o.nl, nt = o.nt, np = o.np;
+    const double ell = o.ell, *winds = o.winds, *wls = o.wls, *ths = o.ths, *phs = o.phs;
+    const long rays = o.rays;
+    const unsigned long seed0 = o.seed0;
+    const char *outpath = o.outpath;
     sea_init();
     const clock_t c0 = clock();
     const time_t wall0 = time(NULL);
@@ -190,7 +146,7 @@ int main(int argc, char **argv)
                "# Forward (Mueller) and reciprocal (Jones) routes: largest difference per ray\n"
                "# %.1e.  CPU time %.0f s (%d threads' total); leaks %ld, stopped rays %ld.\n",
             n, n, ell, max_cov_err, seed0, seed0 + seeds - 1, seeds, rays, max_route, cpu,
-            threads(), leaks, stopped);
+            mc_threads(), leaks, stopped);
     fprintf(f, "wind_ms,wavelength_um,theta_deg,phi_deg,sxx,syy,I,I_se,Q,Q_se,U,U_se,V,dolp,"
                "dolp_se,I1,Q1,U1,dolp1,dolp1_se,multi,model_I,model_Q,model_U,model_dolp\n");
     fprintf(stderr, "\nDoLP x 1e-3: model - first hit, model - all hits (+- se)\n");
@@ -203,11 +159,11 @@ int main(int argc, char **argv)
                 for (int k = 0; k < NV; k++) {
                     for (int s = 0; s < seeds; s++)
                         col[s] = val[AT(w, d, l, s) * NV + k];
-                    mean_se(col, seeds, &m[k], &se[k]);
+                    mc_mean_se(col, seeds, &m[k], &se[k]);
                 }
                 for (int s = 0; s < seeds; s++)
                     col[s] = multi[((size_t)w * ndir + d) * seeds + s];
-                mean_se(col, seeds, &mu, &mu_se);
+                mc_mean_se(col, seeds, &mu, &mu_se);
                 const sea_slope_stats st = { { 0, 0 }, cov[w] };
                 sea_stokes e;
                 if (sea_polar_emissivity(P, SEA_EMIS_AUTO, NULL, N[l], &st,
