@@ -301,7 +301,6 @@ sea_status sea_view_alloc(const sea_scene *sc, sea_view **out, sea_error *err)
         r->choices.wave_count = sea_waves_count(waves);
     }
     /* the water, the sky's and the air's tables */
-    r->rad.sc = &r->sc;
     TRY(sea_radiometry_alloc(&r->sc, &r->rad, err));
 
     /* spectral samples */
