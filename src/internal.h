@@ -76,6 +76,24 @@ SEA_INTERNAL sea_status sea_optics_facet_nodes(const struct sea_optics *p, sea_e
                                                const sea_slope_stats *st, sea_dir v,
                                                sea_facet_node *nodes, size_t *count, int *exact,
                                                sea_error *err);
+/* polar.c: cos 2chi and sin 2chi of the direction proportional to a e_v +
+ * b e_h of a view's frame (the p axis of a facet of normal n has a = n.e_v,
+ * b = n.e_h); (0, 0) when a = b = 0, where nothing is polarised. */
+SEA_INTERNAL void sea_polar_plane_angle(double a, double b, double *c2, double *s2);
+/* optics.c, for polar.c and model.c: what the second hits add to the
+ * Stokes emissivity toward v (seabake-model(7), POLARISATION), Q and U per
+ * index in the sensor's frame per unit contrast between the sea's
+ * blackbody and a uniform sky, at reflections >= 2 over the split rule
+ * sea_emissivity_multi_n's second hits take (with ar, the sea around ar,
+ * as sea_emissivity_around_n): the facets met send their emission E_(R-1)
+ * and their one-hit polarisation back to the facet seen, whose Mueller
+ * matrix reflects both (with ar, at ar's reflections, whatever the
+ * argument).  Errors as sea_emissivity_multi_n's; reads p. */
+SEA_INTERNAL sea_status sea_optics_polar_hits(const struct sea_optics *p, sea_emis_method method,
+                                              const sea_emis_rule *rule, const double complex *N,
+                                              size_t n, const sea_slope_stats *st, sea_dir v,
+                                              int reflections, const struct sea_around *ar,
+                                              double *dq, double *du, sea_error *err);
 /* 1 - rho(psi) of index N as the emissivity reads it at a node: the plan's
  * table of N where it has one and exact is 0, else the formula.  Reads p
  * (may build N's table under p's lock). */

@@ -704,6 +704,17 @@ sea_status sea_model_emissivity(const sea_model *m, const sea_slope_stats *st, s
                                 double *eps, double *ksky, sea_error *err);
 /* The hits the model follows for st toward v (1 or more).  Reads m. */
 int sea_model_hits(const sea_model *m, const sea_slope_stats *st, sea_dir v);
+/* The polarised part of the Stokes emissivity of a facet of statistics st
+ * toward v under the model, e_Q in q[i] and e_U in u[i] for N[i] (its I
+ * is sea_model_emissivity's eps[i]; seabake.h POLARISATION's frame): the
+ * one-hit values (sea_polar_emissivity_n, method AUTO) plus, where the
+ * model follows a second hit (sea_model_hits), what the facets met send
+ * back (sea_polar_emissivity_multi_n's physics, in the sea around, whose
+ * polarisation tables are filled on the first call that needs them).  The
+ * two scales' change of the emissivity is unpolarised here (seabake-model(7),
+ * POLARISATION).  Thread-safe; errors as sea_model_emissivity's. */
+sea_status sea_model_polarisation(const sea_model *m, const sea_slope_stats *st, sea_dir v,
+                                  double *q, double *u, sea_error *err);
 /* Its quadrature plan, with its shadowing (read-only). */
 const sea_optics *sea_model_optics(const sea_model *m);
 /* scales = 2: the wavelength 2 pi / k_half of the split, m; else 0. */
@@ -1988,7 +1999,7 @@ void sea_polar_fresnel(double cos_psi, double complex N, double *R_s, double *R_
  * DoLP = (R_s - R_p)/(2 - R_s - R_p); a slope law symmetric about the
  * view's vertical plane gives e_U = 0, and its mirror image the opposite
  * e_U.  Only first hits: the emission the seen facets reflect from facets
- * met again (reflections >= 2) is not in it.
+ * met again (reflections >= 2) is sea_polar_emissivity_multi_n's.
  * SEA_ERR_DOMAIN for a direction outside [0, 90) deg, invalid stats
  * (sea_slope_stats_check) or orders out of range; SEA_ERR_NUMERIC as
  * sea_emissivity's reference.  Reads p: plan once, call from many threads. */
@@ -2004,6 +2015,29 @@ sea_status sea_polar_emissivity_n(const sea_optics *p, sea_emis_method method,
                                   const sea_emis_rule *rule, const double complex *N, size_t n,
                                   const sea_slope_stats *st, sea_dir v, sea_stokes *out,
                                   sea_error *err);
+
+/* The Stokes emissivity with up to `reflections` surface hits (1..
+ * SEA_REFLECTIONS_MAX; 1 is sea_polar_emissivity_n): e_I is
+ * sea_emissivity_multi_n's value for the same arguments, and e_Q, e_U
+ * add to the one-hit values what the facets' mirror rays bring back from
+ * the facets they meet again (the same rays, chances and split rule as
+ * sea_emissivity_multi_n's second hits): a facet met, B, sends its
+ * emission E_(R-1) (taken unpolarised) and its own one-hit polarisation
+ * toward the facet seen, A, which reflects them by its Mueller matrix in
+ * its own (p, s) axes,
+ *     Q' = (R_p - R_s)/2 P E_B + (R_s + R_p)/2 P Q_B,  U' = Re(r_p r_s*) P U_B,
+ * P the chance of meeting the sea again, (Q_B, U_B) turned into A's
+ * axes, and (Q', U') into the sensor's frame.  Reflected emission is
+ * s-polarised, so the second hits lower the degree of polarisation
+ * (seabake-model(7), POLARISATION, gives the measured size).  Only the
+ * facets met's first polarisation is followed: at reflections = 3, the
+ * third hit enters e_Q and e_U through E_B alone.  Under a uniform sky of
+ * radiance L the radiance's Q and U are e_Q (B - L) and e_U (B - L).
+ * Errors as sea_emissivity_multi_n's; reads p. */
+sea_status sea_polar_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
+                                        const sea_emis_rule *rule, const double complex *N,
+                                        size_t n, const sea_slope_stats *st, sea_dir v,
+                                        int reflections, sea_stokes *out, sea_error *err);
 
 /* One-hit Stokes reflectivity toward v of an unpolarised sky of uniform
  * radiance L_sky, per unit L_sky: every seen facet reflects the sky in its

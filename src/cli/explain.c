@@ -216,7 +216,7 @@ void sea_cli_explain(const char *what, const char *scene_path, const sea_view *r
     if (!isnan(sc->polarizer))
         fprintf(stderr,
                 "%s: polarizer: %g deg from the image's up axis: the radiance is what a camera "
-                "behind it reads, I + Q cos 2a + U sin 2a (Q and U of one surface hit; "
+                "behind it reads, I + Q cos 2a + U sin 2a (Q and U with the model's hits; "
                 "seabake-model(7), POLARISATION)\n",
                 what, sc->polarizer * 180.0 / M_PI);
     if (ch.wave_count == 0)

@@ -321,6 +321,36 @@ sea_status sea_model_emissivity(const sea_model *m, const sea_slope_stats *st, s
     return SEA_OK;
 }
 
+sea_status sea_model_polarisation(const sea_model *m, const sea_slope_stats *st, sea_dir v,
+                                  double *q, double *u, sea_error *err)
+{
+    sea_stokes es[SEA_SCENE_BAND_MAX];
+    sea_status s = sea_polar_emissivity_n(m->optics, SEA_EMIS_AUTO, NULL, m->N, m->n, st, v, es,
+                                          err);
+    if (s != SEA_OK)
+        return s;
+    for (size_t i = 0; i < m->n; i++) {
+        q[i] = es[i].q;
+        u[i] = es[i].u;
+    }
+    if (sea_model_hits(m, st, v) < 2)
+        return SEA_OK;
+    /* the second hits by the rule sea_model_emissivity's take */
+    sea_emis_rule rule = { 0, 0 };
+    const int scaled = m->mp.method == SEA_EMIS_AUTO && m->emis_scale < 1.0;
+    if (scaled)
+        rule = sea_model_emis_rule(m->emis_scale, st, v);
+    double dq[SEA_SCENE_BAND_MAX], du[SEA_SCENE_BAND_MAX];
+    if ((s = sea_optics_polar_hits(m->optics, m->mp.method, scaled && rule.n_gl > 0 ? &rule : NULL,
+                                   m->N, m->n, st, v, m->hits, m->around, dq, du, err)) != SEA_OK)
+        return s;
+    for (size_t i = 0; i < m->n; i++) {
+        q[i] += dq[i];
+        u[i] += du[i];
+    }
+    return SEA_OK;
+}
+
 sea_emis_rule sea_model_emis_rule(double emis_scale, const sea_slope_stats *st, sea_dir v)
 {
     sea_emis_rule a = sea_emissivity_auto_rule(st, v);

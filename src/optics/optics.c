@@ -2052,6 +2052,14 @@ struct sea_around {
      * given nothing of the facet it left: Lambda / (1 + Lambda), Lambda =
      * lambda_toward(lr, -u), 1 where -u falls */
     double *E, *K, *P;
+    /* The facets met's one-hit polarisation toward -u per index, in -u's
+     * frame (sea_optics_polar_hits): Q at [c n + k], and U / sin 2Delta,
+     * Delta the azimuth of -u from the wind (U is odd about the wind and
+     * across it), at U[c n + k]; filled on the first read that asks
+     * (around_polar), under polar_lock. */
+    double *Q, *U;
+    pthread_mutex_t polar_lock;
+    atomic_int polarised;
     /* the second hits' orders (second_hit_around) */
     double split_scale, split_min, cross_scale, cross_min;
 };
@@ -2199,9 +2207,14 @@ static void mirror_pieces_of(const view_frame *f, double aX, double bX, double a
     mp->nc = nc;
 }
 
+/* A read's stencil in the sea around's tables (around_at). */
+typedef struct {
+    size_t c0;
+    double wz[4], ww[4];
+} around_stencil_t;
 static void around_values(const sea_around *ar, const double o[3], size_t k0, size_t n,
                           const emis_ctx *ec, const spectral_basis *sb, double *e, double *kv,
-                          double *pinf);
+                          double *pinf, around_stencil_t *sten);
 
 /* second_hit in the sea around ar (seabake-model(7), MULTIPLE
  * REFLECTIONS): the same split rule at ar's orders, each node's mirror ray
@@ -2277,7 +2290,7 @@ static void second_hit_around(const sea_optics *p, const view_frame *f, double L
                 const double o[3] = { -(x * cph - y * sph), -(x * sph + y * cph),
                                       -(two_c - f->cos_th) };
                 double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK], pinf;
-                around_values(ar, o, k0, n, ec, sb, eB, kB, &pinf);
+                around_values(ar, o, k0, n, ec, sb, eB, kB, &pinf, NULL);
                 const double P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + L_in * (1.0 - pinf));
                 if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
                     continue;
@@ -2633,11 +2646,12 @@ static void around_direct(const sea_around *ar, const double o[3], size_t k0, si
     view_frame fo;
     view_frame_of_vec(ar->p, &ar->lr, o, &fo);
     /* the sea around is homogeneous: its own facets are its around */
+    const int sky = ar->has_sky && kv != NULL; /* (kv NULL: E alone) */
     if (!emis_multi_rec(ar->p, &ar->lr, &fo, 0.0, ec, n, ar->reflections - 1, NULL,
-                        ar->has_sky ? &ar->sky : NULL, k0, sb, NULL, e, ar->has_sky ? kv : NULL))
+                        sky ? &ar->sky : NULL, k0, sb, NULL, e, sky ? kv : NULL))
         for (size_t k = 0; k < n; k++)
             e[k] = 0.0; /* no facet faces o: nothing is met (escapes) */
-    if (!ar->has_sky)
+    if (!ar->has_sky && kv != NULL)
         for (size_t k = 0; k < n; k++)
             kv[k] = 0.0;
 }
@@ -2654,17 +2668,11 @@ static inline int around_stencil(double x, int nn, double w[4])
     return i;
 }
 
-static void around_values(const sea_around *ar, const double o[3], size_t k0, size_t n,
-                          const emis_ctx *ec, const spectral_basis *sb, double *e, double *kv,
-                          double *pinf)
+/* The stencil of a read toward o: the first cell c0 of its 4 x 4 cells
+ * (rows SEA_AROUND_COLS apart) and the weights along u_z (wz) and the
+ * azimuth (ww). */
+static size_t around_at(const sea_around *ar, const double o[3], double wz[4], double ww[4])
 {
-    if (ar->exact) {
-        const double g[3] = { -o[0], -o[1], -o[2] };
-        const double L = g[2] > 0.0 ? lambda_toward(&ar->lr, g) : INFINITY;
-        *pinf = isinf(L) ? 1.0 : L / (1.0 + L);
-        around_direct(ar, o, k0, n, ec, sb, e, kv);
-        return;
-    }
     /* the half and x = sqrt|u_z| in it, from the horizon; cos^2 of the
      * azimuth to the wind */
     const int below = o[2] < 0.0;
@@ -2672,7 +2680,6 @@ static void around_values(const sea_around *ar, const double o[3], size_t k0, si
     const double h2 = o[0] * o[0] + o[1] * o[1];
     const double a = o[0] * ar->cw + o[1] * ar->sw;
     const double xw = (h2 > 0.0 ? fmin(a * a / h2, 1.0) : 1.0) * (SEA_AROUND_NW - 1);
-    double wz[4], ww[4];
     /* below: row r of the half is x = -(HALF - r)/HALF, so from the
      * horizon the rows run backwards */
     int rz = around_stencil(xz, SEA_AROUND_HALF, wz);
@@ -2686,10 +2693,30 @@ static void around_values(const sea_around *ar, const double o[3], size_t k0, si
         wz[2] = t;
     }
     const int cw = around_stencil(xw, SEA_AROUND_NW - 1, ww);
-    const size_t c0 = ((size_t)(below ? 0 : 1) * SEA_AROUND_ROWS + (size_t)rz) * SEA_AROUND_COLS +
-                      (size_t)cw;
+    return ((size_t)(below ? 0 : 1) * SEA_AROUND_ROWS + (size_t)rz) * SEA_AROUND_COLS + (size_t)cw;
+}
+
+static void around_values(const sea_around *ar, const double o[3], size_t k0, size_t n,
+                          const emis_ctx *ec, const spectral_basis *sb, double *e, double *kv,
+                          double *pinf, around_stencil_t *sten)
+{
+    if (ar->exact) {
+        const double g[3] = { -o[0], -o[1], -o[2] };
+        const double L = g[2] > 0.0 ? lambda_toward(&ar->lr, g) : INFINITY;
+        *pinf = isinf(L) ? 1.0 : L / (1.0 + L);
+        around_direct(ar, o, k0, n, ec, sb, e, kv);
+        return;
+    }
+    double wz[4], ww[4];
+    const size_t c0 = around_at(ar, o, wz, ww);
+    if (sten != NULL) {
+        sten->c0 = c0;
+        memcpy(sten->wz, wz, sizeof wz);
+        memcpy(sten->ww, ww, sizeof ww);
+    }
+    const int below = o[2] < 0.0;
     const size_t na = ar->n;
-    for (int t = 0; t < 1 + ar->has_sky; t++) {
+    for (int t = 0; t < 1 + (ar->has_sky && kv != NULL); t++) {
         const double *T = (t == 0 ? ar->E : ar->K) + k0;
         double *out = t == 0 ? e : kv;
         for (size_t k = 0; k < n; k++) {
@@ -2701,7 +2728,7 @@ static void around_values(const sea_around *ar, const double o[3], size_t k0, si
             out[k] = v;
         }
     }
-    if (!ar->has_sky)
+    if (!ar->has_sky && kv != NULL)
         for (size_t k = 0; k < n; k++)
             kv[k] = 0.0;
     if (!below) {
@@ -2767,6 +2794,8 @@ sea_status sea_around_alloc(const sea_optics *p, const sea_slope_stats *lr,
     sea_around *ar = calloc(1, sizeof *ar);
     if (ar == NULL)
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the sea around");
+    pthread_mutex_init(&ar->polar_lock, NULL);
+    atomic_init(&ar->polarised, 0);
     ar->p = p;
     ar->lr = *lr;
     /* the covariance's principal axis (the wind's, for the spectrum's) */
@@ -2789,8 +2818,11 @@ sea_status sea_around_alloc(const sea_optics *p, const sea_slope_stats *lr,
         ar->E = calloc(cells, sizeof *ar->E);
         ar->K = calloc(cells, sizeof *ar->K);
         ar->P = calloc(SEA_AROUND_CELLS, sizeof *ar->P);
+        ar->Q = calloc(cells, sizeof *ar->Q);
+        ar->U = calloc(cells, sizeof *ar->U);
     }
-    if (ar->N == NULL || (!ar->exact && (ar->E == NULL || ar->K == NULL || ar->P == NULL))) {
+    if (ar->N == NULL || (!ar->exact && (ar->E == NULL || ar->K == NULL || ar->P == NULL ||
+                                         ar->Q == NULL || ar->U == NULL))) {
         sea_around_free(ar);
         return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the sea around's table");
     }
@@ -2852,6 +2884,9 @@ void sea_around_free(sea_around *ar)
     free(ar->E);
     free(ar->K);
     free(ar->P);
+    free(ar->Q);
+    free(ar->U);
+    pthread_mutex_destroy(&ar->polar_lock);
     free(ar);
 }
 
@@ -3102,29 +3137,20 @@ void sea_reflectivity_disc_n(const sea_optics *p, const double complex *N, size_
  * operations as nodes_fixed's and inner_nodes'), their weights w_i w_j
  * over the sum of the w_i (so that they sum to 1, as the emissivity's
  * average divides), cos psi as the emissivity reads it. */
-sea_status sea_optics_facet_nodes(const sea_optics *p, sea_emis_method method,
-                                  const sea_emis_rule *rule, const sea_slope_stats *st, sea_dir v,
-                                  sea_facet_node *nodes, size_t *count, int *exact, sea_error *err)
+/* The nodes of rule r over the facets seen in frame f, as
+ * sea_optics_facet_nodes lists them; *count 0 when every facet is turned
+ * away. */
+static void frame_nodes(const sea_optics *p, const view_frame *fp, fixed_rule r,
+                        sea_facet_node *nodes, size_t *count, int *exact)
 {
-    sea_status s;
-    *count = 0;
-    *exact = 0;
-    if (rule == NULL && method != SEA_EMIS_AUTO && method != SEA_EMIS_FAST)
-        return sea_fail(err, SEA_ERR_DOMAIN, "no fixed nodes for emissivity method %d",
-                        (int)method);
-    if ((s = check_rule(rule, err)) != SEA_OK)
-        return s;
-    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
-        return s;
-    view_frame f;
-    view_frame_init(p, st, v, &f);
-    const fixed_rule r = fixed_rule_of(&f, method, rule);
+    const view_frame f = *fp;
     fixed_nodes nd;
     nodes_fixed(p, &f, r, &nd);
     /* a facet without slope spread evaluates the formula (emissivity_of_nodes) */
     *exact = nd.plain;
+    *count = 0;
     if (nd.zero)
-        return SEA_OK;
+        return;
     double t_lo, t_hi;
     view_window(&f, r.t_cut, &t_lo, &t_hi);
     const double half = 0.5 * (t_hi - t_lo), mid = 0.5 * (t_hi + t_lo);
@@ -3135,7 +3161,7 @@ sea_status sea_optics_facet_nodes(const sea_optics *p, sea_emis_method method,
         if (nd.plain || nd.w_i[i] > 0.0)
             den += nd.w_i[i];
     if (!(den > 0.0))
-        return SEA_OK;
+        return;
     size_t q = 0;
     for (int i = 0; i < nd.n_i; i++) {
         if (!nd.plain && !(nd.w_i[i] > 0.0))
@@ -3152,6 +3178,25 @@ sea_status sea_optics_facet_nodes(const sea_optics *p, sea_emis_method method,
         }
     }
     *count = q;
+}
+
+sea_status sea_optics_facet_nodes(const sea_optics *p, sea_emis_method method,
+                                  const sea_emis_rule *rule, const sea_slope_stats *st, sea_dir v,
+                                  sea_facet_node *nodes, size_t *count, int *exact, sea_error *err)
+{
+    sea_status s;
+    *count = 0;
+    *exact = 0;
+    if (rule == NULL && method != SEA_EMIS_AUTO && method != SEA_EMIS_FAST)
+        return sea_fail(err, SEA_ERR_DOMAIN, "no fixed nodes for emissivity method %d",
+                        (int)method);
+    if ((s = check_rule(rule, err)) != SEA_OK)
+        return s;
+    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
+        return s;
+    view_frame f;
+    view_frame_init(p, st, v, &f);
+    frame_nodes(p, &f, fixed_rule_of(&f, method, rule), nodes, count, exact);
     return SEA_OK;
 }
 
@@ -3195,6 +3240,359 @@ sea_status sea_optics_facet_mean_full(const sea_optics *p, const sea_slope_stats
         facet_full_ctx c = { fn, ctx, k };
         if ((s = expect_reference(p, &f, facet_full_fn, &c, 0, &out[k], err)) != SEA_OK)
             return s;
+    }
+    return SEA_OK;
+}
+
+/* ------------------------------------------ the second hits' polarisation */
+
+/* The one-hit Stokes emission of the facets seen in frame fo (met_rule's
+ * nodes) per index: Q and U in fo's frame (reference e_v of its view),
+ * per unit contrast (polar.c); q or u NULL: not asked. */
+static void met_stokes(const sea_optics *p, const view_frame *fo, const double complex *N,
+                       size_t n, double *q, double *u)
+{
+    sea_facet_node nodes[SEA_FACET_NODES_MAX];
+    size_t count;
+    int exact;
+    frame_nodes(p, fo, met_rule(fo), nodes, &count, &exact);
+    for (size_t k = 0; k < n; k++) {
+        if (q != NULL)
+            q[k] = 0.0;
+        if (u != NULL)
+            u[k] = 0.0;
+    }
+    for (size_t i = 0; i < count; i++) {
+        double c2, s2;
+        sea_polar_plane_angle(fo->sin_th + nodes[i].gX * fo->cos_th, -nodes[i].gY, &c2, &s2);
+        for (size_t k = 0; k < n; k++) {
+            double Rs, Rp;
+            sea_polar_fresnel(nodes[i].cos_psi, N[k], &Rs, &Rp);
+            const double pol = 0.5 * (Rs - Rp) * nodes[i].w;
+            if (q != NULL)
+                q[k] += pol * c2;
+            if (u != NULL)
+                u[k] += pol * s2;
+        }
+    }
+}
+
+/* The facets of the sea around ar seen toward o: the one-hit Stokes
+ * emission of indices k0 .. k0 + n, Q and U (either NULL: not asked) in
+ * o's frame, directly. */
+static void around_polar_direct(const sea_around *ar, const double o[3], size_t k0, size_t n,
+                                double *q, double *u)
+{
+    view_frame fo;
+    view_frame_of_vec(ar->p, &ar->lr, o, &fo);
+    met_stokes(ar->p, &fo, &ar->N[k0], n, q, u);
+}
+
+/* The direction of the table's node of zenith cosine uz at azimuth delta
+ * from the wind, toward which the facets met are seen. */
+static void around_node_dir(const sea_around *ar, double uz, double delta, double o[3])
+{
+    const double h = sqrt(fmax(1.0 - uz * uz, 0.0)), ca = cos(delta), sa = sin(delta);
+    o[0] = h * (ar->cw * ca - ar->sw * sa);
+    o[1] = h * (ar->sw * ca + ar->cw * sa);
+    o[2] = uz;
+}
+
+/* Fills ar->Q and ar->U at the nodes of ar->E (U / sin 2Delta: along the
+ * wind and across it, where sin 2Delta = 0, from 1e-4 rad off the axis,
+ * where the ratio is its limit to 1e-8), then the ghosts. */
+static void around_polar_fill(sea_around *ar)
+{
+    const size_t n = ar->n;
+    enum { NODES = 2 * (SEA_AROUND_HALF + 1) * SEA_AROUND_NW };
+    static const double OFF_AXIS = 1e-4;
+#pragma omp parallel for schedule(dynamic, 4) if (NODES * n > 64)
+    for (int q = 0; q < NODES; q++) {
+        const int half = q / ((SEA_AROUND_HALF + 1) * SEA_AROUND_NW);
+        const int r = (q / SEA_AROUND_NW) % (SEA_AROUND_HALF + 1), j = q % SEA_AROUND_NW;
+        const double x = half == 0 ? -(double)(SEA_AROUND_HALF - r) / SEA_AROUND_HALF
+                                   : (double)r / SEA_AROUND_HALF;
+        const double uz = x * fabs(x);
+        const double delta = acos(sqrt((double)j / (SEA_AROUND_NW - 1)));
+        const size_t c = around_cell(half, r, j) * n;
+        const int on_axis = j == 0 || j == SEA_AROUND_NW - 1;
+        double o[3];
+        around_node_dir(ar, uz, delta, o);
+        around_polar_direct(ar, o, 0, n, &ar->Q[c], on_axis ? NULL : &ar->U[c]);
+        const double d = on_axis ? (j == 0 ? M_PI_2 - OFF_AXIS : OFF_AXIS) : delta;
+        if (on_axis) {
+            around_node_dir(ar, uz, d, o);
+            around_polar_direct(ar, o, 0, n, NULL, &ar->U[c]);
+        }
+        const double s2d = sin(2.0 * d);
+        for (size_t k = 0; k < n; k++)
+            ar->U[c + k] /= s2d;
+    }
+    around_ghosts(ar->Q, n);
+    around_ghosts(ar->U, n);
+}
+
+/* The facets met toward o in the sea around ar: Q and U of indices k0 ..
+ * k0 + n in o's frame, from ar's tables at around_values's stencil sten,
+ * or directly where ar is exact.
+ * The tables are filled on the first read, under ar's lock, as the
+ * optics fill their Fresnel tables: ar is otherwise read-only. */
+static void around_polar(const sea_around *ar, const double o[3], const around_stencil_t *sten,
+                         size_t k0, size_t n, double *q, double *u)
+{
+    if (ar->exact) {
+        around_polar_direct(ar, o, k0, n, q, u);
+        return;
+    }
+    if (!atomic_load_explicit(&ar->polarised, memory_order_acquire)) {
+        sea_around *w = (sea_around *)ar;
+        pthread_mutex_lock(&w->polar_lock);
+        if (!atomic_load_explicit(&w->polarised, memory_order_relaxed)) {
+            around_polar_fill(w);
+            atomic_store_explicit(&w->polarised, 1, memory_order_release);
+        }
+        pthread_mutex_unlock(&w->polar_lock);
+    }
+    const size_t c0 = sten->c0, na = ar->n;
+    const double *wz = sten->wz, *ww = sten->ww;
+    const double h = hypot(o[0], o[1]);
+    const double ca = h > 0.0 ? (o[0] * ar->cw + o[1] * ar->sw) / h : 1.0;
+    const double sa = h > 0.0 ? (o[1] * ar->cw - o[0] * ar->sw) / h : 0.0;
+    const double s2 = 2.0 * sa * ca;
+    for (int t = 0; t < 2; t++) {
+        const double *T = (t == 0 ? ar->Q : ar->U) + k0;
+        double *out = t == 0 ? q : u;
+        for (size_t k = 0; k < n; k++) {
+            double v = 0.0;
+            for (int r = 0; r < 4; r++) {
+                const double *c = T + (c0 + (size_t)r * SEA_AROUND_COLS) * na + k;
+                v += wz[r] * ((ww[0] * c[0] + ww[1] * c[na]) + (ww[2] * c[2 * na] + ww[3] * c[3 * na]));
+            }
+            out[k] = t == 0 ? v : v * s2;
+        }
+    }
+}
+
+/* cos 2chi and sin 2chi of the angle chi from o's reference e_v toward
+ * its e_h to the p axis k x s of light travelling along o (a view) and
+ * met by a facet of normal nA (the sea's axes): s the normal to the plane
+ * of incidence, nA x o. */
+static void incidence_angle(const double o[3], const double nA[3], double *c2, double *s2)
+{
+    double s[3] = { nA[1] * o[2] - nA[2] * o[1], nA[2] * o[0] - nA[0] * o[2],
+                    nA[0] * o[1] - nA[1] * o[0] };
+    const double ls = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    if (!(ls > 1e-12)) { /* normal incidence: no plane, nothing rotates */
+        *c2 = 1.0;
+        *s2 = 0.0;
+        return;
+    }
+    for (int i = 0; i < 3; i++)
+        s[i] /= ls;
+    const double a[3] = { o[1] * s[2] - o[2] * s[1], o[2] * s[0] - o[0] * s[2],
+                          o[0] * s[1] - o[1] * s[0] };
+    /* o's frame as view_frame_of_vec makes it */
+    const double h = sqrt(o[0] * o[0] + o[1] * o[1]);
+    const double cp = h > 0.0 ? o[0] / h : 1.0, sp = h > 0.0 ? o[1] / h : 0.0;
+    const double ca = -o[2] * (a[0] * cp + a[1] * sp) + a[2] * h;
+    const double sa = -a[0] * sp + a[1] * cp;
+    sea_polar_plane_angle(ca, sa, c2, s2);
+}
+
+/* The reflection of air -> water at cos psi c in the (p, s) axes k x s
+ * before and after it (r_p = -r_s at normal incidence): R_s, R_p and
+ * Re(r_p conj(r_s)), what becomes of U.  One complex root, no complex
+ * division: r_p conj(r_s) = (N^2 c - w)(c + w)* conj(...) / (|N^2 c + w|^2
+ * |c + w|^2) written out. */
+static void fresnel_ps(double c, double complex N, double *Rs, double *Rp, double *ps)
+{
+    const double complex N2 = N * N, w = csqrt(N2 - 1.0 + c * c);
+    const double complex ns = c - w, ds = c + w, np = N2 * c - w, dp = N2 * c + w;
+    const double ds2 = creal(ds) * creal(ds) + cimag(ds) * cimag(ds);
+    const double dp2 = creal(dp) * creal(dp) + cimag(dp) * cimag(dp);
+    const double ns2 = creal(ns) * creal(ns) + cimag(ns) * cimag(ns);
+    const double np2 = creal(np) * creal(np) + cimag(np) * cimag(np);
+    *Rs = ds2 > 0.0 ? fmin(ns2 / ds2, 1.0) : 1.0;
+    *Rp = dp2 > 0.0 ? fmin(np2 / dp2, 1.0) : 1.0;
+    /* (np / dp) conj(ns / ds) = np conj(ns) conj(dp) ds / (|dp|^2 |ds|^2) */
+    const double complex z = np * conj(ns) * conj(dp) * ds;
+    *ps = ds2 > 0.0 && dp2 > 0.0 ? creal(z) / (dp2 * ds2) : -1.0;
+}
+
+/* The second hits' Q and U of the indices ec[0..n) (k0 onward in ar's
+ * tables) over second_hit's split rule (second_hit_around's, in the sea
+ * around ar): each mirror ray g of a facet A seen from f meets the sea
+ * with the chance P, and the facets B met toward o = -g send their
+ * emission E_(R-1) (unpolarised) and their one-hit polarisation (Q_B,
+ * U_B in o's frame) back to A, whose Mueller matrix in its (p, s) axes
+ * reflects them as
+ *     Q' = (R_p - R_s)/2 P E_B + (R_s + R_p)/2 P Q_B',  U' = Re(r_p r_s*) P U_B',
+ * (Q_B', U_B' turned into A's axes), per unit contrast between the sea's
+ * blackbody and a uniform sky; turned into the sensor's frame. */
+static void polar_hits_block(const sea_optics *p, const sea_slope_stats *st, const view_frame *f,
+                             double L_in, const emis_ctx *ec, size_t n, int R, fixed_rule a,
+                             double w_tot, size_t k0, const sea_around *ar, double *dq,
+                             double *du)
+{
+    const sea_slope_stats *met = ar != NULL ? &ar->lr : st;
+    const double split_scale = ar != NULL ? ar->split_scale : SEA_MULTI_SPLIT_SCALE;
+    const double split_min = ar != NULL ? ar->split_min : SEA_MULTI_SPLIT_MIN;
+    const double cross_scale = ar != NULL ? ar->cross_scale : SEA_MULTI_CROSS_SCALE;
+    const double cross_min = ar != NULL ? ar->cross_min : SEA_MULTI_CROSS_MIN;
+    double complex N[SEA_MULTI_BLOCK];
+    for (size_t k = 0; k < n; k++) {
+        N[k] = ec[k].N;
+        dq[k] = du[k] = 0.0;
+    }
+    const int n_gh =
+        a.n_gh > 0 ? (int)sea_fmin(a.n_gh, sea_fmax(cross_min, ceil(cross_scale * a.n_gh))) : 0;
+    const int nj = n_gh > 0 ? n_gh : 1;
+    const double *xj = n_gh > 0 ? &p->gh_x[SEA_TRI(n_gh - 1)] : NULL;
+    const double *wj = n_gh > 0 ? &p->gh_w[SEA_TRI(n_gh - 1)] : NULL;
+    double t_lo = 0.0, t_hi = 0.0;
+    if (!f->delta)
+        view_window(f, a.t_cut, &t_lo, &t_hi);
+    for (int j = 0; j < nj; j++) {
+        const double w_j = wj != NULL ? wj[j] : 1.0;
+        const double x_j = xj != NULL ? xj[j] : 0.0;
+        const double aX = f->m_X, bX = f->delta ? 0.0 : f->s_X;
+        const double aY = n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
+        const double bY = n_gh == 0 || f->delta ? 0.0 : f->b_YX;
+        mirror_pieces mp;
+        mirror_pieces_of(f, aX, bX, aY, bY, t_lo, t_hi, &mp);
+        double nq[SEA_MULTI_BLOCK] = { 0.0 }, nu[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+        for (int piece = 0; piece + 1 < mp.nc; piece++) {
+            const double ta = mp.cut[piece], tb = mp.cut[piece + 1];
+            const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
+            const int m = f->delta ? 1
+                                   : (int)sea_fmin(SEA_EMIS_GL_MAX,
+                                                   sea_fmax(split_min, ceil(split_scale * a.n_gl *
+                                                                            (tb - ta) /
+                                                                            (t_hi - t_lo))));
+            int toward = 0; /* as second_hit: nodes crowd toward a rising piece's root */
+            if (!f->delta && (mp.qa * mid + mp.qb) * mid + mp.qc < 0.0 &&
+                mp.root[piece] != mp.root[piece + 1])
+                toward = mp.root[piece + 1] ? 1 : -1;
+            const double *gx = &p->gl_x[SEA_TRI(m - 1)], *gw = &p->gl_w[SEA_TRI(m - 1)];
+            for (int i = 0; i < m; i++) {
+                double t = 0.0, dt = 1.0;
+                if (!f->delta) {
+                    if (toward == 0) {
+                        t = mid + half * gx[i];
+                        dt = half * gw[i];
+                    } else {
+                        const double u = 0.5 * (gx[i] + 1.0), L = tb - ta;
+                        t = toward > 0 ? tb - L * u * u : ta + L * u * u;
+                        dt = L * u * gw[i];
+                    }
+                }
+                double w = f->delta ? 1.0 : dt * rule_weight(f, t);
+                if (f->corr && w > 0.0)
+                    w *= sea_shadow_correlated(f->z, t);
+                if (!(w > 0.0))
+                    continue;
+                den += w;
+                const double gX = aX + bX * t, gY = aY + bY * t;
+                const double cpsi = cos_psi_of(f, gX, gY);
+                if (!(cpsi > 0.0))
+                    continue;
+                double g[3];
+                mirror_of_node(f, gX, gY, cpsi, g);
+                const double o[3] = { -g[0], -g[1], -g[2] };
+                double eB[SEA_MULTI_BLOCK], P;
+                around_stencil_t sten;
+                if (ar != NULL) {
+                    double pinf;
+                    around_values(ar, o, k0, n, ec, NULL, eB, NULL, &pinf, &sten);
+                    P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + L_in * (1.0 - pinf));
+                    if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
+                        continue;
+                } else {
+                    P = hit_chance(met, g, L_in, w_j * w / w_tot);
+                    if (P == 0.0)
+                        continue;
+                }
+                double qB[SEA_MULTI_BLOCK], uB[SEA_MULTI_BLOCK], ci = 1.0, si = 0.0;
+                if (ar != NULL) {
+                    around_polar(ar, o, &sten, k0, n, qB, uB);
+                } else {
+                    view_frame fo;
+                    view_frame_of_vec(p, met, o, &fo);
+                    if (!emis_multi_rec(p, met, &fo, 0.0, ec, n, R - 1, NULL, NULL, k0, NULL, NULL,
+                                        eB, NULL))
+                        continue;
+                    met_stokes(p, &fo, N, n, qB, uB);
+                }
+                double nA[3];
+                frame_vec_to_global(f, -gX, -gY, 1.0, nA);
+                incidence_angle(o, nA, &ci, &si);
+                double c2, s2;
+                sea_polar_plane_angle(f->sin_th + gX * f->cos_th, -gY, &c2, &s2);
+                const double wP = w * P;
+                for (size_t k = 0; k < n; k++) {
+                    double Rs, Rp, ps;
+                    fresnel_ps(cpsi, N[k], &Rs, &Rp, &ps);
+                    const double qin = qB[k] * ci + uB[k] * si, uin = uB[k] * ci - qB[k] * si;
+                    const double Qa = 0.5 * (Rp - Rs) * eB[k] + 0.5 * (Rs + Rp) * qin;
+                    const double Ua = ps * uin;
+                    nq[k] += wP * (Qa * c2 - Ua * s2);
+                    nu[k] += wP * (Qa * s2 + Ua * c2);
+                }
+            }
+        }
+        if (den > 0.0)
+            for (size_t k = 0; k < n; k++) {
+                dq[k] += w_j * nq[k] / den;
+                du[k] += w_j * nu[k] / den;
+            }
+    }
+}
+
+sea_status sea_optics_polar_hits(const sea_optics *p, sea_emis_method method,
+                                 const sea_emis_rule *rule, const double complex *N, size_t n,
+                                 const sea_slope_stats *st, sea_dir v, int reflections,
+                                 const sea_around *ar, double *dq, double *du, sea_error *err)
+{
+    sea_status s;
+    if (ar != NULL)
+        reflections = ar->reflections;
+    if (reflections < 2 || reflections > SEA_REFLECTIONS_MAX)
+        return sea_fail(err, SEA_ERR_DOMAIN, "the second hits' polarisation: reflections %d "
+                        "(allowed: 2..%d)", reflections, SEA_REFLECTIONS_MAX);
+    if (ar != NULL && ar->n != n)
+        return sea_fail(err, SEA_ERR_DOMAIN, "the sea around was made for %zu indices; asked "
+                        "for %zu", ar->n, n);
+    if ((s = check_rule(rule, err)) != SEA_OK)
+        return s;
+    if ((s = check_dir(v, "view", err)) != SEA_OK || (s = sea_slope_stats_check(st, err)) != SEA_OK)
+        return s;
+    for (size_t k = 0; k < n; k++)
+        dq[k] = du[k] = 0.0;
+    view_frame f;
+    view_frame_init(p, st, v, &f);
+    const fixed_rule a = fixed_rule_of(&f, method, rule);
+    fixed_nodes nd;
+    nodes_fixed(p, &f, a, &nd);
+    if (nd.zero)
+        return SEA_OK;
+    /* the weight's integral, as emis_multi_rec's */
+    double w_tot = 1.0;
+    if (!nd.plain) {
+        double t_lo, t_hi, sum = 0.0;
+        view_window(&f, a.t_cut, &t_lo, &t_hi);
+        for (int i = 0; i < nd.n_i; i++)
+            sum += nd.w_i[i] > 0.0 ? nd.w_i[i] : 0.0;
+        w_tot = 0.5 * (t_hi - t_lo) * sum;
+    }
+    const double L_in = lambda_along(ar != NULL ? &ar->lr : st, v);
+    for (size_t k0 = 0; k0 < n; k0 += SEA_MULTI_BLOCK) {
+        const size_t m = n - k0 < SEA_MULTI_BLOCK ? n - k0 : SEA_MULTI_BLOCK;
+        emis_ctx ec[SEA_MULTI_BLOCK];
+        size_t slot = 0;
+        for (size_t k = 0; k < m; k++)
+            ec[k] = (emis_ctx){ N[k0 + k], fresnel_of(p, N[k0 + k], &slot) };
+        polar_hits_block(p, st, &f, L_in, ec, m, reflections, a, w_tot, k0, ar, &dq[k0],
+                         &du[k0]);
     }
     return SEA_OK;
 }

@@ -55,10 +55,9 @@ void sea_polar_fresnel(double cos_psi, double complex N, double *R_s, double *R_
     *R_p = fmin(rp_den > 0.0 ? rp_num / rp_den : 1.0, 1.0);
 }
 
-/* cos 2chi and sin 2chi of the plane of incidence of a facet of normal
- * proportional to (a, b) across v, a along e_v and b along e_h; (0, 0) at
- * normal incidence, where nothing is polarised. */
-static void plane_angle(double a, double b, double *c2, double *s2)
+/* sea_polar_plane_angle (internal.h): the plane of incidence of a facet
+ * of normal proportional to (a, b) across v, a along e_v and b along e_h. */
+void sea_polar_plane_angle(double a, double b, double *c2, double *s2)
 {
     const double r2 = a * a + b * b;
     if (r2 > 0.0) {
@@ -82,7 +81,7 @@ static void facet_emission(double gX, double gY, double cos_psi, void *ctx, doub
     const facet_ctx *c = ctx;
     double Rs, Rp, c2, s2;
     sea_polar_fresnel(cos_psi, c->N, &Rs, &Rp);
-    plane_angle(c->sin_th + gX * c->cos_th, -gY, &c2, &s2);
+    sea_polar_plane_angle(c->sin_th + gX * c->cos_th, -gY, &c2, &s2);
     const double pol = 0.5 * (Rs - Rp);
     vals[0] = 1.0 - sea_fresnel_unpolarized(cos_psi, c->N); /* (the reference's own) */
     vals[1] = pol * c2;
@@ -117,7 +116,7 @@ sea_status sea_polar_emissivity_n(const sea_optics *p, sea_emis_method method,
         SEA_OK)
         return s;
     for (size_t q = 0; q < count; q++)
-        plane_angle(sin_th + nodes[q].gX * cos_th, -nodes[q].gY, &c2[q], &s2[q]);
+        sea_polar_plane_angle(sin_th + nodes[q].gX * cos_th, -nodes[q].gY, &c2[q], &s2[q]);
     for (size_t i = 0; i < n; i++) {
         double eI = 0.0, eQ = 0.0, eU = 0.0;
         for (size_t q = 0; q < count; q++) {
@@ -139,6 +138,29 @@ sea_status sea_polar_emissivity(const sea_optics *p, sea_emis_method method,
                                 sea_error *err)
 {
     return sea_polar_emissivity_n(p, method, rule, &N, 1, st, v, out, err);
+}
+
+sea_status sea_polar_emissivity_multi_n(const sea_optics *p, sea_emis_method method,
+                                        const sea_emis_rule *rule, const double complex *N,
+                                        size_t n, const sea_slope_stats *st, sea_dir v,
+                                        int reflections, sea_stokes *out, sea_error *err)
+{
+    sea_status s = sea_polar_emissivity_n(p, method, rule, N, n, st, v, out, err);
+    if (s != SEA_OK || reflections == 1)
+        return s;
+    enum { BLOCK = 64 };
+    for (size_t k0 = 0; k0 < n; k0 += BLOCK) {
+        const size_t m = n - k0 < BLOCK ? n - k0 : BLOCK;
+        double e[BLOCK], dq[BLOCK], du[BLOCK];
+        if ((s = sea_emissivity_multi_n(p, method, rule, &N[k0], m, st, v, reflections, e,
+                                        err)) != SEA_OK ||
+            (s = sea_optics_polar_hits(p, method, rule, &N[k0], m, st, v, reflections, NULL, dq,
+                                       du, err)) != SEA_OK)
+            return s;
+        for (size_t k = 0; k < m; k++)
+            out[k0 + k] = (sea_stokes){ e[k], out[k0 + k].q + dq[k], out[k0 + k].u + du[k] };
+    }
+    return SEA_OK;
 }
 
 sea_status sea_polar_reflectivity_sky(const sea_optics *p, sea_emis_method method,
@@ -175,7 +197,7 @@ void sea_polar_reflectivity(double complex N, const sea_slope_stats *st, sea_dir
     const double e_v[3] = { -co * cos(obs.phi), -co * sin(obs.phi), so };
     double Rs, Rp, c2, s2;
     sea_polar_fresnel(cos_psi0, N, &Rs, &Rp);
-    plane_angle(h[0] * e_v[0] + h[1] * e_v[1] + h[2] * e_v[2],
+    sea_polar_plane_angle(h[0] * e_v[0] + h[1] * e_v[1] + h[2] * e_v[2],
                 h[0] * e_h[0] + h[1] * e_h[1], &c2, &s2);
     const double pol = Rs + Rp > 0.0 ? r * (Rp - Rs) / (Rs + Rp) : 0.0;
     out->q = pol * c2;

@@ -183,14 +183,16 @@ static const double SEA_GLINT_NEGLIGIBLE = 1e-3;
  * summed over the samples with their weights; band means of emissivity and
  * reflectivity through *e and *rho. */
 /* The linear polarisation of a facet's radiance per sample, in the frame of
- * the view (reference e_v, seabake.h POLARISATION): the one-hit Stokes
- * emissivity (e_I, e_Q, e_U; sea_polar_emissivity_n) against the contrast
+ * the view (reference e_v, seabake.h POLARISATION): the Stokes
+ * emissivity's polarised part (e_Q, e_U; sea_model_polarisation: one hit,
+ * and the second where the model takes one) against the contrast
  * between the sea's blackbody and the sky the facets reflect,
  *     Q = e_Q (B_sea - L_sky),  U = e_U (B_sea - L_sky),
  * L_sky = sky_all / (1 - eps) the radiance of the sky the model's facets
  * reflect (eps the model's emissivity, sky_all what they reflect of it):
- * at one hit under a uniform sky exactly emission's e_Q B plus the sky's
- * one-hit reflection -e_Q L_sky, and 0 in a blackbody enclosure (sky at the
+ * under a uniform sky exactly emission's e_Q B plus the sky's reflection
+ * -e_Q L_sky (at two hits too: what the facets met send back is e_Q's
+ * second-hit part times B - L), and 0 in a blackbody enclosure (sky at the
  * sea's temperature) whatever the model; a sky that is not uniform is
  * reflected as a uniform one of the same reflected radiance would be.  The
  * sun's glint (rr_all) is polarised as its mirror facet reflects it
@@ -200,16 +202,15 @@ static sea_status facet_stokes(const sea_radiometry *rad, const sea_model *model
                                const double *eps_all, const double *sky_all,
                                const double *rr_all, double *Qk, double *Uk, sea_error *err)
 {
-    sea_stokes es[SEA_SCENE_BAND_MAX];
-    sea_status s = sea_polar_emissivity_n(sea_model_optics(model), SEA_EMIS_AUTO, NULL, rad->N,
-                                          rad->nsamp, st, obs, es, err);
+    double eq[SEA_SCENE_BAND_MAX], eu[SEA_SCENE_BAND_MAX];
+    sea_status s = sea_model_polarisation(model, st, obs, eq, eu, err);
     if (s != SEA_OK)
         return s;
     for (size_t i = 0; i < rad->nsamp; i++) {
         const double refl = 1.0 - eps_all[i];
         const double contrast = rad->lsea[i] - (refl > 0.0 ? sky_all[i] / refl : 0.0);
-        Qk[i] = es[i].q * contrast;
-        Uk[i] = es[i].u * contrast;
+        Qk[i] = eq[i] * contrast;
+        Uk[i] = eu[i] * contrast;
         if (sun_up && rr_all[i] > 0.0 && rad->esun[i] > 0.0) {
             sea_stokes ps;
             sea_polar_reflectivity(rad->N[i], st, sun, obs, &ps);
