@@ -2216,47 +2216,57 @@ static void around_values(const sea_around *ar, const double o[3], size_t k0, si
                           const emis_ctx *ec, const spectral_basis *sb, double *e, double *kv,
                           double *pinf, around_stencil_t *sten);
 
-/* second_hit in the sea around ar (seabake-model(7), MULTIPLE
- * REFLECTIONS): the same split rule at ar's orders, each node's mirror ray
- * g read from ar's table (or evaluated, ar->exact): the facets met's
- * E_(R-1) and K_(R-1) toward -g, and P = p / (1 + L_in (1 - p)) with p =
- * Lambda_g / (1 + Lambda_g) of the sea around (Eq 14c's bistatic factor
- * Lambda_g / (1 + L_in + Lambda_g); 1 where g falls). */
-static void second_hit_around(const sea_optics *p, const view_frame *f, double L_in,
-                              const emis_ctx *ec, size_t n, fixed_rule a, double w_tot,
-                              const sea_sky *sky, size_t k0, const spectral_basis *sb,
-                              const sea_around *ar, double *T, double *D)
+/* The second hits' split rule: over the cross-slope nodes j (Gauss-Hermite
+ * in gamma_Y given gamma_X, cross_scale times rule a's n_gh, at least
+ * cross_min), the pieces of the view window the mirror ray's horizon
+ * crossings cut (mirror_pieces_of), and each piece's nodes t (split_scale
+ * times n_gl times its share of the window, at least split_min; crowded
+ * toward the root on a rising piece), node(ctx, w_j, w, gX, gY) for every
+ * node of positive weight w (the rule's, projected area and shadowing),
+ * then cross(ctx, w_j, den) with den the sum of node j's weights.  The
+ * three sums over it (second_hit, second_hit_around and the
+ * polarisation's polar_hits_block) differ only in what a node adds;
+ * always inlined, so that the callbacks are direct calls in each. */
+typedef void (*hit_node_fn)(void *ctx, double w_j, double w, double gX, double gY);
+typedef void (*hit_cross_fn)(void *ctx, double w_j, double den);
+static inline __attribute__((always_inline)) void
+walk_second_hits(const sea_optics *p, const view_frame *f, fixed_rule a, double split_scale,
+                 double split_min, double cross_scale, double cross_min, hit_node_fn node,
+                 hit_cross_fn cross, void *ctx)
 {
-    for (size_t k = 0; k < n; k++)
-        T[k] = D[k] = 0.0;
     const int n_gh =
-        a.n_gh > 0 ? (int)sea_fmin(a.n_gh, sea_fmax(ar->cross_min, ceil(ar->cross_scale * a.n_gh)))
-                   : 0;
+        a.n_gh > 0 ? (int)sea_fmin(a.n_gh, sea_fmax(cross_min, ceil(cross_scale * a.n_gh))) : 0;
     const int nj = n_gh > 0 ? n_gh : 1;
     const double *xj = n_gh > 0 ? &p->gh_x[SEA_TRI(n_gh - 1)] : NULL;
     const double *wj = n_gh > 0 ? &p->gh_w[SEA_TRI(n_gh - 1)] : NULL;
     double t_lo = 0.0, t_hi = 0.0;
     if (!f->delta)
         view_window(f, a.t_cut, &t_lo, &t_hi);
-    const double cph = f->cos_phi, sph = f->sin_phi;
     for (int j = 0; j < nj; j++) {
         const double w_j = wj != NULL ? wj[j] : 1.0;
         const double x_j = xj != NULL ? xj[j] : 0.0;
+        /* gamma_X = aX + bX t, gamma_Y = aY + bY t (Eq 12: gamma_Y = m_Y) */
         const double aX = f->m_X, bX = f->delta ? 0.0 : f->s_X;
         const double aY = n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
         const double bY = n_gh == 0 || f->delta ? 0.0 : f->b_YX;
         mirror_pieces mp;
         mirror_pieces_of(f, aX, bX, aY, bY, t_lo, t_hi, &mp);
-        double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
+        double den = 0.0;
         for (int piece = 0; piece + 1 < mp.nc; piece++) {
             const double ta = mp.cut[piece], tb = mp.cut[piece + 1];
             const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
-            const int m =
-                f->delta ? 1
-                         : (int)sea_fmin(SEA_EMIS_GL_MAX,
-                                         sea_fmax(ar->split_min, ceil(ar->split_scale * a.n_gl *
-                                                                      (tb - ta) / (t_hi - t_lo))));
-            int toward = 0; /* as second_hit: nodes crowd toward a rising piece's root */
+            /* the delta case: one node, weight 1 */
+            const int m = f->delta ? 1
+                                   : (int)sea_fmin(SEA_EMIS_GL_MAX,
+                                                   sea_fmax(split_min, ceil(split_scale * a.n_gl *
+                                                                            (tb - ta) /
+                                                                            (t_hi - t_lo))));
+            /* Where the ray rises P climbs to 1 at the root, steeply when
+             * the mean surface falls away along the ray (0.06 to 1 over
+             * 0.12 of t at 85 deg, 3 m/s, mean slope (0.1, -0.05)), so the
+             * nodes crowd toward the root: t = root -+ (tb - ta) u^2, u in
+             * [0, 1]. */
+            int toward = 0; /* +1: the root is tb, -1: ta */
             if (!f->delta && (mp.qa * mid + mp.qb) * mid + mp.qc < 0.0 &&
                 mp.root[piece] != mp.root[piece + 1])
                 toward = mp.root[piece + 1] ? 1 : -1;
@@ -2279,55 +2289,202 @@ static void second_hit_around(const sea_optics *p, const view_frame *f, double L
                 if (!(w > 0.0))
                     continue;
                 den += w;
-                const double gX = aX + bX * t, gY = aY + bY * t;
-                const double inv = 1.0 / sqrt(1.0 + gX * gX + gY * gY);
-                const double cpsi = (f->cos_th - gX * f->sin_th) * inv;
-                if (!(cpsi > 0.0))
-                    continue;
-                /* the mirror ray 2 (n.v) n - v, a unit vector, in the sea's axes */
-                const double two_c = 2.0 * cpsi * inv;
-                const double x = -two_c * gX - f->sin_th, y = -two_c * gY;
-                const double o[3] = { -(x * cph - y * sph), -(x * sph + y * cph),
-                                      -(two_c - f->cos_th) };
-                double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK], pinf;
-                around_values(ar, o, k0, n, ec, sb, eB, kB, &pinf, NULL);
-                const double P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + L_in * (1.0 - pinf));
-                if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
-                    continue;
-                double rho[SEA_MULTI_BLOCK];
-                rho_of_block(ec, n, sb, f->delta, cpsi, rho);
-                const double wP = w * P;
-                for (size_t k = 0; k < n; k++)
-                    num[k] += wP * rho[k] * eB[k];
-                if (sky != NULL) {
-                    for (size_t k = 0; k < n; k++)
-                        knum[k] += wP * rho[k] * (kB[k] - sea_sky_radiance(sky, k0 + k, -o[2]));
-                }
+                node(ctx, w_j, w, aX + bX * t, aY + bY * t);
             }
         }
-        if (den > 0.0)
-            for (size_t k = 0; k < n; k++) {
-                T[k] += w_j * num[k] / den;
-                D[k] += w_j * knum[k] / den;
-            }
+        cross(ctx, w_j, den);
     }
 }
 
+/* Two sums per index over a cross-slope node's nodes, acc, folded into
+ * out at the node's end as out += w_j acc / den (the second hits' T and D,
+ * or Q and U). */
+typedef struct {
+    size_t n;
+    double *out[2];
+    double acc[2][SEA_MULTI_BLOCK];
+} node_sums;
+
+static inline void node_sums_fold(node_sums *s, double w_j, double den)
+{
+    if (den > 0.0)
+        for (size_t k = 0; k < s->n; k++) {
+            s->out[0][k] += w_j * s->acc[0][k] / den;
+            s->out[1][k] += w_j * s->acc[1][k] / den;
+        }
+    for (size_t k = 0; k < s->n; k++)
+        s->acc[0][k] = s->acc[1][k] = 0.0;
+}
+
+/* second_hit_around's sums: per cross-slope node and over them (T, D). */
+typedef struct {
+    const view_frame *f;
+    double L_in, w_tot;
+    const emis_ctx *ec;
+    size_t n, k0;
+    const sea_sky *sky;
+    const spectral_basis *sb;
+    const sea_around *ar;
+    node_sums sums;
+} around_sums;
+
+static inline __attribute__((always_inline)) void around_node(void *ctx, double w_j, double w,
+                                                              double gX, double gY)
+{
+    around_sums *c = ctx;
+    const view_frame *f = c->f;
+    const size_t n = c->n;
+    const double inv = 1.0 / sqrt(1.0 + gX * gX + gY * gY);
+    const double cpsi = (f->cos_th - gX * f->sin_th) * inv;
+    if (!(cpsi > 0.0))
+        return;
+    /* the mirror ray 2 (n.v) n - v, a unit vector, in the sea's axes */
+    const double two_c = 2.0 * cpsi * inv;
+    const double x = -two_c * gX - f->sin_th, y = -two_c * gY;
+    const double cph = f->cos_phi, sph = f->sin_phi;
+    const double o[3] = { -(x * cph - y * sph), -(x * sph + y * cph), -(two_c - f->cos_th) };
+    double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK], pinf;
+    around_values(c->ar, o, c->k0, n, c->ec, c->sb, eB, kB, &pinf, NULL);
+    const double P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + c->L_in * (1.0 - pinf));
+    if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / c->w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
+        return;
+    double rho[SEA_MULTI_BLOCK];
+    rho_of_block(c->ec, n, c->sb, f->delta, cpsi, rho);
+    const double wP = w * P;
+    for (size_t k = 0; k < n; k++)
+        c->sums.acc[0][k] += wP * rho[k] * eB[k];
+    if (c->sky != NULL) {
+        for (size_t k = 0; k < n; k++)
+            c->sums.acc[1][k] +=
+                wP * rho[k] * (kB[k] - sea_sky_radiance(c->sky, c->k0 + k, -o[2]));
+    }
+}
+
+static inline __attribute__((always_inline)) void around_cross(void *ctx, double w_j, double den)
+{
+    node_sums_fold(&((around_sums *)ctx)->sums, w_j, den);
+}
+
+/* second_hit in the sea around ar (seabake-model(7), MULTIPLE
+ * REFLECTIONS): the same split rule at ar's orders, each node's mirror ray
+ * g read from ar's table (or evaluated, ar->exact): the facets met's
+ * E_(R-1) and K_(R-1) toward -g, and P = p / (1 + L_in (1 - p)) with p =
+ * Lambda_g / (1 + Lambda_g) of the sea around (Eq 14c's bistatic factor
+ * Lambda_g / (1 + L_in + Lambda_g); 1 where g falls). */
+static void second_hit_around(const sea_optics *p, const view_frame *f, double L_in,
+                              const emis_ctx *ec, size_t n, fixed_rule a, double w_tot,
+                              const sea_sky *sky, size_t k0, const spectral_basis *sb,
+                              const sea_around *ar, double *T, double *D)
+{
+    for (size_t k = 0; k < n; k++)
+        T[k] = D[k] = 0.0;
+    around_sums c = { f, L_in, w_tot, ec, n, k0, sky, sb, ar, { n, { T, D }, { { 0.0 } } } };
+    walk_second_hits(p, f, a, ar->split_scale, ar->split_min, ar->cross_scale, ar->cross_min,
+                     around_node, around_cross, &c);
+}
+
+/* second_hit's sums: per cross-slope node (num, knum; factored: X, Y)
+ * and over them (T, D; XT, YT). */
+typedef struct {
+    const sea_optics *p;
+    const sea_slope_stats *st;
+    const view_frame *f;
+    double L_in, w_tot;
+    const emis_ctx *ec;
+    size_t n, k0;
+    int R, factored;
+    const sea_sky *sky;
+    const spectral_basis *sb;
+    node_sums sums; /* T, D */
+    /* factored: sum rho_k P E_1,k through the basis, rho_k = sum_r A_rk
+     * B_r and E_1,k = e0 - sum_q A_qk g_q, as X_r = sum w P B_r e0 and
+     * Y_rq = sum w P B_r g_q, the indices only at the end; XT and YT the
+     * cross-slope nodes' X and Y, each scaled by its w_j / den, summed
+     * (the sum over the indices is linear in them: once) */
+    double X[SEA_BASIS_RANK_MAX], Y[SEA_BASIS_RANK_MAX][SEA_BASIS_RANK_MAX];
+    double XT[SEA_BASIS_RANK_MAX], YT[SEA_BASIS_RANK_MAX][SEA_BASIS_RANK_MAX];
+} hit_sums;
+
+static inline __attribute__((always_inline)) void hit_node(void *ctx, double w_j, double w,
+                                                           double gX, double gY)
+{
+    hit_sums *c = ctx;
+    const sea_optics *p = c->p;
+    const view_frame *f = c->f;
+    const spectral_basis *sb = c->sb;
+    const size_t n = c->n;
+    const double cpsi = cos_psi_of(f, gX, gY);
+    if (!(cpsi > 0.0))
+        return;
+    double g[3];
+    mirror_of_node(f, gX, gY, cpsi, g);
+    const double P = hit_chance(c->st, g, c->L_in, w_j * w / c->w_tot);
+    if (P == 0.0)
+        return;
+    if (c->factored) {
+        double e0, gr[SEA_BASIS_RANK_MAX];
+        const int got = met_basis(p, c->st, g, sb, &e0, gr);
+        if (got == 0)
+            return;
+        if (got > 0) {
+            double bA[SEA_BASIS_RANK_MAX];
+            basis_at(sb, cpsi, bA);
+            for (int r = 0; r < sb->rank; r++) {
+                const double cw = w * P * bA[r];
+                c->X[r] += cw * e0;
+                for (int q = 0; q < sb->rank; q++)
+                    c->Y[r][q] += cw * gr[q];
+            }
+            return;
+        }
+    }
+    double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK];
+    const double o[3] = { -g[0], -g[1], -g[2] };
+    view_frame fo;
+    view_frame_of_vec(p, c->st, o, &fo);
+    /* no facet turned toward the ray (a slope distribution without
+     * spread, tilted): there is nothing to meet, and the ray escapes (so
+     * the closure holds) */
+    if (!emis_multi_rec(p, c->st, &fo, 0.0, c->ec, n, c->R - 1, NULL, c->sky, c->k0, sb, NULL,
+                        eB, c->sky != NULL ? kB : NULL))
+        return;
+    double rho[SEA_MULTI_BLOCK];
+    rho_of_block(c->ec, n, sb, f->delta, cpsi, rho);
+    for (size_t k = 0; k < n; k++) {
+        c->sums.acc[0][k] += w * rho[k] * P * eB[k];
+        if (c->sky != NULL)
+            c->sums.acc[1][k] +=
+                w * rho[k] * P * (kB[k] - sea_sky_radiance(c->sky, c->k0 + k, g[2]));
+    }
+}
+
+static inline __attribute__((always_inline)) void hit_cross(void *ctx, double w_j, double den)
+{
+    hit_sums *c = ctx;
+    const spectral_basis *sb = c->sb;
+    node_sums_fold(&c->sums, w_j, den);
+    if (c->factored && den > 0.0) {
+        const double cw = w_j / den;
+        for (int r = 0; r < sb->rank; r++) {
+            c->XT[r] += cw * c->X[r];
+            for (int q = 0; q < sb->rank; q++)
+                c->YT[r][q] += cw * c->Y[r][q];
+        }
+    }
+    if (c->factored)
+        for (int r = 0; r < sb->rank; r++) {
+            c->X[r] = 0.0;
+            for (int q = 0; q < sb->rank; q++)
+                c->Y[r][q] = 0.0;
+        }
+}
+
 /* The second hits of the facet's mirror rays (seabake-model(7), MULTIPLE
- * REFLECTIONS): over the cross-slope nodes j, the pieces of the view
- * window and each piece's nodes t, every mirror ray g's hit chance P and
- * the facets met's E_(R-1) and K_(R-1) toward -g (recursively, or through
- * the basis when factored), into T and D per index; in the sea around ar,
- * second_hit_around.
- *
- * Kept as one function: the three nested quadratures share their sums
- * (num, knum and den per cross-slope node, X and Y per node and XT, YT
- * over all of them) and the factored and the recursive paths part only
- * at the innermost node, so each piece split out would take most of the
- * 15 arguments and those sums by pointer, and the order of the terms,
- * which the result depends on bit for bit, would be spread over several
- * functions.  It runs per facet and per hit at reflections >= 2 (the
- * render's inner loop). */
+ * REFLECTIONS): over walk_second_hits's nodes, every mirror ray g's hit
+ * chance P and the facets met's E_(R-1) and K_(R-1) toward -g
+ * (recursively, or through the basis when factored), into T and D per
+ * index; in the sea around ar, second_hit_around.  It runs per facet and
+ * per hit at reflections >= 2 (the render's inner loop). */
 static void second_hit(const sea_optics *p, const sea_slope_stats *st, const view_frame *f,
                        double L_in, const emis_ctx *ec, size_t n, int R, fixed_rule a,
                        double w_tot, const sea_sky *sky, size_t k0, const spectral_basis *sb,
@@ -2339,145 +2496,21 @@ static void second_hit(const sea_optics *p, const sea_slope_stats *st, const vie
     }
     for (size_t k = 0; k < n; k++)
         T[k] = D[k] = 0.0;
-    const sea_slope_stats *met = st;
     /* one hit left and no sky model: the facets met's emissivity through
      * the basis, summed over the indices once (met_basis) */
     const int factored = sb != NULL && sky == NULL && R == 2;
-    /* the cross-slope nodes: half rule a's, at least SEA_MULTI_CROSS_MIN */
-    const int n_gh = a.n_gh > 0 ? (int)sea_fmin(a.n_gh,
-                                                 sea_fmax(SEA_MULTI_CROSS_MIN,
-                                                          ceil(SEA_MULTI_CROSS_SCALE * a.n_gh)))
-                                : 0;
-    const int nj = n_gh > 0 ? n_gh : 1;
-    const double *xj = n_gh > 0 ? &p->gh_x[SEA_TRI(n_gh - 1)] : NULL;
-    const double *wj = n_gh > 0 ? &p->gh_w[SEA_TRI(n_gh - 1)] : NULL;
-    double t_lo = 0.0, t_hi = 0.0;
-    if (!f->delta)
-        view_window(f, a.t_cut, &t_lo, &t_hi);
-    /* factored: the cross-slope nodes' X and Y, each scaled by its w_j /
-     * den, summed (the sum over the indices is linear in them: once) */
-    double XT[SEA_BASIS_RANK_MAX] = { 0.0 };
-    double YT[SEA_BASIS_RANK_MAX][SEA_BASIS_RANK_MAX] = { { 0.0 } };
-    for (int j = 0; j < nj; j++) {
-        const double w_j = wj != NULL ? wj[j] : 1.0;
-        const double x_j = xj != NULL ? xj[j] : 0.0;
-        /* gamma_X = aX + bX t, gamma_Y = aY + bY t (Eq 12: gamma_Y = m_Y) */
-        const double aX = f->m_X, bX = f->delta ? 0.0 : f->s_X;
-        const double aY = n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
-        const double bY = n_gh == 0 || f->delta ? 0.0 : f->b_YX;
-        mirror_pieces mp;
-        mirror_pieces_of(f, aX, bX, aY, bY, t_lo, t_hi, &mp);
-        const double *cut = mp.cut, qa = mp.qa, qb = mp.qb, qc = mp.qc;
-        const int *root = mp.root, nc = mp.nc;
-        double num[SEA_MULTI_BLOCK] = { 0.0 }, knum[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
-        /* factored: sum rho_k P E_1,k through the basis, rho_k = sum_r A_rk
-         * B_r and E_1,k = e0 - sum_q A_qk g_q, as X_r = sum w P B_r e0 and
-         * Y_rq = sum w P B_r g_q, the indices only at the end */
-        double X[SEA_BASIS_RANK_MAX] = { 0.0 };
-        double Y[SEA_BASIS_RANK_MAX][SEA_BASIS_RANK_MAX] = { { 0.0 } };
-        for (int piece = 0; piece + 1 < nc; piece++) {
-            const double ta = cut[piece], tb = cut[piece + 1];
-            const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
-            /* the delta case: one node, weight 1 */
-            const int m = f->delta ? 1
-                                   : (int)sea_fmin(SEA_EMIS_GL_MAX,
-                                                   sea_fmax(SEA_MULTI_SPLIT_MIN,
-                                                            ceil(SEA_MULTI_SPLIT_SCALE * a.n_gl *
-                                                                 (tb - ta) / (t_hi - t_lo))));
-            /* Where the ray rises P climbs to 1 at the root, steeply when
-             * the mean surface falls away along the ray (0.06 to 1 over
-             * 0.12 of t at 85 deg, 3 m/s, mean slope (0.1, -0.05)), so the
-             * nodes crowd toward the root: t = root -+ (tb - ta) u^2, u in
-             * [0, 1]. */
-            int toward = 0; /* +1: the root is tb, -1: ta */
-            if (!f->delta && (qa * mid + qb) * mid + qc < 0.0 && root[piece] != root[piece + 1])
-                toward = root[piece + 1] ? 1 : -1;
-            for (int i = 0; i < m; i++) {
-                double t = 0.0, dt = 1.0;
-                if (!f->delta) {
-                    const double x = p->gl_x[SEA_TRI(m - 1) + i], wx = p->gl_w[SEA_TRI(m - 1) + i];
-                    if (toward == 0) {
-                        t = mid + half * x;
-                        dt = half * wx;
-                    } else {
-                        const double u = 0.5 * (x + 1.0), L = tb - ta;
-                        t = toward > 0 ? tb - L * u * u : ta + L * u * u;
-                        dt = L * u * wx;
-                    }
-                }
-                double w = f->delta ? 1.0 : dt * rule_weight(f, t);
-                if (f->corr && w > 0.0)
-                    w *= sea_shadow_correlated(f->z, t);
-                if (!(w > 0.0))
-                    continue;
-                den += w;
-                const double gX = aX + bX * t, gY = aY + bY * t;
-                const double cpsi = cos_psi_of(f, gX, gY);
-                if (!(cpsi > 0.0))
-                    continue;
-                double g[3];
-                mirror_of_node(f, gX, gY, cpsi, g);
-                const double P = hit_chance(met, g, L_in, w_j * w / w_tot);
-                if (P == 0.0)
-                    continue;
-                if (factored) {
-                    double e0, gr[SEA_BASIS_RANK_MAX];
-                    const int got = met_basis(p, st, g, sb, &e0, gr);
-                    if (got == 0)
-                        continue;
-                    if (got > 0) {
-                        double bA[SEA_BASIS_RANK_MAX];
-                        basis_at(sb, cpsi, bA);
-                        for (int r = 0; r < sb->rank; r++) {
-                            const double c = w * P * bA[r];
-                            X[r] += c * e0;
-                            for (int q = 0; q < sb->rank; q++)
-                                Y[r][q] += c * gr[q];
-                        }
-                        continue;
-                    }
-                }
-                double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK];
-                const double o[3] = { -g[0], -g[1], -g[2] };
-                view_frame fo;
-                view_frame_of_vec(p, st, o, &fo);
-                /* no facet turned toward the ray (a slope distribution
-                 * without spread, tilted): there is nothing to meet, and
-                 * the ray escapes (so the closure holds) */
-                if (!emis_multi_rec(p, st, &fo, 0.0, ec, n, R - 1, NULL, sky, k0, sb, NULL, eB,
-                                    sky != NULL ? kB : NULL))
-                    continue;
-                double rho[SEA_MULTI_BLOCK];
-                rho_of_block(ec, n, sb, f->delta, cpsi, rho);
-                for (size_t k = 0; k < n; k++) {
-                    num[k] += w * rho[k] * P * eB[k];
-                    if (sky != NULL)
-                        knum[k] += w * rho[k] * P * (kB[k] - sea_sky_radiance(sky, k0 + k, g[2]));
-                }
-            }
-        }
-        if (den > 0.0) {
-            for (size_t k = 0; k < n; k++) {
-                T[k] += w_j * num[k] / den;
-                D[k] += w_j * knum[k] / den;
-            }
-            if (factored) {
-                const double c = w_j / den;
-                for (int r = 0; r < sb->rank; r++) {
-                    XT[r] += c * X[r];
-                    for (int q = 0; q < sb->rank; q++)
-                        YT[r][q] += c * Y[r][q];
-                }
-            }
-        }
-    }
+    hit_sums c = { .p = p, .st = st, .f = f, .L_in = L_in, .w_tot = w_tot, .ec = ec, .n = n,
+                   .k0 = k0, .R = R, .factored = factored, .sky = sky, .sb = sb,
+                   .sums = { n, { T, D }, { { 0.0 } } } };
+    walk_second_hits(p, f, a, SEA_MULTI_SPLIT_SCALE, SEA_MULTI_SPLIT_MIN, SEA_MULTI_CROSS_SCALE,
+                     SEA_MULTI_CROSS_MIN, hit_node, hit_cross, &c);
     if (factored)
         for (size_t k = 0; k < n; k++) {
             double v = 0.0;
             for (int r = 0; r < sb->rank; r++) {
-                double y = XT[r];
+                double y = c.XT[r];
                 for (int q = 0; q < sb->rank; q++)
-                    y -= sb->A[q][k] * YT[r][q];
+                    y -= sb->A[q][k] * c.YT[r][q];
                 v += sb->A[r][k] * y;
             }
             T[k] += v;
@@ -3419,133 +3452,99 @@ static void fresnel_ps(double c, double complex N, double *Rs, double *Rp, doubl
     *ps = ds2 > 0.0 && dp2 > 0.0 ? creal(z) / (dp2 * ds2) : -1.0;
 }
 
+typedef struct {
+    const sea_optics *p;
+    const sea_slope_stats *met; /* the facets met's: ar's, or st's */
+    const view_frame *f;
+    double L_in, w_tot;
+    const emis_ctx *ec;
+    double complex N[SEA_MULTI_BLOCK];
+    size_t n, k0;
+    int R;
+    const sea_around *ar;
+    node_sums sums; /* dq, du */
+} polar_sums;
+
+static void polar_node(void *ctx, double w_j, double w, double gX, double gY)
+{
+    polar_sums *c = ctx;
+    const view_frame *f = c->f;
+    const size_t n = c->n;
+    const double cpsi = cos_psi_of(f, gX, gY);
+    if (!(cpsi > 0.0))
+        return;
+    double g[3];
+    mirror_of_node(f, gX, gY, cpsi, g);
+    const double o[3] = { -g[0], -g[1], -g[2] };
+    double eB[SEA_MULTI_BLOCK], qB[SEA_MULTI_BLOCK], uB[SEA_MULTI_BLOCK], P;
+    if (c->ar != NULL) {
+        around_stencil_t sten;
+        double pinf;
+        around_values(c->ar, o, c->k0, n, c->ec, NULL, eB, NULL, &pinf, &sten);
+        P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + c->L_in * (1.0 - pinf));
+        if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / c->w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
+            return;
+        around_polar(c->ar, o, &sten, c->k0, n, qB, uB);
+    } else {
+        P = hit_chance(c->met, g, c->L_in, w_j * w / c->w_tot);
+        if (P == 0.0)
+            return;
+        view_frame fo;
+        view_frame_of_vec(c->p, c->met, o, &fo);
+        if (!emis_multi_rec(c->p, c->met, &fo, 0.0, c->ec, n, c->R - 1, NULL, NULL, c->k0, NULL,
+                            NULL, eB, NULL))
+            return;
+        met_stokes(c->p, &fo, c->N, n, qB, uB);
+    }
+    /* B's (Q, U) into A's axes (ci, si), A's outgoing axes into the
+     * sensor's frame (c2, s2) */
+    double nA[3], ci, si, c2, s2;
+    frame_vec_to_global(f, -gX, -gY, 1.0, nA);
+    incidence_angle(o, nA, &ci, &si);
+    sea_polar_plane_angle(f->sin_th + gX * f->cos_th, -gY, &c2, &s2);
+    const double wP = w * P;
+    for (size_t k = 0; k < n; k++) {
+        double Rs, Rp, ps;
+        fresnel_ps(cpsi, c->N[k], &Rs, &Rp, &ps);
+        const double qin = qB[k] * ci + uB[k] * si, uin = uB[k] * ci - qB[k] * si;
+        const double Qa = 0.5 * (Rp - Rs) * eB[k] + 0.5 * (Rs + Rp) * qin;
+        const double Ua = ps * uin;
+        c->sums.acc[0][k] += wP * (Qa * c2 - Ua * s2);
+        c->sums.acc[1][k] += wP * (Qa * s2 + Ua * c2);
+    }
+}
+
+static void polar_cross(void *ctx, double w_j, double den)
+{
+    node_sums_fold(&((polar_sums *)ctx)->sums, w_j, den);
+}
+
 /* The second hits' Q and U of the indices ec[0..n) (k0 onward in ar's
- * tables) over second_hit's split rule (second_hit_around's, in the sea
- * around ar): each mirror ray g of a facet A seen from f meets the sea
- * with the chance P, and the facets B met toward o = -g send their
- * emission E_(R-1) (unpolarised) and their one-hit polarisation (Q_B,
- * U_B in o's frame) back to A, whose Mueller matrix in its (p, s) axes
- * reflects them as
+ * tables) over walk_second_hits's nodes (at ar's orders in the sea around
+ * ar): each mirror ray g of a facet A seen from f meets the sea with the
+ * chance P, and the facets B met toward o = -g send their emission
+ * E_(R-1) (unpolarised) and their one-hit polarisation (Q_B, U_B in o's
+ * frame) back to A, whose Mueller matrix in its (p, s) axes reflects them
+ * as
  *     Q' = (R_p - R_s)/2 P E_B + (R_s + R_p)/2 P Q_B',  U' = Re(r_p r_s*) P U_B',
- * (Q_B', U_B' turned into A's axes), per unit contrast between the sea's
+ * (Q_B', U_B') turned into A's axes, per unit contrast between the sea's
  * blackbody and a uniform sky; turned into the sensor's frame. */
 static void polar_hits_block(const sea_optics *p, const sea_slope_stats *st, const view_frame *f,
                              double L_in, const emis_ctx *ec, size_t n, int R, fixed_rule a,
                              double w_tot, size_t k0, const sea_around *ar, double *dq,
                              double *du)
 {
-    const sea_slope_stats *met = ar != NULL ? &ar->lr : st;
-    const double split_scale = ar != NULL ? ar->split_scale : SEA_MULTI_SPLIT_SCALE;
-    const double split_min = ar != NULL ? ar->split_min : SEA_MULTI_SPLIT_MIN;
-    const double cross_scale = ar != NULL ? ar->cross_scale : SEA_MULTI_CROSS_SCALE;
-    const double cross_min = ar != NULL ? ar->cross_min : SEA_MULTI_CROSS_MIN;
-    double complex N[SEA_MULTI_BLOCK];
+    polar_sums c = { .p = p, .met = ar != NULL ? &ar->lr : st, .f = f, .L_in = L_in,
+                     .w_tot = w_tot, .ec = ec, .n = n, .k0 = k0, .R = R, .ar = ar,
+                     .sums = { n, { dq, du }, { { 0.0 } } } };
     for (size_t k = 0; k < n; k++) {
-        N[k] = ec[k].N;
+        c.N[k] = ec[k].N;
         dq[k] = du[k] = 0.0;
     }
-    const int n_gh =
-        a.n_gh > 0 ? (int)sea_fmin(a.n_gh, sea_fmax(cross_min, ceil(cross_scale * a.n_gh))) : 0;
-    const int nj = n_gh > 0 ? n_gh : 1;
-    const double *xj = n_gh > 0 ? &p->gh_x[SEA_TRI(n_gh - 1)] : NULL;
-    const double *wj = n_gh > 0 ? &p->gh_w[SEA_TRI(n_gh - 1)] : NULL;
-    double t_lo = 0.0, t_hi = 0.0;
-    if (!f->delta)
-        view_window(f, a.t_cut, &t_lo, &t_hi);
-    for (int j = 0; j < nj; j++) {
-        const double w_j = wj != NULL ? wj[j] : 1.0;
-        const double x_j = xj != NULL ? xj[j] : 0.0;
-        const double aX = f->m_X, bX = f->delta ? 0.0 : f->s_X;
-        const double aY = n_gh == 0 ? f->m_Y : f->m_Y + f->s_Y_given_X * x_j;
-        const double bY = n_gh == 0 || f->delta ? 0.0 : f->b_YX;
-        mirror_pieces mp;
-        mirror_pieces_of(f, aX, bX, aY, bY, t_lo, t_hi, &mp);
-        double nq[SEA_MULTI_BLOCK] = { 0.0 }, nu[SEA_MULTI_BLOCK] = { 0.0 }, den = 0.0;
-        for (int piece = 0; piece + 1 < mp.nc; piece++) {
-            const double ta = mp.cut[piece], tb = mp.cut[piece + 1];
-            const double half = 0.5 * (tb - ta), mid = 0.5 * (tb + ta);
-            const int m = f->delta ? 1
-                                   : (int)sea_fmin(SEA_EMIS_GL_MAX,
-                                                   sea_fmax(split_min, ceil(split_scale * a.n_gl *
-                                                                            (tb - ta) /
-                                                                            (t_hi - t_lo))));
-            int toward = 0; /* as second_hit: nodes crowd toward a rising piece's root */
-            if (!f->delta && (mp.qa * mid + mp.qb) * mid + mp.qc < 0.0 &&
-                mp.root[piece] != mp.root[piece + 1])
-                toward = mp.root[piece + 1] ? 1 : -1;
-            const double *gx = &p->gl_x[SEA_TRI(m - 1)], *gw = &p->gl_w[SEA_TRI(m - 1)];
-            for (int i = 0; i < m; i++) {
-                double t = 0.0, dt = 1.0;
-                if (!f->delta) {
-                    if (toward == 0) {
-                        t = mid + half * gx[i];
-                        dt = half * gw[i];
-                    } else {
-                        const double u = 0.5 * (gx[i] + 1.0), L = tb - ta;
-                        t = toward > 0 ? tb - L * u * u : ta + L * u * u;
-                        dt = L * u * gw[i];
-                    }
-                }
-                double w = f->delta ? 1.0 : dt * rule_weight(f, t);
-                if (f->corr && w > 0.0)
-                    w *= sea_shadow_correlated(f->z, t);
-                if (!(w > 0.0))
-                    continue;
-                den += w;
-                const double gX = aX + bX * t, gY = aY + bY * t;
-                const double cpsi = cos_psi_of(f, gX, gY);
-                if (!(cpsi > 0.0))
-                    continue;
-                double g[3];
-                mirror_of_node(f, gX, gY, cpsi, g);
-                const double o[3] = { -g[0], -g[1], -g[2] };
-                double eB[SEA_MULTI_BLOCK], P;
-                around_stencil_t sten;
-                if (ar != NULL) {
-                    double pinf;
-                    around_values(ar, o, k0, n, ec, NULL, eB, NULL, &pinf, &sten);
-                    P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + L_in * (1.0 - pinf));
-                    if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
-                        continue;
-                } else {
-                    P = hit_chance(met, g, L_in, w_j * w / w_tot);
-                    if (P == 0.0)
-                        continue;
-                }
-                double qB[SEA_MULTI_BLOCK], uB[SEA_MULTI_BLOCK], ci = 1.0, si = 0.0;
-                if (ar != NULL) {
-                    around_polar(ar, o, &sten, k0, n, qB, uB);
-                } else {
-                    view_frame fo;
-                    view_frame_of_vec(p, met, o, &fo);
-                    if (!emis_multi_rec(p, met, &fo, 0.0, ec, n, R - 1, NULL, NULL, k0, NULL, NULL,
-                                        eB, NULL))
-                        continue;
-                    met_stokes(p, &fo, N, n, qB, uB);
-                }
-                double nA[3];
-                frame_vec_to_global(f, -gX, -gY, 1.0, nA);
-                incidence_angle(o, nA, &ci, &si);
-                double c2, s2;
-                sea_polar_plane_angle(f->sin_th + gX * f->cos_th, -gY, &c2, &s2);
-                const double wP = w * P;
-                for (size_t k = 0; k < n; k++) {
-                    double Rs, Rp, ps;
-                    fresnel_ps(cpsi, N[k], &Rs, &Rp, &ps);
-                    const double qin = qB[k] * ci + uB[k] * si, uin = uB[k] * ci - qB[k] * si;
-                    const double Qa = 0.5 * (Rp - Rs) * eB[k] + 0.5 * (Rs + Rp) * qin;
-                    const double Ua = ps * uin;
-                    nq[k] += wP * (Qa * c2 - Ua * s2);
-                    nu[k] += wP * (Qa * s2 + Ua * c2);
-                }
-            }
-        }
-        if (den > 0.0)
-            for (size_t k = 0; k < n; k++) {
-                dq[k] += w_j * nq[k] / den;
-                du[k] += w_j * nu[k] / den;
-            }
-    }
+    walk_second_hits(p, f, a, ar != NULL ? ar->split_scale : SEA_MULTI_SPLIT_SCALE,
+                     ar != NULL ? ar->split_min : SEA_MULTI_SPLIT_MIN,
+                     ar != NULL ? ar->cross_scale : SEA_MULTI_CROSS_SCALE,
+                     ar != NULL ? ar->cross_min : SEA_MULTI_CROSS_MIN, polar_node, polar_cross, &c);
 }
 
 sea_status sea_optics_polar_hits(const sea_optics *p, sea_emis_method method,
