@@ -594,6 +594,17 @@ sea_status sea_two_scale_delta_exact(const sea_two_scale_table *t, sea_dir v,
  * finer than the table's own error asks (sea_model_emissivity).  Reads t. */
 sea_status sea_two_scale_delta_direct(const sea_two_scale_table *t, sea_dir v,
                                       const sea_slope_stats *st, double *out, sea_error *err);
+/* What two scales add to a facet's one-hit Stokes e_Q and e_U (q[k],
+ * u[k]; the facets' Stokes emissivities averaged as the emissivity's,
+ * sea_polar_emissivity_two_scale, against the one scale): how = 0 from
+ * the table's own polarisation part (made on the first call that needs
+ * it, on the same axes but the azimuth over 180 deg, 4 nodes read
+ * trigonometrically, and m_Y at -0.4, 0 and 0.4, read quadratically: U
+ * changes sign with the view's mirror image), 1 by the quadrature at the
+ * table's orders, 2 at the reference's.  Thread-safe; errors as
+ * sea_two_scale_delta's. */
+sea_status sea_two_scale_polar_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
+                                     int how, double *q, double *u, sea_error *err);
 /* Rows of the table computed so far.  Thread-safe. */
 size_t sea_two_scale_table_rows(const sea_two_scale_table *t);
 void sea_two_scale_table_free(sea_two_scale_table *t);
@@ -710,9 +721,10 @@ int sea_model_hits(const sea_model *m, const sea_slope_stats *st, sea_dir v);
  * one-hit values (sea_polar_emissivity_n, method AUTO) plus, where the
  * model follows a second hit (sea_model_hits), what the facets met send
  * back (sea_polar_emissivity_multi_n's physics, in the sea around, whose
- * polarisation tables are filled on the first call that needs them).  The
- * two scales' change of the emissivity is unpolarised here (seabake-model(7),
- * POLARISATION).  Thread-safe; errors as sea_model_emissivity's. */
+ * polarisation tables are filled on the first call that needs them), and
+ * with two scales what they add (sea_two_scale_polar_delta, read as
+ * finely as the model reads the emissivity's).  Thread-safe; errors as
+ * sea_model_emissivity's. */
 sea_status sea_model_polarisation(const sea_model *m, const sea_slope_stats *st, sea_dir v,
                                   double *q, double *u, sea_error *err);
 /* Its quadrature plan, with its shadowing (read-only). */
@@ -2039,6 +2051,15 @@ sea_status sea_polar_emissivity_multi_n(const sea_optics *p, sea_emis_method met
                                         size_t n, const sea_slope_stats *st, sea_dir v,
                                         int reflections, sea_stokes *out, sea_error *err);
 
+/* sea_emissivity_two_scale's average over the facets of their one-hit
+ * Stokes emissivities (sea_polar_emissivity, SEA_EMIS_AUTO, in the
+ * sensor's frame, which all facets share): e_I is
+ * sea_emissivity_two_scale's value to 1e-15, e_Q and e_U what the mixture
+ * of tilted facets polarises.  Errors as
+ * sea_emissivity_two_scale's; reads p. */
+sea_status sea_polar_emissivity_two_scale(const sea_optics *p, double complex N,
+                                          const sea_slope_stats *sub, sea_cov2 res, sea_dir v,
+                                          sea_stokes *out, sea_error *err);
 /* One-hit Stokes reflectivity toward v of an unpolarised sky of uniform
  * radiance L_sky, per unit L_sky: every seen facet reflects the sky in its
  * mirror direction (the one-hit model, in which the sky term of the scalar

@@ -333,16 +333,29 @@ sea_status sea_model_polarisation(const sea_model *m, const sea_slope_stats *st,
         q[i] = es[i].q;
         u[i] = es[i].u;
     }
-    if (sea_model_hits(m, st, v) < 2)
-        return SEA_OK;
-    /* the second hits by the rule sea_model_emissivity's take */
-    sea_emis_rule rule = { 0, 0 };
-    const int scaled = m->mp.method == SEA_EMIS_AUTO && m->emis_scale < 1.0;
-    if (scaled)
-        rule = sea_model_emis_rule(m->emis_scale, st, v);
     double dq[SEA_SCENE_BAND_MAX], du[SEA_SCENE_BAND_MAX];
-    if ((s = sea_optics_polar_hits(m->optics, m->mp.method, scaled && rule.n_gl > 0 ? &rule : NULL,
-                                   m->N, m->n, st, v, m->hits, m->around, dq, du, err)) != SEA_OK)
+    if (sea_model_hits(m, st, v) >= 2) {
+        /* the second hits by the rule sea_model_emissivity's take */
+        sea_emis_rule rule = { 0, 0 };
+        const int scaled = m->mp.method == SEA_EMIS_AUTO && m->emis_scale < 1.0;
+        if (scaled)
+            rule = sea_model_emis_rule(m->emis_scale, st, v);
+        if ((s = sea_optics_polar_hits(m->optics, m->mp.method,
+                                       scaled && rule.n_gl > 0 ? &rule : NULL, m->N, m->n, st, v,
+                                       m->hits, m->around, dq, du, err)) != SEA_OK)
+            return s;
+        for (size_t i = 0; i < m->n; i++) {
+            q[i] += dq[i];
+            u[i] += du[i];
+        }
+    }
+    if (m->mp.scales != 2)
+        return SEA_OK;
+    /* two scales, as sea_model_emissivity reads them by tolerance */
+    const int how = m->mp.reference || m->mp.tolerance <= SEA_MODEL_FINE_TOL ? 2
+                    : m->mp.tolerance < SEA_MODEL_TABLE_TOL                   ? 1
+                                                                              : 0;
+    if ((s = sea_two_scale_polar_delta(m->ts, v, st, how, dq, du, err)) != SEA_OK)
         return s;
     for (size_t i = 0; i < m->n; i++) {
         q[i] += dq[i];

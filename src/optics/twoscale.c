@@ -78,8 +78,10 @@ sea_status sea_spectrum_split_half(const sea_spectrum *s, double kc, double *k_h
     return sea_spectrum_split_at(s, kc, 0.5 * (all.xx + all.yy), k_half, res, sub, err);
 }
 
-static sea_status two_scale(const sea_optics *p, double complex N, const sea_slope_stats *sub,
-                            sea_cov2 res, sea_dir v, int nx, int ny, double *out, sea_error *err)
+/* The arguments of a two-scale average: valid statistics, a covariance
+ * res, a view above the horizon. */
+static sea_status two_scale_check(const sea_slope_stats *sub, sea_cov2 res, sea_dir v,
+                                  sea_error *err)
 {
     sea_status st = sea_slope_stats_check(sub, err);
     if (st != SEA_OK)
@@ -91,6 +93,15 @@ static sea_status two_scale(const sea_optics *p, double complex N, const sea_slo
                         res.yy, res.xy);
     if (!(v.theta >= 0.0 && v.theta < M_PI / 2.0) || !isfinite(v.phi))
         return sea_fail(err, SEA_ERR_DOMAIN, "view zenith %g rad (allowed: [0, pi/2))", v.theta);
+    return SEA_OK;
+}
+
+static sea_status two_scale(const sea_optics *p, double complex N, const sea_slope_stats *sub,
+                            sea_cov2 res, sea_dir v, int nx, int ny, double *out, sea_error *err)
+{
+    sea_status st = two_scale_check(sub, res, v, err);
+    if (st != SEA_OK)
+        return st;
     /* the resolved covariance in the view's frame: X along the view azimuth */
     const double c = cos(v.phi), s = sin(v.phi);
     const double vX = c * c * res.xx + 2.0 * c * s * res.xy + s * s * res.yy;
@@ -158,12 +169,14 @@ sea_status sea_emissivity_two_scale(const sea_optics *p, double complex N,
 
 /* Two scales for n indices at once (two_scale for N[0..n), each node's
  * emissivity by sea_emissivity_n), by the Gauss-Legendre table gl (nx
- * nodes) and the Gauss-Hermite workspace gh (ny nodes). */
+ * nodes) and the Gauss-Hermite workspace gh (ny nodes).  pol not NULL:
+ * the same mixture of each node's one-hit Stokes emissivity
+ * (sea_polar_emissivity_n) into pol[k], out unused. */
 static sea_status two_scale_n(const sea_optics *p, const double complex *N, size_t n,
                               const sea_slope_stats *sub, sea_cov2 res, sea_dir v,
                               const gsl_integration_glfixed_table *gl, int nx,
                               const gsl_integration_fixed_workspace *gh, int ny, double *out,
-                              sea_error *err)
+                              sea_stokes *pol, sea_error *err)
 {
     const double c = cos(v.phi), s = sin(v.phi);
     const double vX = c * c * res.xx + 2.0 * c * s * res.xy + s * s * res.yy;
@@ -175,13 +188,17 @@ static sea_status two_scale_n(const sea_optics *p, const double complex *N, size
     const double z = sX > 0.0 ? (1.0 / tant - m0X) / sX : INFINITY;
     const double tb = fmin(z, 6.0);
     if (!(vX > 1e-12 * (sub->cov.xx + sub->cov.yy)) || !(tb > -6.0))
-        return sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, sub, v, out, err);
+        return pol != NULL ? sea_polar_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, sub, v, pol, err)
+                           : sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, sub, v, out, err);
     const double slope = cXY / vX, sY = sqrt(fmax(vY - cXY * cXY / vX, 0.0));
     const int correlated = sea_optics_shadowing(p) == SEA_SHADOW_CORRELATED;
     const double *y = gsl_integration_fixed_nodes(gh), *wy = gsl_integration_fixed_weights(gh);
     double num[SEA_SCENE_BAND_MAX], den = 0.0;
-    for (size_t k = 0; k < n; k++)
+    sea_stokes pnum[SEA_SCENE_BAND_MAX];
+    for (size_t k = 0; k < n; k++) {
         num[k] = 0.0;
+        pnum[k] = (sea_stokes){ 0.0, 0.0, 0.0 };
+    }
     for (int i = 0; i < nx; i++) {
         double t, wt;
         gsl_integration_glfixed_point(-6.0, tb, (size_t)i, &t, &wt, gl);
@@ -197,19 +214,55 @@ static sea_status two_scale_n(const sea_optics *p, const double complex *N, size
             f.mean.x += c * dX - s * dY;
             f.mean.y += s * dX + c * dY;
             double e[SEA_SCENE_BAND_MAX];
-            sea_status st = sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, &f, v, e, err);
+            sea_stokes es[SEA_SCENE_BAND_MAX];
+            sea_status st = pol != NULL
+                                ? sea_polar_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, &f, v, es, err)
+                                : sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, &f, v, e, err);
             if (st != SEA_OK)
                 return st;
-            for (size_t k = 0; k < n; k++)
-                num[k] += w * wy[j] * e[k];
+            for (size_t k = 0; k < n; k++) {
+                if (pol != NULL) {
+                    pnum[k].i += w * wy[j] * es[k].i;
+                    pnum[k].q += w * wy[j] * es[k].q;
+                    pnum[k].u += w * wy[j] * es[k].u;
+                } else {
+                    num[k] += w * wy[j] * e[k];
+                }
+            }
             den += w * wy[j];
         }
     }
     if (!(den > 0.0))
-        return sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, sub, v, out, err);
-    for (size_t k = 0; k < n; k++)
-        out[k] = num[k] / den;
+        return pol != NULL ? sea_polar_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, sub, v, pol, err)
+                           : sea_emissivity_n(p, SEA_EMIS_AUTO, NULL, N, n, sub, v, out, err);
+    for (size_t k = 0; k < n; k++) {
+        if (pol != NULL)
+            pol[k] = (sea_stokes){ pnum[k].i / den, pnum[k].q / den, pnum[k].u / den };
+        else
+            out[k] = num[k] / den;
+    }
     return SEA_OK;
+}
+
+sea_status sea_polar_emissivity_two_scale(const sea_optics *p, double complex N,
+                                          const sea_slope_stats *sub, sea_cov2 res, sea_dir v,
+                                          sea_stokes *out, sea_error *err)
+{
+    sea_status st = two_scale_check(sub, res, v, err);
+    if (st != SEA_OK)
+        return st;
+    gsl_integration_glfixed_table *gl = gsl_integration_glfixed_table_alloc(TS_NX);
+    gsl_integration_fixed_workspace *gh =
+        gsl_integration_fixed_alloc(gsl_integration_fixed_hermite, TS_NY, 0.0, 0.5, 0.0, 0.0);
+    if (gl == NULL || gh == NULL)
+        st = sea_fail(err, SEA_ERR_NOMEM, "out of memory for the two-scale quadrature");
+    else
+        st = two_scale_n(p, &N, 1, sub, res, v, gl, TS_NX, gh, TS_NY, NULL, out, err);
+    if (gl != NULL)
+        gsl_integration_glfixed_table_free(gl);
+    if (gh != NULL)
+        gsl_integration_fixed_free(gh);
+    return st;
 }
 
 /* ------------------------------------------------------------------ table
@@ -262,6 +315,12 @@ struct sea_two_scale_table {
     int ready[TAB_ROWS];
     /* delta[(((row TAB_NF + jf) TAB_NP + ip) TAB_NY2 + iy) n + k] */
     double *delta;
+    /* The polarisation's additions (sea_two_scale_polar_delta), made on
+     * the first query that needs them: Q at
+     * pdelta[(((row TAB_NF + jf) PTAB_NP + ip) PTAB_NY + iy) 2n + k], U n
+     * further; pready[row TAB_NF + jf] as ready, per share of the band. */
+    double *pdelta;
+    int pready[TAB_ROWS * TAB_NF];
 };
 
 void sea_two_scale_table_free(sea_two_scale_table *t)
@@ -277,6 +336,7 @@ void sea_two_scale_table_free(sea_two_scale_table *t)
     if (t->gh_ref != NULL)
         gsl_integration_fixed_free(t->gh_ref);
     free(t->delta);
+    free(t->pdelta);
     free(t);
 }
 
@@ -322,22 +382,32 @@ sea_status sea_two_scale_table_alloc(const sea_optics *p, const double complex *
     return SEA_OK;
 }
 
+/* A facet of mean slope m holding f of the resolved band: the band's
+ * share res it carries, its one-scale statistics and its facets'. */
+static void delta_stats(const sea_two_scale_table *t, sea_vec2 m, double f, sea_cov2 *res,
+                        sea_slope_stats *one, sea_slope_stats *sub)
+{
+    const sea_cov2 hs = t->split_sub, tot = t->total;
+    *res = (sea_cov2){ f * (tot.xx - hs.xx), f * (tot.yy - hs.yy), f * (tot.xy - hs.xy) };
+    *one = (sea_slope_stats){ m, { hs.xx + res->xx, hs.yy + res->yy, hs.xy + res->xy } };
+    *sub = (sea_slope_stats){ m, hs };
+}
+
 /* The addition for a facet of mean slope m seen from v whose covariance
  * holds f of the resolved band, by two scales at the given orders. */
 static sea_status delta_at(const sea_two_scale_table *t, sea_vec2 m, double f, sea_dir v,
                            int ref, double *out, sea_error *err)
 {
-    const sea_cov2 hs = t->split_sub, tot = t->total;
-    const sea_cov2 res = { f * (tot.xx - hs.xx), f * (tot.yy - hs.yy), f * (tot.xy - hs.xy) };
-    const sea_slope_stats one = { m, { hs.xx + res.xx, hs.yy + res.yy, hs.xy + res.xy } };
-    const sea_slope_stats sub = { m, hs };
+    sea_cov2 res;
+    sea_slope_stats one, sub;
+    delta_stats(t, m, f, &res, &one, &sub);
     double e1[SEA_SCENE_BAND_MAX], e2[SEA_SCENE_BAND_MAX];
     sea_status st = sea_emissivity_n(t->p, SEA_EMIS_AUTO, NULL, t->N, t->n, &one, v, e1, err);
     if (st == SEA_OK)
         st = ref ? two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl_ref, TS_NX, t->gh_ref, TS_NY,
-                               e2, err)
+                               e2, NULL, err)
                  : two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl, TAB_NX, t->gh, TAB_NY, e2,
-                               err);
+                               NULL, err);
     if (st != SEA_OK)
         return st;
     for (size_t k = 0; k < t->n; k++)
@@ -362,6 +432,22 @@ static void facet_axes(const sea_two_scale_table *t, const sea_cov2 *C, double p
     *sX = sqrt(fmax(Cf.xx * c * c + 2.0 * Cf.xy * s * c + Cf.yy * s * s, 0.0));
 }
 
+/* The mean slope of a table node's facet: seen from zenith th and azimuth
+ * phi, holding f of the resolved band, at margin z (the m_X that puts it
+ * there) and m_Y across the view. */
+static sea_vec2 node_facet(const sea_two_scale_table *t, double f, double phi, double th,
+                           double z, double mY)
+{
+    const sea_cov2 hs = t->split_sub, tot = t->total;
+    const sea_cov2 C = { hs.xx + f * (tot.xx - hs.xx), hs.yy + f * (tot.yy - hs.yy),
+                         hs.xy + f * (tot.xy - hs.xy) };
+    double sX, fc;
+    facet_axes(t, &C, phi, &sX, &fc);
+    const double mX = 1.0 / tan(th) - z * sX;
+    const double c = cos(phi), s = sin(phi);
+    return (sea_vec2){ mX * c - mY * s, mX * s + mY * c };
+}
+
 /* Row (it, iz): every f, azimuth and m_Y node; the node's facet has the
  * m_X that puts it at z. */
 static sea_status table_row(sea_two_scale_table *t, int row, sea_error *err)
@@ -381,14 +467,7 @@ static sea_status table_row(sea_two_scale_table *t, int row, sea_error *err)
                     continue;
                 }
                 const double phi = t->wind_dir + M_PI / 2.0 * ip / (TAB_NP - 1);
-                const sea_cov2 hs = t->split_sub, tot = t->total;
-                const sea_cov2 C = { hs.xx + f * (tot.xx - hs.xx), hs.yy + f * (tot.yy - hs.yy),
-                                     hs.xy + f * (tot.xy - hs.xy) };
-                double sX, fc;
-                facet_axes(t, &C, phi, &sX, &fc);
-                const double mX = 1.0 / tan(th) - z * sX, mY = iy * TAB_MY;
-                const double c = cos(phi), s = sin(phi);
-                const sea_vec2 m = { mX * c - mY * s, mX * s + mY * c };
+                const sea_vec2 m = node_facet(t, f, phi, th, z, iy * TAB_MY);
                 sea_status st = delta_at(t, m, f, (sea_dir){ th, phi }, 0, out, err);
                 if (st != SEA_OK)
                     return st;
@@ -397,20 +476,23 @@ static sea_status table_row(sea_two_scale_table *t, int row, sea_error *err)
     return SEA_OK;
 }
 
-/* The rows rows[0..nr) computed, the first caller that needs one computing
- * it while the others wait. */
-static sea_status table_rows(sea_two_scale_table *t, const int *rows, int nr, sea_error *err)
+/* The entries ids[0..nid) of a lazily filled table computed by fill (its
+ * row, or a cell of the polarisation's), ready[id] set after each: the
+ * first caller that needs one computing it while the others wait. */
+typedef sea_status (*table_fill_fn)(sea_two_scale_table *t, int id, sea_error *err);
+static sea_status table_fill(sea_two_scale_table *t, int *ready, const int *ids, int nid,
+                             table_fill_fn fill, sea_error *err)
 {
     sea_status st = SEA_OK;
-    for (int a = 0; a < nr && st == SEA_OK; a++) {
-        if (__atomic_load_n(&t->ready[rows[a]], __ATOMIC_ACQUIRE))
+    for (int a = 0; a < nid && st == SEA_OK; a++) {
+        if (__atomic_load_n(&ready[ids[a]], __ATOMIC_ACQUIRE))
             continue;
 #pragma omp critical(sea_two_scale_row)
         {
-            if (!__atomic_load_n(&t->ready[rows[a]], __ATOMIC_ACQUIRE)) {
-                st = table_row(t, rows[a], err);
+            if (!__atomic_load_n(&ready[ids[a]], __ATOMIC_ACQUIRE)) {
+                st = fill(t, ids[a], err);
                 if (st == SEA_OK)
-                    __atomic_store_n(&t->ready[rows[a]], 1, __ATOMIC_RELEASE);
+                    __atomic_store_n(&ready[ids[a]], 1, __ATOMIC_RELEASE);
             }
         }
     }
@@ -512,7 +594,7 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
         for (int b = 0; b < 4; b++)
             if (wt[a] != 0.0 && wz[b] != 0.0)
                 rows[nr++] = kt[a] * TAB_NZ + kz[b];
-    sea_status status = table_rows(t, rows, nr, err);
+    sea_status status = table_fill(t, t->ready, rows, nr, table_row, err);
     if (status != SEA_OK)
         return status;
     /* m_Y: linear in m_Y^2 between the two nodes (extrapolated beyond) */
@@ -573,4 +655,161 @@ sea_status sea_two_scale_delta_direct(const sea_two_scale_table *t, sea_dir v,
                                       const sea_slope_stats *st, double *out, sea_error *err)
 {
     return delta_own(t, v, st, 0, out, err);
+}
+
+/* ---------------------------------------------------- the polarisation
+ *
+ * What two scales add to a facet's one-hit Stokes e_Q and e_U (the
+ * facets' Stokes emissivities averaged as two_scale averages the
+ * emissivity, against the one scale).  On the axes of the emissivity's
+ * table (z, f, theta), but not folded: U changes sign with the mirror
+ * image of the view (the resolved band's cross term and m_Y together), and
+ * varies with the azimuth to the wind mainly as sin 2phi, which the
+ * emissivity's three linear nodes over [0, 90] deg would miss by 30 %.  So
+ * the azimuth to the wind takes PTAB_NP = 4 nodes over the period of 180
+ * deg, read by trigonometric interpolation (1, cos 2phi, sin 2phi,
+ * cos 4phi: exact for the covariance's own harmonics), and m_Y the nodes
+ * -0.4, 0 and 0.4, read by the quadratic through them (beyond 0.6:
+ * directly). */
+enum { PTAB_NP = 6, PTAB_NY = 3, PTAB_ROW = TAB_NF * PTAB_NP * PTAB_NY };
+static const double PTAB_DY = 0.4; /* m_Y from -0.4 */
+
+/* The additions to e_Q (q) and e_U (u) for a facet of mean slope m seen
+ * from v whose covariance holds f of the resolved band, by two scales at
+ * the reference's orders (ref) or the table's. */
+static sea_status polar_delta_at(const sea_two_scale_table *t, sea_vec2 m, double f, sea_dir v,
+                                 int ref, double *q, double *u, sea_error *err)
+{
+    sea_cov2 res;
+    sea_slope_stats one, sub;
+    delta_stats(t, m, f, &res, &one, &sub);
+    sea_stokes e1[SEA_SCENE_BAND_MAX], e2[SEA_SCENE_BAND_MAX];
+    sea_status st = sea_polar_emissivity_n(t->p, SEA_EMIS_AUTO, NULL, t->N, t->n, &one, v, e1, err);
+    if (st == SEA_OK)
+        st = ref ? two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl_ref, TS_NX, t->gh_ref, TS_NY,
+                               NULL, e2, err)
+                 : two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl, TAB_NX, t->gh, TAB_NY,
+                               NULL, e2, err);
+    if (st != SEA_OK)
+        return st;
+    for (size_t k = 0; k < t->n; k++) {
+        q[k] = e2[k].q - e1[k].q;
+        u[k] = e2[k].u - e1[k].u;
+    }
+    return SEA_OK;
+}
+
+/* Share jf of row (it, iz) of the polarisation's table, cell = row TAB_NF
+ * + jf: every azimuth and m_Y node, the node's facet at z as in
+ * table_row.  Cells are computed as queries need them (table_fill): a
+ * scene's facets hold few shares (low resolution only f = 1), so most are
+ * never computed. */
+static sea_status polar_cell(sea_two_scale_table *t, int cell, sea_error *err)
+{
+    if (t->pdelta == NULL) /* (the first cell: made under table_fill's lock) */
+        t->pdelta = malloc((size_t)TAB_ROWS * PTAB_ROW * 2 * t->n * sizeof *t->pdelta);
+    if (t->pdelta == NULL)
+        return sea_fail(err, SEA_ERR_NOMEM, "out of memory for the two-scale table's "
+                        "polarisation");
+    const int row = cell / TAB_NF, jf = cell % TAB_NF;
+    const int it = row / TAB_NZ, iz = row % TAB_NZ;
+    const double th = fmin(TAB_T0 + it * TAB_DT, 89.9 * M_PI / 180.0);
+    const double z = TAB_Z0 + iz * TAB_DZ;
+    const size_t n = t->n;
+    const double uu = (double)jf / (TAB_NF - 1), u2 = uu * uu, f = u2 * u2;
+    for (int ip = 0; ip < PTAB_NP; ip++)
+        for (int iy = 0; iy < PTAB_NY; iy++) {
+            double *q = &t->pdelta[(((size_t)cell * PTAB_NP + (size_t)ip) * PTAB_NY + (size_t)iy) *
+                                   2 * n];
+            if (jf == 0) { /* f = 0: one scale */
+                for (size_t k = 0; k < 2 * n; k++)
+                    q[k] = 0.0;
+                continue;
+            }
+            const double phi = t->wind_dir + M_PI * ip / PTAB_NP;
+            const sea_vec2 m = node_facet(t, f, phi, th, z, (iy - (PTAB_NY - 1) / 2) * PTAB_DY);
+            sea_status st = polar_delta_at(t, m, f, (sea_dir){ th, phi }, 0, q, q + n, err);
+            if (st != SEA_OK)
+                return st;
+        }
+    return SEA_OK;
+}
+
+
+sea_status sea_two_scale_polar_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
+                                     int how, double *q, double *u, sea_error *err)
+{
+    const size_t n = t->n;
+    for (size_t k = 0; k < n; k++)
+        q[k] = u[k] = 0.0;
+    double sX, f;
+    facet_axes(t, &st->cov, v.phi, &sX, &f);
+    if (!(f > 0.0) || !(v.theta > 0.0 && v.theta < M_PI / 2.0))
+        return SEA_OK; /* one scale, nadir, or not a number: nothing to add */
+    if (how != 0)
+        return polar_delta_at(t, st->mean, f, v, how == 2, q, u, err);
+    if (!(sX > 0.0))
+        return SEA_OK;
+    const double mX = st->mean.x * cos(v.phi) + st->mean.y * sin(v.phi);
+    const double z = (1.0 / tan(v.theta) - mX) / sX;
+    const double xz = (z - TAB_Z0) / TAB_DZ;
+    if (xz >= TAB_NZ - 1)
+        return SEA_OK; /* far from the visibility limit */
+    const double mY = -st->mean.x * sin(v.phi) + st->mean.y * cos(v.phi);
+    if (!(xz >= 0.0) || fabs(mY) > TAB_MY_MAX) /* turned away, or far across: directly */
+        return polar_delta_at(t, st->mean, f, v, 0, q, u, err);
+    int kz[4], kf[4], kt[4], ky[4];
+    double wz[4], wf[4], wt[4], wp[PTAB_NP], wy[4];
+    cr_axis(xz, TAB_NZ, 0, kz, wz);
+    cr_axis(sqrt(sqrt(f)) * (TAB_NF - 1), TAB_NF, 0, kf, wf);
+    lin_axis((v.theta - TAB_T0) / TAB_DT, TAB_NT, kt, wt);
+    /* the azimuth: trigonometric interpolation in a = 2 (phi - wind) on
+     * the nodes a_i = i pi / 2: (1 + 2 cos(a - a_i) + cos 2(a - a_i)) / 4 */
+    const double a = 2.0 * (v.phi - t->wind_dir);
+    for (int i = 0; i < PTAB_NP; i++) {
+        const double d = a - 2.0 * M_PI * i / PTAB_NP;
+        double w = 1.0 + cos(0.5 * PTAB_NP * d);
+        for (int h = 1; h < PTAB_NP / 2; h++)
+            w += 2.0 * cos(h * d);
+        wp[i] = w / PTAB_NP;
+    }
+    /* m_Y: Catmull-Rom on its nodes (linear ghosts) */
+    cr_axis(mY / PTAB_DY + (PTAB_NY - 1) / 2, PTAB_NY, 0, ky, wy);
+    int cells[64], nc = 0;
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++)
+            for (int c = 0; c < 4; c++)
+                if (wt[i] != 0.0 && wz[j] != 0.0 && wf[c] != 0.0)
+                    cells[nc++] = (kt[i] * TAB_NZ + kz[j]) * TAB_NF + kf[c];
+    sea_status status = table_fill(t, t->pready, cells, nc, polar_cell, err);
+    if (status != SEA_OK)
+        return status;
+    for (int i = 0; i < 4; i++) {
+        if (wt[i] == 0.0)
+            continue;
+        for (int j = 0; j < 4; j++) {
+            if (wz[j] == 0.0)
+                continue;
+            const double *row = &t->pdelta[(size_t)(kt[i] * TAB_NZ + kz[j]) * PTAB_ROW * 2 * n];
+            for (int c = 0; c < 4; c++) {
+                const double wc = wt[i] * wz[j] * wf[c];
+                if (wc == 0.0)
+                    continue;
+                for (int d = 0; d < PTAB_NP; d++)
+                    for (int e = 0; e < 4; e++) {
+                        const double w = wc * wp[d] * wy[e];
+                        if (w == 0.0)
+                            continue;
+                        const double *x =
+                            row + (((size_t)kf[c] * PTAB_NP + (size_t)d) * PTAB_NY + (size_t)ky[e]) *
+                                      2 * n;
+                        for (size_t k = 0; k < n; k++) {
+                            q[k] += w * x[k];
+                            u[k] += w * x[n + k];
+                        }
+                    }
+            }
+        }
+    }
+    return SEA_OK;
 }

@@ -185,7 +185,7 @@ static const double SEA_GLINT_NEGLIGIBLE = 1e-3;
 /* The linear polarisation of a facet's radiance per sample, in the frame of
  * the view (reference e_v, seabake.h POLARISATION): the Stokes
  * emissivity's polarised part (e_Q, e_U; sea_model_polarisation: one hit,
- * and the second where the model takes one) against the contrast
+ * the second where the model takes one, and two scales) against the contrast
  * between the sea's blackbody and the sky the facets reflect,
  *     Q = e_Q (B_sea - L_sky),  U = e_U (B_sea - L_sky),
  * L_sky = sky_all / (1 - eps) the radiance of the sky the model's facets
