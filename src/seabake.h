@@ -597,10 +597,10 @@ sea_status sea_two_scale_delta_direct(const sea_two_scale_table *t, sea_dir v,
 /* What two scales add to a facet's one-hit Stokes e_Q and e_U (q[k],
  * u[k]; the facets' Stokes emissivities averaged as the emissivity's,
  * sea_polar_emissivity_two_scale, against the one scale): how = 0 from
- * the table's own polarisation part (made on the first call that needs
- * it, on the same axes but the azimuth over 180 deg, 4 nodes read
- * trigonometrically, and m_Y at -0.4, 0 and 0.4, read quadratically: U
- * changes sign with the view's mirror image), 1 by the quadrature at the
+ * the table's own polarisation part (its cells made as queries first
+ * need them, on the same axes but the azimuth over 180 deg, 6 nodes read
+ * trigonometrically, and m_Y at -0.4, 0 and 0.4: U changes sign with the
+ * view's mirror image), 1 by the quadrature at the
  * table's orders, 2 at the reference's.  Thread-safe; errors as
  * sea_two_scale_delta's. */
 sea_status sea_two_scale_polar_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
@@ -2073,6 +2073,20 @@ sea_status sea_polar_reflectivity_sky(const sea_optics *p, sea_emis_method metho
                                       const sea_emis_rule *rule, double complex N,
                                       const sea_slope_stats *st, sea_dir v, sea_stokes *out,
                                       sea_error *err);
+
+/* The one-hit Stokes radiance of a sky that varies with the zenith (sky:
+ * sea_sky, indexed as N) reflected toward v, out[k] for N[k]: every seen
+ * facet (the nodes of sea_polar_emissivity, or SEA_EMIS_FULL's adaptive
+ * reference) reflects the sky along its own mirror ray, R_s along s and
+ * R_p along p:
+ *     I = E_w[rho L(r)],  Q = E_w[(R_p - R_s)/2 L(r) cos 2chi],  U likewise,
+ * r the facet's mirror ray.  I is what sea_emissivity_sky_n gives at
+ * reflections = 1 (to its Fresnel table's 1e-10); under a uniform sky of
+ * radiance L, (1 - e_I, -e_Q, -e_U) L of sea_polar_emissivity.  Errors as
+ * sea_polar_emissivity's; reads p. */
+sea_status sea_polar_sky_n(const sea_optics *p, sea_emis_method method, const sea_emis_rule *rule,
+                           const double complex *N, size_t n, const sea_slope_stats *st,
+                           sea_dir v, const sea_sky *sky, sea_stokes *out, sea_error *err);
 
 /* Stokes effective reflectivity rho~(inc; obs) of a collimated unpolarised
  * source (the sun) toward obs, per steradian of incidence (Eq 13-14):

@@ -178,6 +178,71 @@ sea_status sea_polar_reflectivity_sky(const sea_optics *p, sea_emis_method metho
     return SEA_OK;
 }
 
+/* One facet's reflection of a sky that varies with the zenith, toward v:
+ * the sky along its mirror ray (zenith cosine 2 cos psi n_z - cos theta,
+ * n_z = 1 / sqrt(1 + gamma^2)), R_s along s and R_p along p, for
+ * SEA_EMIS_FULL's adaptive quadrature (vals: I, Q, U). */
+typedef struct {
+    double complex N;
+    double sin_th, cos_th;
+    const sea_sky *sky;
+    size_t k;
+} sky_ctx;
+
+static void facet_sky(double gX, double gY, double cos_psi, void *ctx, double *vals)
+{
+    const sky_ctx *c = ctx;
+    double Rs, Rp, c2, s2;
+    sea_polar_fresnel(cos_psi, c->N, &Rs, &Rp);
+    sea_polar_plane_angle(c->sin_th + gX * c->cos_th, -gY, &c2, &s2);
+    const double rz = 2.0 * cos_psi / sqrt(1.0 + gX * gX + gY * gY) - c->cos_th;
+    const double L = sea_sky_radiance(c->sky, c->k, rz);
+    vals[0] = 0.5 * (Rs + Rp) * L;
+    vals[1] = 0.5 * (Rp - Rs) * L * c2;
+    vals[2] = 0.5 * (Rp - Rs) * L * s2;
+}
+
+sea_status sea_polar_sky_n(const sea_optics *p, sea_emis_method method, const sea_emis_rule *rule,
+                           const double complex *N, size_t n, const sea_slope_stats *st,
+                           sea_dir v, const sea_sky *sky, sea_stokes *out, sea_error *err)
+{
+    sea_status s;
+    const double sin_th = sin(v.theta), cos_th = cos(v.theta);
+    if (rule == NULL && method == SEA_EMIS_FULL) {
+        for (size_t i = 0; i < n; i++) {
+            sky_ctx c = { N[i], sin_th, cos_th, sky, i };
+            double m[3];
+            if ((s = sea_optics_facet_mean_full(p, st, v, facet_sky, &c, 3, m, err)) != SEA_OK)
+                return s;
+            out[i] = (sea_stokes){ m[0], m[1], m[2] };
+        }
+        return SEA_OK;
+    }
+    sea_facet_node nodes[SEA_FACET_NODES_MAX];
+    size_t count;
+    int exact;
+    if ((s = sea_optics_facet_nodes(p, method, rule, st, v, nodes, &count, &exact, err)) !=
+        SEA_OK)
+        return s;
+    for (size_t i = 0; i < n; i++)
+        out[i] = (sea_stokes){ 0.0, 0.0, 0.0 };
+    for (size_t q = 0; q < count; q++) {
+        const sea_facet_node *d = &nodes[q];
+        double c2, s2;
+        sea_polar_plane_angle(sin_th + d->gX * cos_th, -d->gY, &c2, &s2);
+        const double rz = 2.0 * d->cos_psi / sqrt(1.0 + d->gX * d->gX + d->gY * d->gY) - cos_th;
+        for (size_t i = 0; i < n; i++) {
+            double Rs, Rp;
+            sea_polar_fresnel(d->cos_psi, N[i], &Rs, &Rp);
+            const double L = d->w * sea_sky_radiance(sky, i, rz), pol = 0.5 * (Rp - Rs) * L;
+            out[i].i += 0.5 * (Rs + Rp) * L;
+            out[i].q += pol * c2;
+            out[i].u += pol * s2;
+        }
+    }
+    return SEA_OK;
+}
+
 void sea_polar_reflectivity(double complex N, const sea_slope_stats *st, sea_dir inc,
                             sea_dir obs, sea_stokes *out)
 {

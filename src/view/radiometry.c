@@ -188,13 +188,17 @@ static const double SEA_GLINT_NEGLIGIBLE = 1e-3;
  * the second where the model takes one, and two scales) against the contrast
  * between the sea's blackbody and the sky the facets reflect,
  *     Q = e_Q (B_sea - L_sky),  U = e_U (B_sea - L_sky),
+ * and, under a sky that varies with the zenith, the one-hit reflection
+ * -e_Q,1 L_sky replaced by each facet's own mirror ray's sky (q_sky of
+ * sea_polar_sky_n): Q = e_Q (B_sea - L_sky) + q_sky + e_Q,1 L_sky,
  * L_sky = sky_all / (1 - eps) the radiance of the sky the model's facets
  * reflect (eps the model's emissivity, sky_all what they reflect of it):
  * under a uniform sky exactly emission's e_Q B plus the sky's reflection
  * -e_Q L_sky (at two hits too: what the facets met send back is e_Q's
  * second-hit part times B - L), and 0 in a blackbody enclosure (sky at the
- * sea's temperature) whatever the model; a sky that is not uniform is
- * reflected as a uniform one of the same reflected radiance would be.  The
+ * sea's temperature) whatever the model; the second hits and two scales
+ * of a sky that is not uniform are those of a uniform one of the same
+ * reflected radiance.  The
  * sun's glint (rr_all) is polarised as its mirror facet reflects it
  * (sea_polar_reflectivity). */
 static sea_status facet_stokes(const sea_radiometry *rad, const sea_model *model,
@@ -206,11 +210,27 @@ static sea_status facet_stokes(const sea_radiometry *rad, const sea_model *model
     sea_status s = sea_model_polarisation(model, st, obs, eq, eu, err);
     if (s != SEA_OK)
         return s;
+    /* a sky that varies with the zenith: its one-hit reflection exactly,
+     * each facet's mirror ray's sky (sea_polar_sky_n), in place of the
+     * uniform sky of the same reflected radiance, -e_Q,1 L_sky */
+    sea_stokes e1[SEA_SCENE_BAND_MAX], r1[SEA_SCENE_BAND_MAX];
+    const int directional = rad->sc->sky_model != SEA_SKY_ISOTROPIC;
+    if (directional &&
+        ((s = sea_polar_emissivity_n(sea_model_optics(model), SEA_EMIS_AUTO, NULL, rad->N,
+                                     rad->nsamp, st, obs, e1, err)) != SEA_OK ||
+         (s = sea_polar_sky_n(sea_model_optics(model), SEA_EMIS_AUTO, NULL, rad->N, rad->nsamp, st,
+                              obs, &rad->sky, r1, err)) != SEA_OK))
+        return s;
     for (size_t i = 0; i < rad->nsamp; i++) {
         const double refl = 1.0 - eps_all[i];
-        const double contrast = rad->lsea[i] - (refl > 0.0 ? sky_all[i] / refl : 0.0);
+        const double L_sky = refl > 0.0 ? sky_all[i] / refl : 0.0;
+        const double contrast = rad->lsea[i] - L_sky;
         Qk[i] = eq[i] * contrast;
         Uk[i] = eu[i] * contrast;
+        if (directional) {
+            Qk[i] += r1[i].q + e1[i].q * L_sky;
+            Uk[i] += r1[i].u + e1[i].u * L_sky;
+        }
         if (sun_up && rr_all[i] > 0.0 && rad->esun[i] > 0.0) {
             sea_stokes ps;
             sea_polar_reflectivity(rad->N[i], st, sun, obs, &ps);
