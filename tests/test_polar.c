@@ -870,6 +870,21 @@ static size_t render_far(const sea_scene *sc, sea_image *img)
     return c;
 }
 
+/* The whole sea of scene sc: its low-resolution slope statistics (m = 0,
+ * the wind's covariance) and water's index at its wavelength. */
+static void scene_sea(const sea_scene *sc, sea_slope_stats *lr, double complex *N)
+{
+    sea_spectrum spec;
+    *lr = (sea_slope_stats){ { 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+    CU_ASSERT_FATAL(sea_spectrum_init(sc->wind_speed, INFINITY, sc->wind_dir, &spec, NULL) ==
+                    SEA_OK);
+    CU_ASSERT_FATAL(sea_spectrum_slope_cov(&spec, 0.0, &lr->cov, NULL) == SEA_OK);
+    sea_water *w = NULL;
+    CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) == SEA_OK);
+    CU_ASSERT(sea_water_index(w, sc->wavelength, N, NULL) == SEA_OK);
+    sea_water_free(w);
+}
+
 /* The render follows the second hits' polarisation where its model
  * follows two hits: seen from 20 km through 2 deg at 75 deg, the wind at
  * 45 deg, reflections = 2, the centre pixel (low resolution, the camera
@@ -882,14 +897,9 @@ static void test_render_every_hit(void)
     sc.reflections = 2;
     sea_image img;
     const size_t c = render_far(&sc, &img);
-    sea_spectrum spec;
-    sea_slope_stats st = { { 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
-    CU_ASSERT_FATAL(sea_spectrum_init(sc.wind_speed, INFINITY, sc.wind_dir, &spec, NULL) == SEA_OK);
-    CU_ASSERT_FATAL(sea_spectrum_slope_cov(&spec, 0.0, &st.cov, NULL) == SEA_OK);
+    sea_slope_stats st;
     double complex N;
-    sea_water *w = NULL;
-    CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) == SEA_OK);
-    CU_ASSERT_FATAL(sea_water_index(w, sc.wavelength, &N, NULL) == SEA_OK);
+    scene_sea(&sc, &st, &N);
     sea_stokes e, one;
     const sea_dir v = { sc.look_zenith, 0.0 };
     CU_ASSERT_FATAL(sea_polar_emissivity_multi_n(P, SEA_EMIS_AUTO, NULL, &N, 1, &st, v, 2, &e,
@@ -901,7 +911,6 @@ static void test_render_every_hit(void)
     ASSERT_ABS(q, e.q / e.i, 5e-5);
     ASSERT_ABS(u, e.u / e.i, 5e-5);
     CU_ASSERT(fabs(q - one.q / one.i) > 2e-3);
-    sea_water_free(w);
     sea_image_free(&img);
 }
 
@@ -1115,14 +1124,9 @@ static void test_render_clear_sky(void)
     sc.air_temperature = 280.0;
     sea_image img;
     const size_t c = render_far(&sc, &img);
-    sea_spectrum spec;
-    sea_slope_stats st = { { 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
-    CU_ASSERT_FATAL(sea_spectrum_init(sc.wind_speed, INFINITY, sc.wind_dir, &spec, NULL) == SEA_OK);
-    CU_ASSERT_FATAL(sea_spectrum_slope_cov(&spec, 0.0, &st.cov, NULL) == SEA_OK);
+    sea_slope_stats st;
     double complex N;
-    sea_water *w = NULL;
-    CU_ASSERT_FATAL(sea_water_alloc(SEA_WATER_HALE_QUERRY, 35.0, &w, NULL) == SEA_OK);
-    CU_ASSERT_FATAL(sea_water_index(w, sc.wavelength, &N, NULL) == SEA_OK);
+    scene_sea(&sc, &st, &N);
     const double B = sea_planck_radiance(sc.wavelength, sc.temperature);
     const double Lk[1] = { sea_planck_radiance(sc.wavelength, sc.air_temperature) };
     const sea_sky clear = { SEA_SKY_CLEAR, sc.sky_zenith_emissivity, Lk, 0, NULL };
@@ -1142,7 +1146,6 @@ static void test_render_clear_sky(void)
     CU_ASSERT(fabs(Q_uniform / Ir - Qr / Ir) > 1e-3);
     ASSERT_CLAIM("polar_sky_render", q, 0.0);
     ASSERT_CLAIM("polar_sky_uniform", Q_uniform / Ir, 0.0);
-    sea_water_free(w);
     sea_image_free(&img);
 }
 

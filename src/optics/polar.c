@@ -68,24 +68,53 @@ void sea_polar_plane_angle(double a, double b, double *c2, double *s2)
     }
 }
 
-/* One facet's Stokes emission toward v: its polarised part (R_s - R_p)/2
- * in the sensor's frame, for SEA_EMIS_FULL's adaptive quadrature
- * (vals: 1 - rho, Q, U). */
+/* One facet's Stokes emission toward v, for SEA_EMIS_FULL's adaptive
+ * quadrature (vals: 1 - rho, Q, U): its polarised part (R_s - R_p)/2 in
+ * the sensor's frame; or with a sky, its reflection of the sky along its
+ * mirror ray (zenith cosine 2 cos psi n_z - cos theta, n_z = 1 / sqrt(1 +
+ * gamma^2)), R_s along s and R_p along p (vals: I, Q, U). */
 typedef struct {
     double complex N;
     double sin_th, cos_th;
+    const sea_sky *sky; /* NULL: the emission */
+    size_t k;           /* the sky's index */
 } facet_ctx;
 
-static void facet_emission(double gX, double gY, double cos_psi, void *ctx, double *vals)
+static void facet_stokes(double gX, double gY, double cos_psi, void *ctx, double *vals)
 {
     const facet_ctx *c = ctx;
     double Rs, Rp, c2, s2;
     sea_polar_fresnel(cos_psi, c->N, &Rs, &Rp);
     sea_polar_plane_angle(c->sin_th + gX * c->cos_th, -gY, &c2, &s2);
-    const double pol = 0.5 * (Rs - Rp);
-    vals[0] = 1.0 - sea_fresnel_unpolarized(cos_psi, c->N); /* (the reference's own) */
-    vals[1] = pol * c2;
-    vals[2] = pol * s2;
+    if (c->sky == NULL) {
+        const double pol = 0.5 * (Rs - Rp);
+        vals[0] = 1.0 - sea_fresnel_unpolarized(cos_psi, c->N); /* (the reference's own) */
+        vals[1] = pol * c2;
+        vals[2] = pol * s2;
+        return;
+    }
+    const double rz = 2.0 * cos_psi / sqrt(1.0 + gX * gX + gY * gY) - c->cos_th;
+    const double L = sea_sky_radiance(c->sky, c->k, rz);
+    vals[0] = 0.5 * (Rs + Rp) * L;
+    vals[1] = 0.5 * (Rp - Rs) * L * c2;
+    vals[2] = 0.5 * (Rp - Rs) * L * s2;
+}
+
+/* SEA_EMIS_FULL's adaptive average of facet_stokes for each index (sky
+ * NULL: the emission). */
+static sea_status full_stokes(const sea_optics *p, const double complex *N, size_t n,
+                              const sea_slope_stats *st, sea_dir v, const sea_sky *sky,
+                              sea_stokes *out, sea_error *err)
+{
+    for (size_t i = 0; i < n; i++) {
+        facet_ctx c = { N[i], sin(v.theta), cos(v.theta), sky, i };
+        double m[3];
+        sea_status s = sea_optics_facet_mean_full(p, st, v, facet_stokes, &c, 3, m, err);
+        if (s != SEA_OK)
+            return s;
+        out[i] = (sea_stokes){ m[0], m[1], m[2] };
+    }
+    return SEA_OK;
 }
 
 sea_status sea_polar_emissivity_n(const sea_optics *p, sea_emis_method method,
@@ -95,17 +124,8 @@ sea_status sea_polar_emissivity_n(const sea_optics *p, sea_emis_method method,
 {
     sea_status s;
     const double sin_th = sin(v.theta), cos_th = cos(v.theta);
-    if (rule == NULL && method == SEA_EMIS_FULL) {
-        for (size_t i = 0; i < n; i++) {
-            facet_ctx c = { N[i], sin_th, cos_th };
-            double m[3];
-            if ((s = sea_optics_facet_mean_full(p, st, v, facet_emission, &c, 3, m, err)) !=
-                SEA_OK)
-                return s;
-            out[i] = (sea_stokes){ m[0], m[1], m[2] };
-        }
-        return SEA_OK;
-    }
+    if (rule == NULL && method == SEA_EMIS_FULL)
+        return full_stokes(p, N, n, st, v, NULL, out, err);
     /* (64 KB: the renderer's threads have the emissivity's 80 KB of nodes
      * on their stacks already) */
     sea_facet_node nodes[SEA_FACET_NODES_MAX];
@@ -178,46 +198,14 @@ sea_status sea_polar_reflectivity_sky(const sea_optics *p, sea_emis_method metho
     return SEA_OK;
 }
 
-/* One facet's reflection of a sky that varies with the zenith, toward v:
- * the sky along its mirror ray (zenith cosine 2 cos psi n_z - cos theta,
- * n_z = 1 / sqrt(1 + gamma^2)), R_s along s and R_p along p, for
- * SEA_EMIS_FULL's adaptive quadrature (vals: I, Q, U). */
-typedef struct {
-    double complex N;
-    double sin_th, cos_th;
-    const sea_sky *sky;
-    size_t k;
-} sky_ctx;
-
-static void facet_sky(double gX, double gY, double cos_psi, void *ctx, double *vals)
-{
-    const sky_ctx *c = ctx;
-    double Rs, Rp, c2, s2;
-    sea_polar_fresnel(cos_psi, c->N, &Rs, &Rp);
-    sea_polar_plane_angle(c->sin_th + gX * c->cos_th, -gY, &c2, &s2);
-    const double rz = 2.0 * cos_psi / sqrt(1.0 + gX * gX + gY * gY) - c->cos_th;
-    const double L = sea_sky_radiance(c->sky, c->k, rz);
-    vals[0] = 0.5 * (Rs + Rp) * L;
-    vals[1] = 0.5 * (Rp - Rs) * L * c2;
-    vals[2] = 0.5 * (Rp - Rs) * L * s2;
-}
-
 sea_status sea_polar_sky_n(const sea_optics *p, sea_emis_method method, const sea_emis_rule *rule,
                            const double complex *N, size_t n, const sea_slope_stats *st,
                            sea_dir v, const sea_sky *sky, sea_stokes *out, sea_error *err)
 {
     sea_status s;
     const double sin_th = sin(v.theta), cos_th = cos(v.theta);
-    if (rule == NULL && method == SEA_EMIS_FULL) {
-        for (size_t i = 0; i < n; i++) {
-            sky_ctx c = { N[i], sin_th, cos_th, sky, i };
-            double m[3];
-            if ((s = sea_optics_facet_mean_full(p, st, v, facet_sky, &c, 3, m, err)) != SEA_OK)
-                return s;
-            out[i] = (sea_stokes){ m[0], m[1], m[2] };
-        }
-        return SEA_OK;
-    }
+    if (rule == NULL && method == SEA_EMIS_FULL)
+        return full_stokes(p, N, n, st, v, sky, out, err);
     sea_facet_node nodes[SEA_FACET_NODES_MAX];
     size_t count;
     int exact;
