@@ -1235,6 +1235,26 @@ er=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 4 --wind 10 --theta 80 
 check_close emissivity.reference_close "$ed" "$er" 1e-4
 sb_run energy --wavelength 4 --wind 10 --theta 80 --scales 2
 check_error energy.no_scales 2 "unknown option '--scales'"
+# --stokes: three more columns, the emissivity column unchanged; at one
+# hit and one scale e_q is the one-hit model's that tests/data/mc_stokes.csv
+# records (8 decimals there); along the wind e_u vanishes, at 45 deg not
+sb_run emissivity --wavelength 10 --wind 10 --theta 80 --phi 0,45 --stokes
+check_ok emissivity.stokes
+check_eq emissivity.stokes_header "$(csv_header)" \
+    "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity,e_q,e_u,dolp"
+check_csv_shape emissivity.stokes_shape
+plain=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 10 --wind 10 --theta 80 --phi 0,45 | tail -2 | cut -d, -f9)
+check_eq emissivity.stokes_same_emissivity "$(csv_all emissivity)" "$plain"
+check_eq emissivity.stokes_u_along "$(awk -v u="$(csv_col e_u 1)" 'BEGIN { print (u < 1e-12 && u > -1e-12) }')" 1
+check_eq emissivity.stokes_u_45 "$(awk -v u="$(csv_col e_u 2)" 'BEGIN { print (u < -1e-3) }')" 1
+check_close emissivity.stokes_dolp "$(csv_col dolp 1)" \
+    "$(awk -v q="$(csv_col e_q 1)" -v e="$(csv_col emissivity 1)" 'BEGIN { printf "%.10g", q / e }')" 1e-9
+sb_run emissivity --wavelength 10 --wind 10 --theta 80 --scales 1 --reflections 1 --stokes
+check_close emissivity.stokes_mc_table "$(csv_col e_q 1)" \
+    "$(grep '^10,10,80,0,' "$top_srcdir/tests/data/mc_stokes.csv" | cut -d, -f23)" 1e-8
+sb_run energy --wavelength 4 --wind 10 --theta 80 --stokes
+check_error energy.no_stokes 2 "unknown option '--stokes'"
+
 # examples/horizon.ini (clear sky, air, two reflections), shrunk: the sky
 # at the horizon reads the air's 288 K, the sea between it and 290 K.
 sb_run render "$top_srcdir/examples/horizon.ini" -o "$RDIR/horizon.exr" --set sensor.width=48 \

@@ -30,21 +30,29 @@ static const char SEA_CLI_HELP_EMISSIVITY[] =
     "Directions:\n"
     SEA_CLI_HELP_GRID
     SEA_CLI_HELP_EMISSIVITY_RULE
-    "  --reflections N     surface hits, 1 to 3 (default 1, the paper): with 2\n"
-    "                      or 3 a facet's mirror ray may meet the sea again and\n"
-    "                      bring its emission (then --emissivity sets the first\n"
-    "                      hit's rule only when N = 1)\n"
+    "  --reflections R     auto (default: a second hit in the sea around wherever\n"
+    "                      it moves the emissivity by more than a hundredth of\n"
+    "                      --tolerance) or 1 to 3 surface hits (1: the paper):\n"
+    "                      a facet's mirror ray may meet the sea again and\n"
+    "                      bring its emission\n"
     SEA_CLI_HELP_SHADOWING
-    "  --scales N          1 (default: one Gaussian surface, the paper) or 2:\n"
-    "                      the slopes of the waves longer than the half-variance\n"
-    "                      split carry facets, each with its own Eq 7 (needs\n"
-    "                      --wind, --reflections 1; within 1.5e-3 of ray-traced\n"
+    "  --scales N          2 (default with --wind): the slopes of the waves\n"
+    "                      longer than the half-variance split carry facets,\n"
+    "                      each with its own Eq 7 (within 1.5e-3 of ray-traced\n"
     "                      sea surfaces to 82 deg, 4.6e-3 at 85, where one\n"
-    "                      scale is 8e-3 and 20e-3 low)\n"
+    "                      scale is 8e-3 and 20e-3 low); or 1 (default with\n"
+    "                      --cov: one Gaussian surface, the paper)\n"
+    "  --tolerance T       relative, (0, 0.1]; default 1e-3: how finely the\n"
+    "                      model's parts are computed\n"
+    "  --reference         every approximation replaced by its exact form\n"
+    "  --stokes            also the polarised part of the Stokes emissivity in\n"
+    "                      the view's frame (+Q vertical): columns e_q, e_u and\n"
+    "                      dolp = sqrt(e_q^2 + e_u^2) / emissivity\n"
     SEA_CLI_HELP_WATER
     SEA_CLI_HELP_SLOPE_STATS
     "\n" SEA_CLI_HELP_LIST "\n"
-    "Columns: wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity\n";
+    "Columns: wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity\n"
+    "         (and e_q,e_u,dolp with --stokes)\n";
 
 static const char SEA_CLI_HELP_ENERGY[] =
     "Usage: seabake energy --wavelength UM (--wind U | --cov SXX,SYY,SXY)\n"
@@ -69,7 +77,8 @@ static const char SEA_CLI_HELP_ENERGY[] =
 
 static const sea_cli_option SEA_CLI_EMISSIVITY_OPTIONS[] = {
     SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"reflections", 0},
-    {"shadowing", 0}, {"scales", 0}, {"tolerance", 0}, {"reference", SEA_CLI_OPT_FLAG}};
+    {"shadowing", 0}, {"scales", 0}, {"tolerance", 0}, {"reference", SEA_CLI_OPT_FLAG},
+    {"stokes", SEA_CLI_OPT_FLAG}};
 static const sea_cli_option SEA_CLI_ENERGY_OPTIONS[] = {
     SEA_CLI_SEA_OPTIONS, {"theta", 0}, {"phi", 0}, {"emissivity", 0}, {"shadowing", 0}};
 
@@ -147,18 +156,23 @@ static void model_comment(FILE *out, const emis_model *em)
 }
 
 static sea_status direction_row(FILE *out, sea_cli_quantity what, const sea_optics *optics,
-                                sea_emis_method method, const sea_model *model,
+                                sea_emis_method method, const sea_model *model, int stokes,
                                 const sea_cli_sea *sea, double t, double f, sea_error *err)
 {
     sea_dir v = sea_dir_fold(sea_cli_radians(t), sea_cli_radians(f));
     sea_error lib = {{0}};
     sea_energy e = {0.0, 0.0, 0.0};
+    double q = 0.0, u = 0.0;
     sea_status st;
     const char *name;
     switch (what) {
     case SEA_CLI_EMISSIVITY:
         name = "emissivity";
         st = sea_model_emissivity(model, &sea->stats, v, &e.emissivity, NULL, &lib);
+        if (st == SEA_OK && stokes) {
+            name = "Stokes emissivity";
+            st = sea_model_polarisation(model, &sea->stats, v, &q, &u, &lib);
+        }
         break;
     case SEA_CLI_ENERGY:
     default:
@@ -168,11 +182,15 @@ static sea_status direction_row(FILE *out, sea_cli_quantity what, const sea_opti
     }
     if (st != SEA_OK)
         return sea_fail(err, st, "%s at theta = %g, phi = %g degrees: %s", name, t, f, lib.msg);
-    if (!isfinite(e.emissivity) || !isfinite(e.reflectance) || !isfinite(e.total))
+    if (!isfinite(e.emissivity) || !isfinite(e.reflectance) || !isfinite(e.total) ||
+        !isfinite(q) || !isfinite(u))
         return sea_cli_not_finite(name, t, f, err);
     fprintf(out, "%.10g,%.10g,%.10g,", sea->wavelength_um, t, f);
     sea_cli_print_sea_columns(out, sea);
-    if (what == SEA_CLI_EMISSIVITY)
+    if (what == SEA_CLI_EMISSIVITY && stokes)
+        fprintf(out, ",%.10g,%.10g,%.10g,%.10g\n", e.emissivity, q, u,
+                e.emissivity > 0.0 ? hypot(q, u) / e.emissivity : 0.0);
+    else if (what == SEA_CLI_EMISSIVITY)
         fprintf(out, ",%.10g\n", e.emissivity);
     else
         fprintf(out, ",%.10g,%.10g,%.10g\n", e.emissivity, e.reflectance, e.total);
@@ -210,15 +228,17 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
         goto done;
     sea_optics_set_shadowing(optics, shadowing);
 
+    const int stokes = what == SEA_CLI_EMISSIVITY && sea_cli_given(args, "stokes");
     if (what == SEA_CLI_EMISSIVITY)
         model_comment(out, &em);
     fputs(what == SEA_CLI_EMISSIVITY
-              ? "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity\n"
+              ? stokes ? "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity,e_q,e_u,dolp\n"
+                       : "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity\n"
               : "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity,reflectance,total\n",
           out);
     for (size_t i = 0; i < theta.n && st == SEA_OK; ++i)
         for (size_t j = 0; j < phi.n && st == SEA_OK; ++j)
-            st = direction_row(out, what, optics, method, model, &sea, theta.values[i],
+            st = direction_row(out, what, optics, method, model, stokes, &sea, theta.values[i],
                                phi.values[j], err);
 done:
     sea_model_free(model);
