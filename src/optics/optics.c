@@ -2316,6 +2316,19 @@ static inline void node_sums_fold(node_sums *s, double w_j, double den)
         s->acc[0][k] = s->acc[1][k] = 0.0;
 }
 
+/* The chance that the mirror ray toward -o meets the sea around again,
+ * from the table's pinf = Lambda / (1 + Lambda) of the ray: p / (1 + L_in
+ * (1 - p)), Eq 14c's bistatic factor (1 where the ray falls); 0 where
+ * negligible (SEA_MULTI_P_NEGLIGIBLE, or times the node's share w_j w /
+ * w_tot below SEA_MULTI_SHARE_NEGLIGIBLE), as hit_chance. */
+static inline double around_chance(double pinf, const double o[3], double L_in, double w_j,
+                                   double w, double w_tot)
+{
+    const double P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + L_in * (1.0 - pinf));
+    return P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / w_tot < SEA_MULTI_SHARE_NEGLIGIBLE ? 0.0
+                                                                                            : P;
+}
+
 /* second_hit_around's sums: per cross-slope node and over them (T, D). */
 typedef struct {
     const view_frame *f;
@@ -2345,8 +2358,8 @@ static inline __attribute__((always_inline)) void around_node(void *ctx, double 
     const double o[3] = { -(x * cph - y * sph), -(x * sph + y * cph), -(two_c - f->cos_th) };
     double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK], pinf;
     around_values(c->ar, o, c->k0, n, c->ec, c->sb, eB, kB, &pinf, NULL);
-    const double P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + c->L_in * (1.0 - pinf));
-    if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / c->w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
+    const double P = around_chance(pinf, o, c->L_in, w_j, w, c->w_tot);
+    if (P == 0.0)
         return;
     double rho[SEA_MULTI_BLOCK];
     rho_of_block(c->ec, n, c->sb, f->delta, cpsi, rho);
@@ -3481,8 +3494,8 @@ static void polar_node(void *ctx, double w_j, double w, double gX, double gY)
         around_stencil_t sten;
         double pinf;
         around_values(c->ar, o, c->k0, n, c->ec, NULL, eB, NULL, &pinf, &sten);
-        P = o[2] >= 0.0 ? 1.0 : pinf / (1.0 + c->L_in * (1.0 - pinf));
-        if (P < SEA_MULTI_P_NEGLIGIBLE || P * w_j * w / c->w_tot < SEA_MULTI_SHARE_NEGLIGIBLE)
+        P = around_chance(pinf, o, c->L_in, w_j, w, c->w_tot);
+        if (P == 0.0)
             return;
         around_polar(c->ar, o, &sten, c->k0, n, qB, uB);
     } else {

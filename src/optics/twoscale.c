@@ -393,6 +393,18 @@ static void delta_stats(const sea_two_scale_table *t, sea_vec2 m, double f, sea_
     *sub = (sea_slope_stats){ m, hs };
 }
 
+/* two_scale_n for the table's indices at the reference's orders (ref) or
+ * the table's. */
+static sea_status table_two_scale(const sea_two_scale_table *t, int ref,
+                                  const sea_slope_stats *sub, sea_cov2 res, sea_dir v,
+                                  double *out, sea_stokes *pol, sea_error *err)
+{
+    return ref ? two_scale_n(t->p, t->N, t->n, sub, res, v, t->gl_ref, TS_NX, t->gh_ref, TS_NY,
+                             out, pol, err)
+               : two_scale_n(t->p, t->N, t->n, sub, res, v, t->gl, TAB_NX, t->gh, TAB_NY, out,
+                             pol, err);
+}
+
 /* The addition for a facet of mean slope m seen from v whose covariance
  * holds f of the resolved band, by two scales at the given orders. */
 static sea_status delta_at(const sea_two_scale_table *t, sea_vec2 m, double f, sea_dir v,
@@ -404,10 +416,7 @@ static sea_status delta_at(const sea_two_scale_table *t, sea_vec2 m, double f, s
     double e1[SEA_SCENE_BAND_MAX], e2[SEA_SCENE_BAND_MAX];
     sea_status st = sea_emissivity_n(t->p, SEA_EMIS_AUTO, NULL, t->N, t->n, &one, v, e1, err);
     if (st == SEA_OK)
-        st = ref ? two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl_ref, TS_NX, t->gh_ref, TS_NY,
-                               e2, NULL, err)
-                 : two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl, TAB_NX, t->gh, TAB_NY, e2,
-                               NULL, err);
+        st = table_two_scale(t, ref, &sub, res, v, e2, NULL, err);
     if (st != SEA_OK)
         return st;
     for (size_t k = 0; k < t->n; k++)
@@ -686,10 +695,7 @@ static sea_status polar_delta_at(const sea_two_scale_table *t, sea_vec2 m, doubl
     sea_stokes e1[SEA_SCENE_BAND_MAX], e2[SEA_SCENE_BAND_MAX];
     sea_status st = sea_polar_emissivity_n(t->p, SEA_EMIS_AUTO, NULL, t->N, t->n, &one, v, e1, err);
     if (st == SEA_OK)
-        st = ref ? two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl_ref, TS_NX, t->gh_ref, TS_NY,
-                               NULL, e2, err)
-                 : two_scale_n(t->p, t->N, t->n, &sub, res, v, t->gl, TAB_NX, t->gh, TAB_NY,
-                               NULL, e2, err);
+        st = table_two_scale(t, ref, &sub, res, v, NULL, e2, err);
     if (st != SEA_OK)
         return st;
     for (size_t k = 0; k < t->n; k++) {
