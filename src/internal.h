@@ -239,6 +239,20 @@ SEA_INTERNAL void sea_shadow_split(double mu, double m, double s, double *visibl
  * underflows (facets turned away by 38 standard deviations and more: the
  * few that face mu); -inf where no facet faces it (s = 0, m >= mu). */
 SEA_INTERNAL double sea_shadow_log_visible(double mu, double m, double s);
+/* shadow.c: sea_shadow_correlated(z, t) for many t at one z, the same
+ * bits: the interpolation's rows in z found once (sea_shadow_correlated_z),
+ * then each t's value (sea_shadow_correlated_zt). */
+typedef struct {
+    int row[4];
+    double wa[4];
+} sea_cs_rows;
+typedef struct {
+    double z;
+    int past; /* z beyond the table (or NaN): C = 1 */
+    sea_cs_rows r;
+} sea_cs_z;
+SEA_INTERNAL void sea_shadow_correlated_z(double z, sea_cs_z *h);
+SEA_INTERNAL double sea_shadow_correlated_zt(const sea_cs_z *h, double t);
 /* shadow.c: w[k] *= sea_shadow_correlated(z, mid + half x[k]) for k < n,
  * the same values (to rounding: the interpolation's rows in z are combined
  * once), in AVX2 when avx2 is non-zero and the CPU has it (the same bits

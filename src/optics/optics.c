@@ -2242,6 +2242,10 @@ walk_second_hits(const sea_optics *p, const view_frame *f, fixed_rule a, double 
     double t_lo = 0.0, t_hi = 0.0;
     if (!f->delta)
         view_window(f, a.t_cut, &t_lo, &t_hi);
+    /* the correlated shadowing's rows at the walk's z, found once */
+    sea_cs_z cz;
+    if (f->corr)
+        sea_shadow_correlated_z(f->z, &cz);
     for (int j = 0; j < nj; j++) {
         const double w_j = wj != NULL ? wj[j] : 1.0;
         const double x_j = xj != NULL ? xj[j] : 0.0;
@@ -2285,7 +2289,7 @@ walk_second_hits(const sea_optics *p, const view_frame *f, fixed_rule a, double 
                 }
                 double w = f->delta ? 1.0 : dt * rule_weight(f, t);
                 if (f->corr && w > 0.0)
-                    w *= sea_shadow_correlated(f->z, t);
+                    w *= sea_shadow_correlated_zt(&cz, t);
                 if (!(w > 0.0))
                     continue;
                 den += w;
@@ -2357,7 +2361,7 @@ static inline __attribute__((always_inline)) void around_node(void *ctx, double 
     const double cph = f->cos_phi, sph = f->sin_phi;
     const double o[3] = { -(x * cph - y * sph), -(x * sph + y * cph), -(two_c - f->cos_th) };
     double eB[SEA_MULTI_BLOCK], kB[SEA_MULTI_BLOCK], pinf;
-    around_values(c->ar, o, c->k0, n, c->ec, c->sb, eB, kB, &pinf, NULL);
+    around_values(c->ar, o, c->k0, n, c->ec, c->sb, eB, c->sky != NULL ? kB : NULL, &pinf, NULL);
     const double P = around_chance(pinf, o, c->L_in, w_j, w, c->w_tot);
     if (P == 0.0)
         return;
@@ -2725,7 +2729,7 @@ static size_t around_at(const sea_around *ar, const double o[3], double wz[4], d
     const double xz = sqrt(fabs(o[2])) * SEA_AROUND_HALF;
     const double h2 = o[0] * o[0] + o[1] * o[1];
     const double a = o[0] * ar->cw + o[1] * ar->sw;
-    const double xw = (h2 > 0.0 ? fmin(a * a / h2, 1.0) : 1.0) * (SEA_AROUND_NW - 1);
+    const double xw = (h2 > 0.0 ? sea_fmin(a * a / h2, 1.0) : 1.0) * (SEA_AROUND_NW - 1);
     /* below: row r of the half is x = -(HALF - r)/HALF, so from the
      * horizon the rows run backwards */
     int rz = around_stencil(xz, SEA_AROUND_HALF, wz);
@@ -2740,6 +2744,22 @@ static size_t around_at(const sea_around *ar, const double o[3], double wz[4], d
     }
     const int cw = around_stencil(xw, SEA_AROUND_NW - 1, ww);
     return ((size_t)(below ? 0 : 1) * SEA_AROUND_ROWS + (size_t)rz) * SEA_AROUND_COLS + (size_t)cw;
+}
+
+/* The 4 x 4 stencil from cell c0 of a table of na values a cell, for
+ * indices k0 .. k0 + n: out[k]. */
+static inline void around_read(const double *T, size_t c0, size_t na, size_t k0, size_t n,
+                               const double wz[4], const double ww[4], double *out)
+{
+    const double *base = T + c0 * na + k0;
+    const size_t row = (size_t)SEA_AROUND_COLS * na;
+    for (size_t k = 0; k < n; k++) {
+        const double *q = base + k;
+        double v = 0.0;
+        for (int r = 0; r < 4; r++, q += row)
+            v += wz[r] * ((ww[0] * q[0] + ww[1] * q[na]) + (ww[2] * q[2 * na] + ww[3] * q[3 * na]));
+        out[k] = v;
+    }
 }
 
 static void around_values(const sea_around *ar, const double o[3], size_t k0, size_t n,
@@ -2761,31 +2781,20 @@ static void around_values(const sea_around *ar, const double o[3], size_t k0, si
         memcpy(sten->ww, ww, sizeof ww);
     }
     const int below = o[2] < 0.0;
-    const size_t na = ar->n;
-    for (int t = 0; t < 1 + (ar->has_sky && kv != NULL); t++) {
-        const double *T = (t == 0 ? ar->E : ar->K) + k0;
-        double *out = t == 0 ? e : kv;
-        for (size_t k = 0; k < n; k++) {
-            double v = 0.0;
-            for (int r = 0; r < 4; r++) {
-                const double *q = T + (c0 + (size_t)r * SEA_AROUND_COLS) * na + k;
-                v += wz[r] * ((ww[0] * q[0] + ww[1] * q[na]) + (ww[2] * q[2 * na] + ww[3] * q[3 * na]));
-            }
-            out[k] = v;
-        }
+    around_read(ar->E, c0, ar->n, k0, n, wz, ww, e);
+    if (kv != NULL) {
+        if (ar->has_sky)
+            around_read(ar->K, c0, ar->n, k0, n, wz, ww, kv);
+        else
+            for (size_t k = 0; k < n; k++)
+                kv[k] = 0.0;
     }
-    if (!ar->has_sky && kv != NULL)
-        for (size_t k = 0; k < n; k++)
-            kv[k] = 0.0;
     if (!below) {
         *pinf = 1.0;
     } else {
-        double v = 0.0;
-        for (int r = 0; r < 4; r++) {
-            const double *q = &ar->P[c0 + (size_t)r * SEA_AROUND_COLS];
-            v += wz[r] * ((ww[0] * q[0] + ww[1] * q[1]) + (ww[2] * q[2] + ww[3] * q[3]));
-        }
-        *pinf = fmin(fmax(v, 0.0), 1.0);
+        double v;
+        around_read(ar->P, c0, 1, 0, 1, wz, ww, &v);
+        *pinf = sea_fmin(sea_fmax(v, 0.0), 1.0);
     }
 }
 

@@ -551,9 +551,9 @@ static void cr_axis(double x, int nn, int mirror, int k[4], double w[4])
     }
 }
 
-/* Linear interpolation on the same stencil shape: nodes i and i + 1 of x
- * in [0, nn - 1] (clamped), weights 1 - f and f, the other two 0. */
-static void lin_axis(double x, int nn, int k[4], double w[4])
+/* Linear interpolation: nodes k[0] = i and k[1] = i + 1 of x in [0, nn -
+ * 1] (clamped), weights 1 - f and f. */
+static void lin_axis(double x, int nn, int k[2], double w[2])
 {
     int i = (int)floor(x);
     if (i < 0)
@@ -562,10 +562,9 @@ static void lin_axis(double x, int nn, int k[4], double w[4])
         i = nn - 2;
     const double f = fmin(fmax(x - i, 0.0), 1.0);
     k[0] = i;
-    k[1] = k[2] = k[3] = i + 1;
+    k[1] = i + 1;
     w[0] = 1.0 - f;
     w[1] = f;
-    w[2] = w[3] = 0.0;
 }
 
 sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slope_stats *st,
@@ -585,8 +584,8 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
     const double mY_abs = fabs(-st->mean.x * sin(v.phi) + st->mean.y * cos(v.phi));
     if (!(xz >= 0.0) || mY_abs > TAB_MY_MAX) /* turned away, or far across: directly */
         return delta_at(t, st->mean, f, v, 0, out, err);
-    int kz[4], kf[4], kp[4], kt[4];
-    double wz[4], wf[4], wp[4], wt[4];
+    int kz[4], kf[4], kp[2], kt[2];
+    double wz[4], wf[4], wp[2], wt[2];
     cr_axis(xz, TAB_NZ, 0, kz, wz);
     cr_axis(sqrt(sqrt(f)) * (TAB_NF - 1), TAB_NF, 0, kf, wf);
     /* the azimuth to the wind in [0, 90] deg: the table is even about both
@@ -598,8 +597,8 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
      * the images of seabake(1), REFERENCE) */
     lin_axis(fmin(phi, M_PI / 2.0) / (M_PI / 2.0) * (TAB_NP - 1), TAB_NP, kp, wp);
     lin_axis((v.theta - TAB_T0) / TAB_DT, TAB_NT, kt, wt);
-    int rows[16], nr = 0;
-    for (int a = 0; a < 4; a++)
+    int rows[8], nr = 0;
+    for (int a = 0; a < 2; a++)
         for (int b = 0; b < 4; b++)
             if (wt[a] != 0.0 && wz[b] != 0.0)
                 rows[nr++] = kt[a] * TAB_NZ + kz[b];
@@ -610,7 +609,12 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
     const double mY = -st->mean.x * sin(v.phi) + st->mean.y * cos(v.phi);
     const double y = mY * mY / (TAB_MY * TAB_MY), wy[2] = { 1.0 - y, y };
     const size_t n = t->n;
-    for (int a = 0; a < 4; a++) {
+    /* each (f, azimuth) node's place in a row, found once */
+    size_t off[4][2];
+    for (int c = 0; c < 4; c++)
+        for (int d = 0; d < 2; d++)
+            off[c][d] = ((size_t)kf[c] * TAB_NP + (size_t)kp[d]) * TAB_NY2 * n;
+    for (int a = 0; a < 2; a++) {
         if (wt[a] == 0.0)
             continue;
         for (int b = 0; b < 4; b++) {
@@ -622,16 +626,18 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
                 const double wabc = wab * wf[c];
                 if (wabc == 0.0)
                     continue;
-                for (int d = 0; d < 4; d++) {
+                for (int d = 0; d < 2; d++) {
                     if (wp[d] == 0.0)
                         continue;
-                    for (int e = 0; e < TAB_NY2; e++) {
-                        const double w = wabc * wp[d] * wy[e];
-                        const double *q =
-                            row + (((size_t)kf[c] * TAB_NP + (size_t)kp[d]) * TAB_NY2 +
-                                   (size_t)e) * n;
-                        for (size_t k = 0; k < n; k++)
-                            out[k] += w * q[k];
+                    const double wcd = wabc * wp[d];
+                    const double *q = row + off[c][d];
+                    for (int e = 0; e < TAB_NY2; e++, q += n) {
+                        const double w = wcd * wy[e];
+                        if (n == 1)
+                            out[0] += w * q[0];
+                        else
+                            for (size_t k = 0; k < n; k++)
+                                out[k] += w * q[k];
                     }
                 }
             }
@@ -764,8 +770,8 @@ sea_status sea_two_scale_polar_delta(sea_two_scale_table *t, sea_dir v, const se
     const double mY = -st->mean.x * sin(v.phi) + st->mean.y * cos(v.phi);
     if (!(xz >= 0.0) || fabs(mY) > TAB_MY_MAX) /* turned away, or far across: directly */
         return polar_delta_at(t, st->mean, f, v, 0, q, u, err);
-    int kz[4], kf[4], kt[4], ky[4];
-    double wz[4], wf[4], wt[4], wp[PTAB_NP], wy[4];
+    int kz[4], kf[4], kt[2], ky[4];
+    double wz[4], wf[4], wt[2], wp[PTAB_NP], wy[4];
     cr_axis(xz, TAB_NZ, 0, kz, wz);
     cr_axis(sqrt(sqrt(f)) * (TAB_NF - 1), TAB_NF, 0, kf, wf);
     lin_axis((v.theta - TAB_T0) / TAB_DT, TAB_NT, kt, wt);
@@ -781,8 +787,8 @@ sea_status sea_two_scale_polar_delta(sea_two_scale_table *t, sea_dir v, const se
     }
     /* m_Y: Catmull-Rom on its nodes (linear ghosts) */
     cr_axis(mY / PTAB_DY + (PTAB_NY - 1) / 2, PTAB_NY, 0, ky, wy);
-    int cells[64], nc = 0;
-    for (int i = 0; i < 4; i++)
+    int cells[32], nc = 0;
+    for (int i = 0; i < 2; i++)
         for (int j = 0; j < 4; j++)
             for (int c = 0; c < 4; c++)
                 if (wt[i] != 0.0 && wz[j] != 0.0 && wf[c] != 0.0)
@@ -790,7 +796,7 @@ sea_status sea_two_scale_polar_delta(sea_two_scale_table *t, sea_dir v, const se
     sea_status status = table_fill(t, t->pready, cells, nc, polar_cell, err);
     if (status != SEA_OK)
         return status;
-    for (int i = 0; i < 4; i++) {
+    for (int i = 0; i < 2; i++) {
         if (wt[i] == 0.0)
             continue;
         for (int j = 0; j < 4; j++) {

@@ -323,10 +323,7 @@ static int cs_clamp(int i, int n) { return i < 0 ? 0 : i > n ? n : i; }
 static const double SEA_CS_B2 = (double)SEA_CS_NU * SEA_CS_NU / SEA_CS_U_MAX;
 
 /* The z part of the interpolation: the four rows and their weights. */
-typedef struct {
-    int row[4];
-    double wa[4];
-} cs_rows;
+typedef sea_cs_rows cs_rows;
 
 static void cs_rows_of(double z, cs_rows *r)
 {
@@ -372,16 +369,27 @@ static double cs_at(const cs_rows *r, double u)
     return acc;
 }
 
+void sea_shadow_correlated_z(double z, sea_cs_z *h)
+{
+    h->z = z;
+    h->past = !(z <= SEA_CS_Z_MAX); /* (also NaN) past Z_MAX facets are as good as unshadowed */
+    if (!h->past)
+        cs_rows_of(z, &h->r);
+}
+
+double sea_shadow_correlated_zt(const sea_cs_z *h, double t)
+{
+    if (h->past)
+        return 1.0;
+    const double u = h->z - t;
+    return u > 0.0 ? cs_at(&h->r, u) : 0.0;
+}
+
 double sea_shadow_correlated(double z, double t)
 {
-    if (!(z <= SEA_CS_Z_MAX))
-        return 1.0; /* (also NaN) past Z_MAX facets are as good as unshadowed */
-    const double u = z - t;
-    if (!(u > 0.0))
-        return 0.0;
-    cs_rows r;
-    cs_rows_of(z, &r);
-    return cs_at(&r, u);
+    sea_cs_z h;
+    sea_shadow_correlated_z(z, &h);
+    return sea_shadow_correlated_zt(&h, t);
 }
 
 /* C at u > 0 from the combined row comb of sea_shadow_correlated_scale
