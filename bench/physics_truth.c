@@ -124,7 +124,8 @@ int main(int argc, char **argv)
             lr[w] = (sea_slope_stats){ { 0, 0 }, { x[a][AH_SXX], x[a][AH_SYY], x[a][AH_SXY] } };
             const double t0 = cpu_seconds();
             if (sea_spectrum_init(x[a][AH_WIND], INFINITY, 0.0, &sp[w], &err) != SEA_OK ||
-                all_hits_model_alloc(&mp, &sp[w], &lr[w], 1, N, 2, &m[w], &err) != SEA_OK) {
+                all_hits_model_alloc(&mp, &sp[w], &lr[w], x[a][AH_PERIOD], N, 2, &m[w], &err) !=
+                    SEA_OK) {
                 fprintf(stderr, "physics_truth: %s, %g m/s: %s\n", name, x[a][AH_WIND],
                         err.msg);
                 return 1;

@@ -106,7 +106,7 @@ void all_hits_model_params(int k, sea_model_params *mp, const char **name)
 }
 
 sea_status all_hits_model_alloc(const sea_model_params *mp, const sea_spectrum *sp,
-                                const sea_slope_stats *lr, int own, const double complex *N,
+                                const sea_slope_stats *lr, double period, const double complex *N,
                                 size_t n, all_hits_model *out, sea_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -123,10 +123,10 @@ sea_status all_hits_model_alloc(const sea_model_params *mp, const sea_spectrum *
         return s;
     sea_cov2 res, sub, total;
     double k;
-    if (own) {
+    if (period > 0.0) {
         /* the surfaces' sea: half of their own slope variance resolved from
          * their longest wave (as test_two_scale_table splits them) */
-        s = sea_spectrum_split_at(sp, AH_KMIN, 0.5 * (lr->cov.xx + lr->cov.yy), &k, &res, &sub,
+        s = sea_spectrum_split_at(sp, 2.0 * M_PI / period, 0.5 * (lr->cov.xx + lr->cov.yy), &k, &res, &sub,
                                   err);
         total = lr->cov;
         sub = (sea_cov2){ total.xx - res.xx, total.yy - res.yy, total.xy - res.xy };

@@ -39,16 +39,13 @@ enum {
     AH_SMITH,
     AH_CORR,
     AH_DEFAULT, /* the model columns (mc_model_refresh) */
+    AH_PERIOD,  /* m: the surfaces' period, their longest wave */
     AH_COLS
 };
 enum { AH_ROWS_MAX = 160 };
 #define AH_HEADER                                                                                 \
     "wind_ms,wavelength_um,theta_deg,phi_deg,sxx,syy,sxy,eps1,eps1_se,eps,eps_se,multi,"          \
-    "model_smith,model_corr,model_default"
-
-/* The surfaces' longest wave: 2 pi over their period, 8192 cells of 0.04 m
- * (the table's comment). */
-#define AH_KMIN (2.0 * M_PI / (8192 * 0.04))
+    "model_smith,model_corr,model_default,period_m"
 
 /* Reads the table at path into x (at most max rows): the number of rows, or
  * -1 with a message on stderr (unreadable, another header, a short row). */
@@ -81,14 +78,15 @@ typedef struct {
     size_t n;
 } all_hits_model;
 /* mp's model for the wind's spectrum sp, low resolution lr (mean 0, the
- * surfaces' covariance) and the indices N[0..n).  own: the two scales split
- * at half of lr's slope variance from AH_KMIN (the surfaces' sea); 0: at
- * half of the spectrum's whole variance, as sea_model_alloc splits it.  The
+ * surfaces' covariance) and the indices N[0..n).  period > 0: the two
+ * scales split at half of lr's slope variance from the surfaces' longest
+ * wave, of that period in m (the surfaces' sea: the row's AH_PERIOD); 0:
+ * at half of the spectrum's whole variance, as sea_model_alloc splits it.  The
  * tolerance must be above the finest (2e-4, where sea_model_emissivity
  * takes the additions by quadrature) and not the reference: SEA_ERR_DOMAIN
  * otherwise. */
 sea_status all_hits_model_alloc(const sea_model_params *mp, const sea_spectrum *sp,
-                                const sea_slope_stats *lr, int own, const double complex *N,
+                                const sea_slope_stats *lr, double period, const double complex *N,
                                 size_t n, all_hits_model *out, sea_error *err);
 /* The emissivity eps[0..n) of a facet of statistics st toward v:
  * sea_model_emissivity's composition with this model's split. */

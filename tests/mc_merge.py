@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """mc_merge.py - merges two tables of tests/mc_sea_oracle.c -f means drawn
 over disjoint seeds of the same surfaces (the same -n, -d, -r, wavelengths,
-directions), so that a table can take more surfaces without tracing its
+directions; period_m, where the tables have it, must agree), so that a table can take more surfaces without tracing its
 first ones again:
 
     tests/mc_merge.py A.csv NA B.csv NB OUT.csv
@@ -57,6 +57,9 @@ def main():
         if b is None:
             out.append(a)
             continue
+        if 'period_m' in col and a[col['period_m']] != b[col['period_m']]:
+            sys.exit('mc_merge.py: wind %s: surfaces of periods %s and %s m are not one draw'
+                     % (a[0], a[col['period_m']], b[col['period_m']]))
         m = list(a)
         for name in ('sxx', 'syy', 'sxy', 'multi'):
             v = (na * float(a[col[name]]) + nb * float(b[col[name]])) / n

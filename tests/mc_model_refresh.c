@@ -125,9 +125,9 @@ static int refresh(const char *path, const char *note, const sea_optics *smith,
             *strrchr(line, ',') = '\0';
             *strrchr(line, ',') = '\0';
             fprintf(out, "%s,%.9f,%.9f\n", line, ms, mc);
-        } else if (kind == 3 && n == 15) {
+        } else if (kind == 3 && n == 16) {
             /* wind, wavelength, theta, phi, sxx, syy, sxy, eps1, eps1_se, eps,
-             * eps_se, multi, model_smith, model_corr, model_default */
+             * eps_se, multi, model_smith, model_corr, model_default, period_m */
             const sea_slope_stats st = { { 0, 0 }, { atof(f[4]), atof(f[5]), atof(f[6]) } };
             const sea_dir v = { atof(f[2]) * M_PI / 180, atof(f[3]) * M_PI / 180 };
             const double wl = atof(f[1]);
@@ -159,9 +159,9 @@ static int refresh(const char *path, const char *note, const sea_optics *smith,
             const double mdef = md[wl == 10.0];
             worst = fmax(worst, fmax(fabs(ms - atof(f[12])),
                                      fmax(fabs(mc - atof(f[13])), fabs(mdef - atof(f[14])))));
-            for (int c = 0; c < 3; c++)
+            for (int c = 0; c < 4; c++)
                 *strrchr(line, ',') = '\0';
-            fprintf(out, "%s,%.9f,%.9f,%.9f\n", line, ms, mc, mdef);
+            fprintf(out, "%s,%.9f,%.9f,%.9f,%s\n", line, ms, mc, mdef, f[15]);
         } else {
             fprintf(stderr, "mc_model_refresh: %s:%d: %d columns, not the table's\n", path,
                     lineno, n);

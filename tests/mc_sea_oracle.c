@@ -385,7 +385,7 @@ int main(int argc, char **argv)
                 8.0 * dx, n * dx, n, n, dx, seed0, seed0 + seeds - 1, rays, wls_s, seeds, jensen,
                 cpu, mc_threads(), max_energy, max_residual, leaks, stopped);
         fprintf(f, "wind_ms,wavelength_um,theta_deg,phi_deg,sxx,syy,sxy,eps1,eps1_se,eps,eps_se,"
-                   "multi,model_smith,model_corr,model_default\n");
+                   "multi,model_smith,model_corr,model_default,period_m\n");
         fprintf(stderr, "\nmodel - ray tracing (every hit), x 1e-3; eps_se\n");
         double *x = calloc((size_t)seeds, sizeof *x);
         if (x == NULL)
@@ -404,9 +404,9 @@ int main(int argc, char **argv)
                         mu += multi[((size_t)w * ndir + d) * seeds + s] / seeds;
                     const size_t q = ((size_t)w * ndir + d) * nl + l;
                     fprintf(f, "%g,%g,%g,%g,%.10g,%.10g,%.10g,%.6f,%.6f,%.6f,%.6f,%.4f,%.9f,%.9f,"
-                               "%.9f\n",
+                               "%.9f,%.10g\n",
                             winds[w], wls[l], ths[d / np], phs[d % np], cm[w].xx, cm[w].yy,
-                            cm[w].xy, a1, se1, af, sef, mu, rs[q], rc[q], rd[q]);
+                            cm[w].xy, a1, se1, af, sef, mu, rs[q], rc[q], rd[q], n * dx);
                     fprintf(stderr, "%4g m/s %4g um %4g deg phi %3g: Smith %+7.2f  correlated "
                                     "%+7.2f  default %+7.2f  (se %.2f; eps - eps1 %.2f)\n",
                             winds[w], wls[l], ths[d / np], phs[d % np], 1e3 * (rs[q] - af),

@@ -1077,8 +1077,9 @@ static void test_default_all_hits(void)
          * split), and for the surfaces' sea (their own split): the
          * composition of tests/all_hits.c */
         all_hits_model ms, mo;
-        CU_ASSERT_FATAL(all_hits_model_alloc(&pd, &sp, &lr, 0, N, 2, &ms, NULL) == SEA_OK);
-        CU_ASSERT_FATAL(all_hits_model_alloc(&pd, &sp, &lr, 1, N, 2, &mo, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(all_hits_model_alloc(&pd, &sp, &lr, 0.0, N, 2, &ms, NULL) == SEA_OK);
+        CU_ASSERT_FATAL(all_hits_model_alloc(&pd, &sp, &lr, x[a][AH_PERIOD], N, 2, &mo, NULL) ==
+                        SEA_OK);
         for (int r = a; r < b; r++) {
             const double wl = x[r][AH_WL], th = x[r][AH_THETA], eps = x[r][AH_EPS],
                          eps_se = x[r][AH_EPS_SE];
@@ -1192,7 +1193,8 @@ static void test_models_all_hits(void)
             CU_ASSERT_FATAL(sea_spectrum_init(x[a][AH_WIND], INFINITY, 0.0, &sp, NULL) == SEA_OK);
             const sea_slope_stats lr = { { 0, 0 }, { x[a][AH_SXX], x[a][AH_SYY], x[a][AH_SXY] } };
             all_hits_model m;
-            CU_ASSERT_FATAL(all_hits_model_alloc(&mp, &sp, &lr, 1, N, 2, &m, NULL) == SEA_OK);
+            CU_ASSERT_FATAL(all_hits_model_alloc(&mp, &sp, &lr, x[a][AH_PERIOD], N, 2, &m, NULL) ==
+                            SEA_OK);
             for (int r = a; r < b; r++) {
                 const sea_dir v = { x[r][AH_THETA] * DEG, x[r][AH_PHI] * DEG };
                 const double se = x[r][AH_EPS_SE];
