@@ -1736,34 +1736,13 @@ fi
 if have python3 python3; then
     cat >"$RDIR/exr.py" <<'PY'
 import struct, sys, zlib
+sys.path.insert(0, sys.argv.pop(1))
+import exr_read
 
 def exr(path):
-    """The FLOAT channels of an uncompressed scanline EXR, as lists."""
-    d = open(path, "rb").read()
-    i, names, comp = 8, [], None
-    while d[i] != 0:
-        j = d.index(b"\0", i); name = d[i:j]; i = j + 1
-        j = d.index(b"\0", i); i = j + 1
-        (n,) = struct.unpack("<i", d[i:i + 4]); v = d[i + 4:i + 4 + n]; i += 4 + n
-        if name == b"channels":
-            k = 0
-            while v[k] != 0:
-                e = v.index(b"\0", k)
-                names.append(v[k:e].decode())
-                assert struct.unpack("<i", v[e + 1:e + 5])[0] == 2, "not FLOAT"
-                k = e + 17
-        elif name == b"dataWindow":
-            x0, y0, x1, y1 = struct.unpack("<4i", v); w, h = x1 - x0 + 1, y1 - y0 + 1
-        elif name == b"compression":
-            comp = v[0]
-    assert comp == 0, "compressed"
-    i += 1 + 8 * h
-    out = {c: [] for c in names}
-    for _ in range(h):
-        i += 8
-        for c in names:
-            out[c] += struct.unpack("<%df" % w, d[i:i + 4 * w]); i += 4 * w
-    return out, w, h
+    """The channels of an uncompressed EXR, each a flat list (rows from the top)."""
+    chans, w, h = exr_read.read(path)
+    return {c: [x for row in rows for x in row] for c, (_, rows) in chans.items()}, w, h
 
 def png16(path):
     """The samples of a grey PNG of filters None and Sub (seabake's)."""
@@ -1800,7 +1779,8 @@ PY
     sb_run render "$RSCENE" -o "$RDIR/noise.exr" --set sensor.netd=0.05 --tolerance 1e-3 \
         --aov temperature --compression none --png none --quiet
     check_rc camera.noise_rc 0
-    read -r dmean dstd dn <<<"$(python3 "$RDIR/exr.py" diff "$RDIR/noise.camera.exr" T \
+    read -r dmean dstd dn <<<"$(python3 "$RDIR/exr.py" "$top_srcdir/tests" diff \
+        "$RDIR/noise.camera.exr" T \
         "$RDIR/noise.temperature.exr" Y)"
     check_eq camera.noise_pixels "$dn" $((RSIZE * RSIZE))
     num_check camera.noise_mean 'm <= 5 * 0.1 / sqrt(n) && m >= -5 * 0.1 / sqrt(n)' \
@@ -1810,8 +1790,8 @@ PY
     sb_run render "$RSCENE" -o "$RDIR/counts.exr" --set sensor.gain=300 \
         --set sensor.offset=-20 --set sensor.bit_depth=10 --compression none --png none --quiet
     check_rc camera.counts_rc 0
-    worst=$(python3 "$RDIR/exr.py" counts "$RDIR/counts.counts.png" "$RDIR/counts.camera.exr" \
-        300 -20 1023)
+    worst=$(python3 "$RDIR/exr.py" "$top_srcdir/tests" counts "$RDIR/counts.counts.png" \
+        "$RDIR/counts.camera.exr" 300 -20 1023)
     num_check camera.counts_rounding 'w <= 0.5 + 1e-4' "w=$worst"
 fi
 
@@ -2445,37 +2425,17 @@ check_rc convert.format_rc 0
 check_eq convert.format_header "$(head -n 1 "$CDIR/t.dat")" "x,y,Y"
 if numpy_python; then
     cat >"$CDIR/check.py" <<'PY'
-import struct, sys
+import sys
 import numpy as np
+sys.path.insert(0, sys.argv.pop(1))
+import exr_read
 
 def exr(path):
-    """The channels of an uncompressed scanline EXR (FLOAT or HALF) as
-    float32 arrays (H, W), read without OpenEXR."""
-    d = open(path, "rb").read()
-    i, chans, comp = 8, [], None
-    while d[i] != 0:
-        j = d.index(b"\0", i); name = d[i:j]; i = j + 1
-        j = d.index(b"\0", i); i = j + 1
-        (n,) = struct.unpack("<i", d[i:i + 4]); v = d[i + 4:i + 4 + n]; i += 4 + n
-        if name == b"channels":
-            k = 0
-            while v[k] != 0:
-                e = v.index(b"\0", k)
-                chans.append((v[k:e].decode(), struct.unpack("<i", v[e + 1:e + 5])[0]))
-                k = e + 17
-        elif name == b"dataWindow":
-            x0, y0, x1, y1 = struct.unpack("<4i", v); w, h = x1 - x0 + 1, y1 - y0 + 1
-        elif name == b"compression":
-            comp = v[0]
-    assert comp == 0, "compressed"
-    i += 1 + 8 * h
-    out = {c: np.empty((h, w), np.float32) for c, _ in chans}
-    for y in range(h):
-        i += 8
-        for c, t in chans:
-            dt, size = {1: ("<f2", 2), 2: ("<f4", 4)}[t]
-            out[c][y] = np.frombuffer(d[i:i + size * w], dt).astype(np.float32); i += size * w
-    return out
+    """The channels of an uncompressed EXR (FLOAT or HALF) as float32 arrays
+    (H, W), read without OpenEXR (tests/exr_read.py; each value widened
+    exactly, so float32 holds it exactly)."""
+    chans, _, _ = exr_read.read(path)
+    return {c: np.array(rows, np.float64).astype(np.float32) for c, (_, rows) in chans.items()}
 
 def same(a, b):
     return a.shape == b.shape and a.dtype == b.dtype == np.float32 and \
@@ -2496,17 +2456,18 @@ else:
     got = got.reshape(want.shape)
 print("exact" if same(got, want) else "differ %d" % np.count_nonzero(got != want))
 PY
-    check_eq convert.npy_exact "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
-        "$CDIR/cam.npy" T,Y 2>&1)" exact
-    check_eq convert.npy_order "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
-        "$CDIR/yt.npy" Y,T 2>&1)" exact
-    check_eq convert.npy_half_exact "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/h.exr" \
-        "$CDIR/h.npy" Y 2>&1)" exact
-    check_eq convert.csv_exact "$("$NUMPY_PY" "$CDIR/check.py" csv "$CDIR/r.camera.exr" \
-        "$CDIR/cam.csv" T,Y 2>&1)" exact
+    # convert_check MODE EXR OUT CHANNELS: exact, or differ N
+    convert_check() { "$NUMPY_PY" "$CDIR/check.py" "$top_srcdir/tests" "$@" 2>&1; }
+    check_eq convert.npy_exact "$(convert_check npy "$CDIR/r.camera.exr" "$CDIR/cam.npy" T,Y)" \
+        exact
+    check_eq convert.npy_order "$(convert_check npy "$CDIR/r.camera.exr" "$CDIR/yt.npy" Y,T)" \
+        exact
+    check_eq convert.npy_half_exact "$(convert_check npy "$CDIR/h.exr" "$CDIR/h.npy" Y)" exact
+    check_eq convert.csv_exact "$(convert_check csv "$CDIR/r.camera.exr" "$CDIR/cam.csv" T,Y)" \
+        exact
     # the check can fail: the camera's T is not its Y
-    check_eq convert.check_can_fail "$("$NUMPY_PY" "$CDIR/check.py" npy "$CDIR/r.camera.exr" \
-        "$CDIR/cam.npy" Y,T 2>&1 | cut -d' ' -f1)" differ
+    check_eq convert.check_can_fail "$(convert_check npy "$CDIR/r.camera.exr" "$CDIR/cam.npy" \
+        Y,T | cut -d' ' -f1)" differ
 fi
 
 # Refused, with nothing written (no OUT, no temporary beside it).
