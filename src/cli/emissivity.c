@@ -231,10 +231,8 @@ static sea_status run_directions(const sea_cli_args *args, FILE *out, sea_cli_qu
     const int stokes = what == SEA_CLI_EMISSIVITY && sea_cli_given(args, "stokes");
     if (what == SEA_CLI_EMISSIVITY)
         model_comment(out, &em);
-    fputs(what == SEA_CLI_EMISSIVITY
-              ? stokes ? "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity,e_q,e_u,dolp\n"
-                       : "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity\n"
-              : "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity,reflectance,total\n",
+    fputs("wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity", out);
+    fputs(what != SEA_CLI_EMISSIVITY ? ",reflectance,total\n" : stokes ? ",e_q,e_u,dolp\n" : "\n",
           out);
     for (size_t i = 0; i < theta.n && st == SEA_OK; ++i)
         for (size_t j = 0; j < phi.n && st == SEA_OK; ++j)
