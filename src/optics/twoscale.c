@@ -633,6 +633,9 @@ sea_status sea_two_scale_delta(sea_two_scale_table *t, sea_dir v, const sea_slop
                     const double *q = row + off[c][d];
                     for (int e = 0; e < TAB_NY2; e++, q += n) {
                         const double w = wcd * wy[e];
+                        /* one index (a wavelength, not a band): without the
+                         * loop, 92 million fewer instructions of 6.7 billion
+                         * on mast.ini at 480 x 270 */
                         if (n == 1)
                             out[0] += w * q[0];
                         else
