@@ -60,7 +60,8 @@ int all_hits_wind_end(double x[][AH_COLS], int n, int a)
 {
     int b = a;
     while (b < n && x[b][AH_WIND] == x[a][AH_WIND] && x[b][AH_SXX] == x[a][AH_SXX] &&
-           x[b][AH_SYY] == x[a][AH_SYY] && x[b][AH_SXY] == x[a][AH_SXY])
+           x[b][AH_SYY] == x[a][AH_SYY] && x[b][AH_SXY] == x[a][AH_SXY] &&
+           x[b][AH_PERIOD] == x[a][AH_PERIOD])
         b++;
     return b;
 }
@@ -126,8 +127,8 @@ sea_status all_hits_model_alloc(const sea_model_params *mp, const sea_spectrum *
     if (period > 0.0) {
         /* the surfaces' sea: half of their own slope variance resolved from
          * their longest wave (as test_two_scale_table splits them) */
-        s = sea_spectrum_split_at(sp, 2.0 * M_PI / period, 0.5 * (lr->cov.xx + lr->cov.yy), &k, &res, &sub,
-                                  err);
+        s = sea_spectrum_split_at(sp, 2.0 * M_PI / period, 0.5 * (lr->cov.xx + lr->cov.yy), &k,
+                                  &res, &sub, err);
         total = lr->cov;
         sub = (sea_cov2){ total.xx - res.xx, total.yy - res.yy, total.xy - res.xy };
     } else {

@@ -51,7 +51,7 @@ enum { AH_ROWS_MAX = 160 };
  * -1 with a message on stderr (unreadable, another header, a short row). */
 int all_hits_read(const char *path, double x[][AH_COLS], int max);
 /* The end of the rows of one wind from row a: one set of surfaces, one
- * covariance. */
+ * covariance and one period. */
 int all_hits_wind_end(double x[][AH_COLS], int n, int a);
 /* The table's indices: sea water at 4 and 10 um, Hale & Querry, salinity
  * 35, as N[0], N[1] (the column AH_WL picks N[wl == 10]). */
@@ -81,8 +81,8 @@ typedef struct {
  * surfaces' covariance) and the indices N[0..n).  period > 0: the two
  * scales split at half of lr's slope variance from the surfaces' longest
  * wave, of that period in m (the surfaces' sea: the row's AH_PERIOD); 0:
- * at half of the spectrum's whole variance, as sea_model_alloc splits it.  The
- * tolerance must be above the finest (2e-4, where sea_model_emissivity
+ * at half of the spectrum's whole variance, as sea_model_alloc splits it.
+ * The tolerance must be above the finest (2e-4, where sea_model_emissivity
  * takes the additions by quadrature) and not the reference: SEA_ERR_DOMAIN
  * otherwise. */
 sea_status all_hits_model_alloc(const sea_model_params *mp, const sea_spectrum *sp,

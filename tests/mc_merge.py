@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """mc_merge.py - merges two tables of tests/mc_sea_oracle.c -f means drawn
-over disjoint seeds of the same surfaces (the same -n, -d, -r, wavelengths,
-directions; period_m, where the tables have it, must agree), so that a table can take more surfaces without tracing its
-first ones again:
+over disjoint seeds of the same surfaces (the same -n, -d, -r, wavelengths
+and directions; period_m, where the tables have it, must agree), so that a
+table can take more surfaces without tracing its first ones again:
 
     tests/mc_merge.py A.csv NA B.csv NB OUT.csv
 

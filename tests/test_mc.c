@@ -999,9 +999,10 @@ static void test_multi(void)
  * within 3e-3 of the ray-traced truth with every hit to 85 deg, 3-15 m/s,
  * 4 and 10 um).  tests/data/mc_sea_all_hits.csv (tests/mc_sea_oracle.c,
  * -f means): sea-spectrum surfaces of 328 m (waves from 0.32 m), 5 per
- * wind at 3 and 5 m/s and 25 at 10 and 15 m/s, 60-85 deg along and across the wind; a row
- * per direction and wavelength, the means over the surfaces of eps (every
- * hit, unpolarised rho at each) with their standard errors eps_se.  Each
+ * wind at 3 and 5 m/s and 25 at 10 and 15 m/s, 60-85 deg along and
+ * across the wind; a row per direction and wavelength, the means over
+ * the surfaces of eps (every hit, unpolarised rho at each) with their
+ * standard errors eps_se.  Each
  * wind's models are made as a program makes them (sea_model_alloc, both
  * wavelengths' indices, the wind's spectrum) with the surfaces' mean
  * covariance C as the low resolution, and evaluated at C:
@@ -1034,8 +1035,9 @@ static void test_multi(void)
  * the manual states.  The worst row per angle at seabake-model(7)'s
  * figures (tests/claims.csv, rounding and 3 standard errors): at 85 deg
  * that is 4.5e-3, beyond the target on the four rows of 15 m/s (within
- * it only with the standard errors, 0.5e-3 to 1.1e-3 over 25 surfaces).  Worst and RMS per angle and wavelength are printed
- * for the four models. */
+ * it only with the standard errors, 0.5e-3 to 1.1e-3 over 25 surfaces).
+ * Worst and RMS per angle and wavelength are printed for the four
+ * models. */
 static void test_default_all_hits(void)
 {
     enum { NTH = 5, NMOD = 4 };
