@@ -1243,12 +1243,15 @@ check_ok emissivity.stokes
 check_eq emissivity.stokes_header "$(csv_header)" \
     "wavelength_um,theta_deg,phi_deg,mx,my,sxx,syy,sxy,emissivity,e_q,e_u,dolp"
 check_csv_shape emissivity.stokes_shape
-plain=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 10 --wind 10 --theta 80 --phi 0,45 | tail -2 | cut -d, -f9)
+plain=$($SEABAKE_WRAPPER "$SEABAKE" emissivity --wavelength 10 --wind 10 --theta 80 --phi 0,45 |
+    tail -2 | cut -d, -f9)
 check_eq emissivity.stokes_same_emissivity "$(csv_all emissivity)" "$plain"
-check_eq emissivity.stokes_u_along "$(awk -v u="$(csv_col e_u 1)" 'BEGIN { print (u < 1e-12 && u > -1e-12) }')" 1
+check_eq emissivity.stokes_u_along \
+    "$(awk -v u="$(csv_col e_u 1)" 'BEGIN { print (u < 1e-12 && u > -1e-12) }')" 1
 check_eq emissivity.stokes_u_45 "$(awk -v u="$(csv_col e_u 2)" 'BEGIN { print (u < -1e-3) }')" 1
 check_close emissivity.stokes_dolp "$(csv_col dolp 1)" \
-    "$(awk -v q="$(csv_col e_q 1)" -v e="$(csv_col emissivity 1)" 'BEGIN { printf "%.10g", q / e }')" 1e-9
+    "$(awk -v q="$(csv_col e_q 1)" -v e="$(csv_col emissivity 1)" \
+        'BEGIN { printf "%.10g", q / e }')" 1e-9
 sb_run emissivity --wavelength 10 --wind 10 --theta 80 --scales 1 --reflections 1 --stokes
 check_close emissivity.stokes_mc_table "$(csv_col e_q 1)" \
     "$(grep '^10,10,80,0,' "$top_srcdir/tests/data/mc_stokes.csv" | cut -d, -f23)" 1e-8
@@ -1780,8 +1783,7 @@ PY
         --aov temperature --compression none --png none --quiet
     check_rc camera.noise_rc 0
     read -r dmean dstd dn <<<"$(python3 "$RDIR/exr.py" "$top_srcdir/tests" diff \
-        "$RDIR/noise.camera.exr" T \
-        "$RDIR/noise.temperature.exr" Y)"
+        "$RDIR/noise.camera.exr" T "$RDIR/noise.temperature.exr" Y)"
     check_eq camera.noise_pixels "$dn" $((RSIZE * RSIZE))
     num_check camera.noise_mean 'm <= 5 * 0.1 / sqrt(n) && m >= -5 * 0.1 / sqrt(n)' \
         "m=$dmean" "n=$dn"
