@@ -322,10 +322,9 @@ static int cs_clamp(int i, int n) { return i < 0 ? 0 : i > n ? n : i; }
  * product and a square root (no division) per node. */
 static const double SEA_CS_B2 = (double)SEA_CS_NU * SEA_CS_NU / SEA_CS_U_MAX;
 
-/* The z part of the interpolation: the four rows and their weights. */
-typedef sea_cs_rows cs_rows;
-
-static void cs_rows_of(double z, cs_rows *r)
+/* The z part of the interpolation: the four rows and their weights
+ * (sea_cs_rows, internal.h). */
+static void cs_rows_of(double z, sea_cs_rows *r)
 {
     const double zc = z < SEA_CS_Z_MIN ? SEA_CS_Z_MIN : z;
     /* index coordinate: the grid is quadratic */
@@ -354,7 +353,7 @@ static int cs_column(double u, double *f)
 /* C at u = z - t > 0 from the rows (Catmull-Rom in both index coordinates:
  * continuous slopes, so the emissivity's Gauss-Legendre rules see no
  * kinks; one-sided at the grid's ends). */
-static double cs_at(const cs_rows *r, double u)
+static double cs_at(const sea_cs_rows *r, double u)
 {
     double f;
     const int j = cs_column(u, &f);
@@ -488,10 +487,11 @@ __attribute__((target("avx2"))) static int cs_scale_avx2(const double *comb, dou
 void sea_shadow_correlated_scale(double z, double mid, double half, const double *x, int n,
                                  double *w, int avx2)
 {
-    if (!(z <= SEA_CS_Z_MAX))
+    sea_cs_z h;
+    sea_shadow_correlated_z(z, &h);
+    if (h.past)
         return;
-    cs_rows r;
-    cs_rows_of(z, &r);
+    const sea_cs_rows r = h.r;
     /* the columns the nodes reach, from the smallest and largest u > 0 */
     double ulo = INFINITY, uhi = 0.0;
     for (int k = 0; k < n; k++) {
