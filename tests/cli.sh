@@ -2020,11 +2020,10 @@ print(" ".join("%d/%d" % (l["emission_texels"][0], l["texels"][0]) for l in m["l
     for pair in $etex; do
         check_eq "bake.emission_k3.$pair" "$(( ${pair%/*} ))" "$(( 3 * ${pair#*/} ))"
     done
-    ewidth=$(python3 -c 'import struct, sys
-d = open(sys.argv[1], "rb").read()
-i = d.index(b"dataWindow\0box2i\0")
-x0, y0, x1, y1 = struct.unpack("<4i", d[i + 21:i + 37])
-print(x1 - x0 + 1)' "$BDIR/out/emission_$l0.exr")
+    ewidth=$(python3 -c 'import sys
+sys.path.insert(0, sys.argv[1])
+import exr_read
+print(exr_read.header(sys.argv[2])[0])' "$top_srcdir/tests" "$BDIR/out/emission_$l0.exr")
     check_eq bake.emission_width "$ewidth" "$(( ${etex%%/*} ))"
 fi
 sb_run bake "$RSCENE" -o "$BDIR/explain" --explain --quiet
